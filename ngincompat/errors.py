@@ -1,0 +1,48 @@
+"""Exceptions raised by ngincompat.
+
+Every error a user can cause by their input is a :class:`ParameterError` whose message names
+the parameter and the allowed range, so that the command line can print it as one line.
+"""
+
+
+class NgincompatError(Exception):
+    """Base class of every error raised on purpose by ngincompat."""
+
+
+class ParameterError(NgincompatError, ValueError):
+    """A parameter is missing, unknown, malformed or outside its allowed range."""
+
+
+class ExpressionError(ParameterError):
+    """A growth expression could not be parsed or uses something outside the whitelist."""
+
+
+class ConvergenceError(NgincompatError):
+    """The nonlinear solver could not reach the requested load.
+
+    The problem's displacement still holds the last converged state; ``history`` holds the
+    per-step record up to the failure and ``t_converged`` the last load that converged.
+    """
+
+    def __init__(self, message, history=None, t_converged=None):
+        super().__init__(message)
+        self.history = history
+        self.t_converged = t_converged
+
+
+def require(condition, name, value, allowed):
+    """Raise :class:`ParameterError` unless ``condition`` holds.
+
+    Parameters
+    ----------
+    condition : bool
+        The check that must pass.
+    name : str
+        Name of the parameter, as the user spells it.
+    value : object
+        The offending value.
+    allowed : str
+        The allowed range in words, e.g. ``"> 0"`` or ``"in [0, 1/3]"``.
+    """
+    if not condition:
+        raise ParameterError(f"{name} = {value!r} is out of range: allowed {allowed}")

@@ -1,0 +1,87 @@
+"""Direction fields on the reference configuration: normals N0 and fibers f0.
+
+A :class:`DirectionField` wraps a unit-vector CoefficientFunction together with whether it is
+constant in space. The closed forms of section 2.3 (eq. 19-22, 24-27) assume constant N0 and f0,
+so only constant fields give a scene a closed-form oracle.
+"""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from .errors import ParameterError
+
+_AXES = {"e1": (1.0, 0.0, 0.0), "e2": (0.0, 1.0, 0.0), "e3": (0.0, 0.0, 1.0)}
+
+
+@dataclass(frozen=True, eq=False)
+class DirectionField:
+    """A unit vector field.
+
+    Attributes
+    ----------
+    cf : ngsolve.CoefficientFunction
+        The field, a 3-vector of unit length wherever it is defined.
+    name : str
+        A label for results and error messages.
+    vector : tuple of float or None
+        The constant value when the field is constant in space, else None.
+    """
+
+    cf: ngs.CoefficientFunction
+    name: str
+    vector: tuple | None = None
+
+    @property
+    def is_constant(self):
+        return self.vector is not None
+
+
+def constant(vector, name=None):
+    """A constant unit direction; ``vector`` is normalised, ``"e1"``, ``"e2"``, ``"e3"`` work."""
+    if isinstance(vector, str):
+        if vector not in _AXES:
+            raise ParameterError(
+                f"direction {vector!r} is unknown: allowed e1, e2, e3 or three numbers")
+        name = name or vector
+        vector = _AXES[vector]
+    v = np.asarray(vector, dtype=float)
+    if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) == 0:
+        raise ParameterError(f"direction {vector!r} must be three finite numbers, not all zero")
+    v = v / np.linalg.norm(v)
+    return DirectionField(ngs.CF(tuple(v)), name or "({:g}, {:g}, {:g})".format(*v), tuple(v))
+
+
+def radial(center=(0.0, 0.0, 0.0), axis=None):
+    """Unit radial direction from ``center``; about the line ``center + s*axis`` if given.
+
+    Undefined on the centre point (line); a tiny regularisation keeps it finite there.
+    """
+    c = ngs.CF(tuple(float(a) for a in center))
+    d = ngs.CF((ngs.x, ngs.y, ngs.z)) - c
+    if axis is not None:
+        a = constant(axis).cf
+        d = d - ngs.InnerProduct(d, a) * a
+    return DirectionField(d / ngs.sqrt(ngs.InnerProduct(d, d) + 1e-30), "radial")
+
+
+def circumferential(axis="e3", center=(0.0, 0.0, 0.0)):
+    """Unit circumferential direction about the line ``center + s*axis``: axis x radial."""
+    a = constant(axis).cf
+    r = radial(center, axis).cf
+    return DirectionField(ngs.Cross(a, r), "circumferential")
+
+
+def from_name(spec):
+    """A direction field from a short name: e1, e2, e3, radial, radial_xy, circumferential."""
+    if spec in _AXES:
+        return constant(spec)
+    if spec == "radial":
+        return radial()
+    if spec == "radial_xy":
+        return radial(axis="e3")
+    if spec == "circumferential":
+        return circumferential()
+    raise ParameterError(
+        f"direction {spec!r} is unknown: allowed e1, e2, e3, radial, radial_xy, circumferential")

@@ -1,0 +1,28 @@
+"""Kinematics of the multiplicative split F = Fe Fg (eq. 1-5), as pure functions of CFs."""
+
+import ngsolve as ngs
+
+
+def deformation_gradient(u):
+    """F = I + Grad u, for a displacement (trial function or GridFunction)."""
+    return ngs.Id(3) + ngs.Grad(u)
+
+
+def elastic_part(F, Fg):
+    """Fe = F Fg^-1 (eq. 1)."""
+    return F * ngs.Inv(Fg)
+
+
+def right_cauchy_green(F):
+    """C = F^T F (eq. 5)."""
+    return F.trans * F
+
+
+def left_cauchy_green(F):
+    """B = F F^T (eq. 5)."""
+    return F * F.trans
+
+
+def jacobian(F):
+    """J = det F (eq. 2)."""
+    return ngs.Det(F)

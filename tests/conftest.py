@@ -1,0 +1,34 @@
+"""Shared fixtures: small meshes and evaluation helpers."""
+
+import numpy as np
+import ngsolve as ngs
+import pytest
+
+from geometries import cube
+
+
+@pytest.fixture(scope="session")
+def unit_cube_hex():
+    """A 3 x 3 x 3 hexahedral mesh of the unit cube."""
+    return cube(maxh=1 / 3)
+
+
+@pytest.fixture(scope="session")
+def unit_cube_tet():
+    """A coarse tetrahedral mesh of the unit cube."""
+    return cube(maxh=0.5, elements="tet")
+
+
+def values_at(cf, mesh, points):
+    """Evaluate a CoefficientFunction at an (n, 3) array of points; returns (n, k)."""
+    pts = np.asarray(points, dtype=float)
+    v = np.asarray(cf(mesh(pts[:, 0], pts[:, 1], pts[:, 2])))
+    return v.reshape(len(pts), -1)
+
+
+def random_points(n=20, seed=0, low=0.05, high=0.95):
+    return np.random.default_rng(seed).uniform(low, high, size=(n, 3))
+
+
+def l2_norm(cf, mesh, order=8):
+    return float(ngs.Integrate(ngs.InnerProduct(cf, cf), mesh, order=order)) ** 0.5

@@ -1,0 +1,111 @@
+"""Neo-Hookean (eq. 36-37) and GOH (eq. 39) energies and their parameter checks."""
+
+import numpy as np
+import ngsolve as ngs
+import pytest
+from conftest import values_at
+
+from ngincompat.errors import ParameterError
+from ngincompat.materials import GOH, NeoHookean, lame_lambda, make_material
+
+P = np.array([[0.5, 0.5, 0.5]])
+
+
+def _eval(cf, mesh):
+    return values_at(cf, mesh, P)[0]
+
+
+def _const(m):
+    return ngs.CF(tuple(np.asarray(m, float).ravel()), dims=(3, 3))
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(mu=-1, lam=1), "mu"), (dict(mu=1, lam=-1), "lambda"),
+])
+def test_neo_hookean_rejects_bad_parameters(kwargs, name):
+    with pytest.raises(ParameterError, match=f"^{name} = .* allowed"):
+        NeoHookean(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    (dict(mu=1, lam=1, k1=1, k2=1, kappa=0.4), "kappa"),
+    (dict(mu=1, lam=1, k1=-1, k2=1, kappa=0.1), "k1"),
+    (dict(mu=1, lam=1, k1=1, k2=0, kappa=0.1), "k2"),
+    (dict(mu=0, lam=1, k1=1, k2=1, kappa=0.1), "mu"),
+])
+def test_goh_rejects_bad_parameters(kwargs, name):
+    with pytest.raises(ParameterError, match=f"^{name} = "):
+        GOH(**kwargs)
+
+
+def test_poisson_ratio_conversion_and_range():
+    assert lame_lambda(0.55, 0.4) == pytest.approx(2 * 0.55 * 0.4 / 0.2)
+    with pytest.raises(ParameterError, match=r"nu = 0.5 is out of range: allowed in \(-1, 0.5\)"):
+        NeoHookean.from_nu(1.0, 0.5)
+    m = make_material("neo-hookean", mu=1.0, nu=0.3)
+    assert m.lam == pytest.approx(lame_lambda(1.0, 0.3))
+    with pytest.raises(ParameterError, match="material = 'rubber'"):
+        make_material("rubber", mu=1.0)
+
+
+def _second_piola(material, Fe_value, mesh, fibers=()):
+    Fe = _const(Fe_value).MakeVariable()
+    psi = material.energy(Fe, fibers)
+    P = psi.Diff(Fe)
+    S = ngs.Inv(Fe) * P
+    return _eval(psi, mesh)[0], _eval(S, mesh).reshape(3, 3)
+
+
+def test_reference_state_is_stress_free(unit_cube_hex):
+    a = (ngs.CF((1.0, 0.0, 0.0)),)
+    for material in (NeoHookean.paper_idealized(), GOH(1.0, 5.0, 2.0, 3.0, 0.1)):
+        psi, S = _second_piola(material, np.eye(3), unit_cube_hex, a)
+        assert abs(psi) < 1e-14
+        assert np.max(np.abs(S)) < 1e-12
+
+
+def test_neo_hookean_stress_matches_eq37(unit_cube_hex):
+    """S = (lam ln J - mu) C^-1 + mu I (eq. 37), from symbolic differentiation of eq. (36)."""
+    material = NeoHookean(0.55, 1.1)
+    Fe = np.array([[1.1, 0.2, 0.0], [0.05, 0.9, 0.1], [0.0, 0.1, 1.2]])
+    psi, S = _second_piola(material, Fe, unit_cube_hex)
+    C = Fe.T @ Fe
+    J = np.linalg.det(Fe)
+    expected = (1.1 * np.log(J) - 0.55) * np.linalg.inv(C) + 0.55 * np.eye(3)
+    np.testing.assert_allclose(S, expected, rtol=1e-12, atol=1e-14)
+    assert psi == pytest.approx(0.55 / 2 * (np.trace(C) - 3 - 2 * np.log(J))
+                                + 1.1 / 2 * np.log(J) ** 2, rel=1e-12)
+
+
+def test_goh_fibers_carry_no_load_in_compression(unit_cube_hex):
+    """The Macaulay bracket of eq. (39): an aligned fiber family (kappa = 0) changes nothing
+    when the fiber is shortened and stiffens the response when it is stretched."""
+    a = (ngs.CF((1.0, 0.0, 0.0)),)
+    with_fibers = GOH(1.0, 5.0, k1=10.0, k2=3.0, kappa=0.0)
+    no_fibers = GOH(1.0, 5.0, k1=0.0, k2=3.0, kappa=0.0)
+    compress = np.diag([0.9, 1.05, 1.05])
+    psi_f, S_f = _second_piola(with_fibers, compress, unit_cube_hex, a)
+    psi_0, S_0 = _second_piola(no_fibers, compress, unit_cube_hex, a)
+    assert psi_f == pytest.approx(psi_0, rel=1e-14)
+    np.testing.assert_allclose(S_f, S_0, rtol=1e-13)
+    stretch = np.diag([1.1, 0.97, 0.97])
+    psi_f, S_f = _second_piola(with_fibers, stretch, unit_cube_hex, a)
+    psi_0, S_0 = _second_piola(no_fibers, stretch, unit_cube_hex, a)
+    assert psi_f > psi_0 * 1.5
+    assert S_f[0, 0] > S_0[0, 0] + 0.5
+
+
+def test_goh_energy_matches_eq39(unit_cube_hex):
+    mu, lam, k1, k2, kappa = 0.8, 4.0, 2.0, 5.0, 0.15
+    material = GOH(mu, lam, k1, k2, kappa)
+    a = np.array([1.0, 1.0, 0.0]) / np.sqrt(2)
+    Fe = np.array([[1.15, 0.1, 0.0], [0.0, 1.05, 0.0], [0.02, 0.0, 0.95]])
+    psi, _ = _second_piola(material, Fe, unit_cube_hex, (ngs.CF(tuple(a)),))
+    J = np.linalg.det(Fe)
+    Cbar = J ** (-2 / 3) * Fe.T @ Fe
+    H = kappa * np.eye(3) + (1 - 3 * kappa) * np.outer(a, a)
+    E = max(np.sum(Cbar * H) - 1, 0)
+    expected = (mu / 2 * (np.trace(Cbar) - 3) + k1 / (2 * k2) * (np.exp(k2 * E ** 2) - 1)
+                + lam / 2 * ((J ** 2 - 1) / 2 - np.log(J)))
+    assert E > 0
+    assert psi == pytest.approx(expected, rel=1e-12)
