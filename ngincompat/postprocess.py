@@ -1,0 +1,75 @@
+"""Stresses, energy density, local components and sampling of fields.
+
+Stresses come from symbolic differentiation of the same energy that the solver minimises, so
+they can never disagree with it: with W(F) = Jg Psi(F Fg^-1) per reference volume,
+
+    P = dW/dF (first Piola-Kirchhoff),  S = F^-1 P (second Piola-Kirchhoff, eq. 32),
+    sigma = P F^T / J (Cauchy).
+"""
+
+import ngsolve as ngs
+import numpy as np
+
+from . import kinematics
+from .sampling import element_points
+
+
+def stresses(energy_density, u):
+    """P, S and sigma of a displacement GridFunction.
+
+    Parameters
+    ----------
+    energy_density : callable
+        W(F), the strain energy per reference volume (``GrowthMechanics.energy_density``).
+    u : ngsolve.GridFunction
+        The displacement.
+
+    Returns
+    -------
+    dict of CoefficientFunction
+        ``P``, ``S``, ``sigma`` (3x3) and ``W`` (scalar).
+    """
+    F = kinematics.deformation_gradient(u).MakeVariable()
+    W = energy_density(F)
+    P = W.Diff(F)
+    return {"P": P, "S": ngs.Inv(F) * P, "sigma": (1.0 / ngs.Det(F)) * P * F.trans, "W": W}
+
+
+def principal_values(T):
+    """Eigenvalues of a symmetric 3x3 CoefficientFunction, ascending, as a 3-vector CF."""
+    eig = T.Eig()
+    return ngs.CF((eig[9], eig[10], eig[11]))
+
+
+def component(T, a, b=None):
+    """The component a . T b of a tensor in a local basis (b defaults to a)."""
+    return ngs.InnerProduct(a, T * (a if b is None else b))
+
+
+def sample_line(mesh, cfs, start, end, n=101):
+    """Values of CoefficientFunctions at ``n`` equally spaced points from ``start`` to ``end``.
+
+    Returns
+    -------
+    s : ndarray
+        The arc-length coordinate of the points, from 0.
+    values : dict
+        name -> ndarray of shape (n,) for scalars or (n, k) for vector/matrix fields.
+    """
+    start, end = np.asarray(start, float), np.asarray(end, float)
+    s = np.linspace(0.0, 1.0, n)
+    pts = start + np.outer(s, end - start)
+    # Nudge points a hair inside so that points on the boundary find their element.
+    centre = pts.mean(axis=0)
+    pts = pts + 1e-12 * (centre - pts)
+    mips = mesh(pts[:, 0], pts[:, 1], pts[:, 2])
+    values = {}
+    for name, cf in cfs.items():
+        v = np.asarray(cf(mips))
+        values[name] = v[:, 0] if v.ndim == 2 and v.shape[1] == 1 else v
+    return s * np.linalg.norm(end - start), values
+
+
+def maximum(cf, mesh, order=4):
+    """Largest value of a scalar CF over the integration points and vertices of the mesh."""
+    return float(np.max(np.asarray(cf(element_points(mesh, order)))))

@@ -1,0 +1,281 @@
+"""Robust Newton minimisation with load stepping for :class:`~ngincompat.problem.GrowthMechanics`.
+
+A full growth step from u = 0 at high order makes plain Newton overshoot into Je <= 0, where
+log Je is not defined and the energy is NaN. This solver
+
+* takes Newton directions from the tangent (the linearisation of the residual of the same
+  energy, so energy, residual and tangent are consistent by construction),
+* backtracks along the direction while the energy is not finite or decreases neither the
+  energy (Armijo condition) nor, near convergence where the energy is round-off, the residual;
+  so a step "too far" is simply shortened,
+* cuts the load step when Newton does not converge, restoring the last converged state,
+* and raises :class:`~ngincompat.errors.ConvergenceError` only when the load step would fall
+  below ``min_step``; the displacement then holds the last converged state.
+
+Every load step is recorded: time, step size, Newton iterations, residual norms, line-search
+lengths and the energy.
+"""
+
+import logging
+import math
+import time as _time
+from dataclasses import asdict, dataclass, field
+
+import ngsolve as ngs
+import numpy as np
+from tqdm.auto import tqdm
+
+from .errors import ConvergenceError, require
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """Settings of the nonlinear solver.
+
+    Attributes
+    ----------
+    rtol : float
+        Converged when the residual norm falls below ``rtol`` times that of the step's start.
+    atol : float
+        ... or below ``atol`` (absolute, in the problem's force unit).
+    max_iter : int
+        Newton iterations per load step before the step is cut.
+    steps : int
+        Number of equal load steps to start with (1: the full growth at once).
+    min_step : float
+        Smallest load step before giving up.
+    max_backtracks : int
+        Halvings of the line search before the Newton step counts as failed.
+    inverse : str
+        Sparse direct solver: "sparsecholesky", "umfpack" or "pardiso" (if installed).
+    predictor : bool
+        Start each load step from the best compatible approximation of the growth increment
+        (:meth:`GrowthMechanics.compatible_displacement`) rather than from the last state.
+    line_search : bool
+        Backtrack on the energy; without it every Newton step is taken in full (plain Newton,
+        kept for comparison: it fails where a full step leaves the domain Je > 0).
+    """
+
+    rtol: float = 1e-10
+    atol: float = 1e-14
+    max_iter: int = 30
+    steps: int = 1
+    min_step: float = 1e-4
+    max_backtracks: int = 30
+    inverse: str = "sparsecholesky"
+    predictor: bool = True
+    line_search: bool = True
+
+    def __post_init__(self):
+        require(0 < self.rtol < 1, "rtol", self.rtol, "in (0, 1)")
+        require(self.atol >= 0, "atol", self.atol, ">= 0")
+        require(self.max_iter >= 1, "max_iter", self.max_iter, ">= 1")
+        require(self.steps >= 1, "steps", self.steps, ">= 1")
+        require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
+        require(self.inverse in ("sparsecholesky", "umfpack", "pardiso"), "inverse",
+                self.inverse, "sparsecholesky, umfpack or pardiso")
+
+
+@dataclass
+class StepRecord:
+    """What one attempted load step did."""
+
+    t: float
+    dt: float
+    converged: bool
+    iterations: int = 0
+    residuals: list = field(default_factory=list)
+    line_search: list = field(default_factory=list)
+    energy: float = float("nan")
+    seconds: float = 0.0
+    reason: str = ""
+
+
+@dataclass
+class SolverHistory:
+    """The record of a whole solve: every attempted step, in order."""
+
+    steps: list = field(default_factory=list)
+    converged: bool = False
+    t_reached: float = 0.0
+
+    @property
+    def newton_iterations(self):
+        return sum(s.iterations for s in self.steps if s.converged)
+
+    def as_dict(self):
+        return {"converged": self.converged, "t_reached": self.t_reached,
+                "newton_iterations": self.newton_iterations,
+                "steps": [asdict(s) for s in self.steps]}
+
+
+class NewtonSolver:
+    """Newton's method with a line search on the energy of a GrowthMechanics problem."""
+
+    def __init__(self, problem, options=NewtonOptions()):
+        self.problem = problem
+        self.options = options
+        vec = problem.u.vec
+        self._res = vec.CreateVector()
+        self._du = vec.CreateVector()
+        self._u0 = vec.CreateVector()
+        free = problem.fes.FreeDofs()
+        self._fixed = np.array([not free[i] for i in range(len(free))], dtype=bool)
+        self._fixed[list(problem.pinned)] = True
+
+    def residual(self, vec=None):
+        """The residual (energy gradient) on free dofs at ``vec`` (default: the current u)."""
+        a = self.problem.form
+        a.Apply(self.problem.u.vec if vec is None else vec, self._res)
+        self._res.FV().NumPy()[self._fixed] = 0.0
+        return self._res
+
+    def direction(self):
+        """Solve the tangent system K du = r at the current state; returns du."""
+        p = self.problem
+        a, r, du = p.form, self._res, self._du
+        a.AssembleLinearization(p.u.vec)
+        inv = a.mat.Inverse(p.freedofs, inverse=self.options.inverse)
+        if p.condense:
+            rhs = r.CreateVector()
+            rhs.data = r
+            rhs.data += a.harmonic_extension_trans * r
+            du.data = inv * rhs
+            du.data += a.harmonic_extension * du
+            du.data += a.inner_solve * rhs
+        else:
+            du.data = inv * r
+        return du
+
+    def _acceptable(self, E, E_new, alpha, slope, r_norm):
+        """Is the trial state (already in u) acceptable?
+
+        A non-finite energy (Je <= 0 somewhere) never is. Otherwise the Armijo condition on the
+        energy decides; near convergence, where energy differences drown in round-off, a
+        sufficient decrease of the residual norm is accepted instead.
+        """
+        if not math.isfinite(E_new):
+            return False
+        if E_new <= E + 1e-4 * alpha * min(slope, 0.0):
+            return True
+        return self.residual().Norm() <= (1 - 1e-4 * alpha) * r_norm
+
+    def minimise(self, record):
+        """Newton iterations at the current load; fills ``record``; returns True if converged."""
+        opts = self.options
+        u = self.problem.u.vec
+        energy = self.problem.form.Energy
+        r = self.residual()
+        r0 = r.Norm()
+        record.residuals.append(r0)
+        E = energy(u)
+        if not math.isfinite(E):
+            record.reason = "energy is not finite at the start of the step"
+            return False
+        for it in range(1, opts.max_iter + 1):
+            if r.Norm() <= max(opts.rtol * r0, opts.atol):
+                record.iterations, record.energy = it - 1, E
+                return True
+            du = self.direction()
+            slope = -ngs.InnerProduct(du, r)
+            r_norm = r.Norm()
+            self._u0.data = u
+            alpha, accepted = 1.0, False
+            for _ in range(opts.max_backtracks if opts.line_search else 1):
+                u.data = self._u0 - alpha * du
+                E_new = energy(u)
+                if not opts.line_search or self._acceptable(E, E_new, alpha, slope, r_norm):
+                    accepted = True
+                    break
+                alpha /= 2
+            record.line_search.append(alpha)
+            if not accepted:
+                u.data = self._u0
+                record.iterations = it
+                record.reason = "line search found no acceptable step"
+                return False
+            E = E_new
+            r = self.residual()
+            record.residuals.append(r.Norm())
+            if not math.isfinite(record.residuals[-1]):
+                record.reason = "residual is not finite"
+                return False
+        record.iterations = opts.max_iter
+        if r.Norm() <= max(opts.rtol * r0, opts.atol):
+            record.energy = E
+            return True
+        record.reason = f"no convergence in {opts.max_iter} iterations"
+        return False
+
+
+def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, quiet=True):
+    """Apply growth from the current time to ``t_end`` in adaptive load steps.
+
+    Parameters
+    ----------
+    problem : GrowthMechanics
+    time : ngsolve.Parameter
+        The growth time that the problem's Fg depends on.
+    options : NewtonOptions
+    t_end : float
+    quiet : bool
+        No progress bar when True (it is also off when not attached to a terminal).
+
+    Returns
+    -------
+    SolverHistory
+
+    Raises
+    ------
+    ConvergenceError
+        When a step would fall below ``options.min_step``; ``problem.u`` and ``time`` then
+        hold the last converged state.
+    """
+    solver = NewtonSolver(problem, options)
+    history = SolverHistory()
+    t = time.Get()
+    dt = (t_end - t) / options.steps
+    saved = problem.u.vec.CreateVector()
+    bar = tqdm(total=t_end - t, disable=quiet or None, unit="t", desc="growth",
+               bar_format="{l_bar}{bar}| t={n:.3f}/{total:.3f}")
+    try:
+        while t < t_end - 1e-12:
+            dt = min(dt, t_end - t)
+            saved.data = problem.u.vec
+            if options.predictor:
+                before = problem.growth_load()
+                time.Set(t + dt)
+                increment = problem.growth_load()
+                increment.data -= before
+                problem.u.vec.data += problem.compatible_displacement(increment)
+            else:
+                time.Set(t + dt)
+            record = StepRecord(t=t + dt, dt=dt, converged=False)
+            start = _time.perf_counter()
+            ok = solver.minimise(record)
+            record.seconds = _time.perf_counter() - start
+            record.converged = ok
+            history.steps.append(record)
+            if ok:
+                t += dt
+                history.t_reached = t
+                bar.update(dt)
+                log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
+                if record.iterations <= 4:
+                    dt *= 2
+                continue
+            problem.u.vec.data = saved
+            time.Set(t)
+            log.info("step to t = %.4g failed (%s); cutting the step", t + dt, record.reason)
+            dt /= 2
+            if dt < options.min_step:
+                raise ConvergenceError(
+                    f"growth could not be applied beyond t = {t:.6g}: the load step fell below "
+                    f"min_step = {options.min_step:g} ({record.reason})",
+                    history=history, t_converged=t)
+        history.converged = True
+        return history
+    finally:
+        bar.close()

@@ -1,0 +1,59 @@
+"""Stresses from the energy, principal values, local components and line sampling."""
+
+import numpy as np
+import ngsolve as ngs
+import pytest
+from conftest import random_points, values_at
+
+from ngincompat import postprocess
+from ngincompat.growth import IsotropicGrowth
+from ngincompat.materials import NeoHookean
+from ngincompat.problem import GrowthMechanics
+
+
+def test_stresses_are_consistent_with_eq37_and_each_other(unit_cube_hex):
+    """For a given u: S = Jg Fg^-1 Se Fg^-T with Se from eq. (37), sigma = F S F^T / J."""
+    mesh = unit_cube_hex
+    theta = 1 + 0.25 * ngs.x
+    material = NeoHookean(0.55, 1.1)
+    problem = GrowthMechanics(mesh, IsotropicGrowth(theta), material, order=2)
+    problem.u.Set((0.05 * ngs.x * ngs.y, 0.02 * ngs.z, 0.03 * ngs.x))
+    st = postprocess.stresses(problem.energy_density, problem.u)
+    pts = random_points(8)
+    F = np.eye(3) + values_at(ngs.Grad(problem.u), mesh, pts).reshape(-1, 3, 3)
+    th = 1 + 0.25 * pts[:, 0]
+    S = values_at(st["S"], mesh, pts).reshape(-1, 3, 3)
+    sigma = values_at(st["sigma"], mesh, pts).reshape(-1, 3, 3)
+    for k in range(len(pts)):
+        Fg_inv = th[k] ** (-1 / 3) * np.eye(3)
+        Fe = F[k] @ Fg_inv
+        Ce, Je = Fe.T @ Fe, np.linalg.det(Fe)
+        Se = (1.1 * np.log(Je) - 0.55) * np.linalg.inv(Ce) + 0.55 * np.eye(3)
+        np.testing.assert_allclose(S[k], th[k] * Fg_inv @ Se @ Fg_inv.T, rtol=1e-10,
+                                   atol=1e-12)
+        J = np.linalg.det(F[k])
+        np.testing.assert_allclose(sigma[k], F[k] @ S[k] @ F[k].T / J, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(S[k], S[k].T, atol=1e-12)
+
+
+def test_principal_values_and_components(unit_cube_hex):
+    T = np.array([[2.0, 0.5, 0.0], [0.5, -1.0, 0.3], [0.0, 0.3, 0.5]])
+    cf = ngs.CF(tuple(T.ravel()), dims=(3, 3))
+    got = values_at(postprocess.principal_values(cf), unit_cube_hex, random_points(1))[0]
+    np.testing.assert_allclose(got, np.linalg.eigvalsh(T), rtol=1e-12)
+    a = np.array([1.0, 1.0, 0.0]) / np.sqrt(2)
+    b = np.array([0.0, 0.0, 1.0])
+    comp = postprocess.component(cf, ngs.CF(tuple(a)), ngs.CF(tuple(b)))
+    assert values_at(comp, unit_cube_hex, random_points(1))[0, 0] == pytest.approx(a @ T @ b)
+
+
+def test_sample_line_includes_boundary_points(unit_cube_hex):
+    s, values = postprocess.sample_line(unit_cube_hex, {"x": ngs.x, "v": ngs.CF((ngs.x, 1, 2))},
+                                        (0, 0.5, 0.5), (1, 0.5, 0.5), n=11)
+    np.testing.assert_allclose(s, np.linspace(0, 1, 11))
+    np.testing.assert_allclose(values["x"], np.linspace(0, 1, 11), atol=1e-10)
+    assert values["v"].shape == (11, 3)
+
+
+def test_maximum_over_element_points(unit_cube_hex):
+    assert postprocess.maximum(ngs.x * ngs.y, unit_cube_hex) == pytest.approx(1.0)
