@@ -235,47 +235,52 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, quiet=True):
     """
     solver = NewtonSolver(problem, options)
     history = SolverHistory()
+    bar = tqdm(total=t_end - time.Get(), disable=quiet or None, unit="t", desc="growth",
+               bar_format="{l_bar}{bar}| t={n:.3f}/{total:.3f}")
+    with ngs.TaskManager():
+        try:
+            _step_to(problem, time, options, t_end, solver, history, bar)
+        finally:
+            bar.close()
+    history.converged = True
+    return history
+
+
+def _step_to(problem, time, options, t_end, solver, history, bar):
+    """The load-stepping loop of :func:`solve_growth`; fills ``history``."""
     t = time.Get()
     dt = (t_end - t) / options.steps
     saved = problem.u.vec.CreateVector()
-    bar = tqdm(total=t_end - t, disable=quiet or None, unit="t", desc="growth",
-               bar_format="{l_bar}{bar}| t={n:.3f}/{total:.3f}")
-    try:
-        while t < t_end - 1e-12:
-            dt = min(dt, t_end - t)
-            saved.data = problem.u.vec
-            if options.predictor:
-                before = problem.growth_load()
-                time.Set(t + dt)
-                increment = problem.growth_load()
-                increment.data -= before
-                problem.u.vec.data += problem.compatible_displacement(increment)
-            else:
-                time.Set(t + dt)
-            record = StepRecord(t=t + dt, dt=dt, converged=False)
-            start = _time.perf_counter()
-            ok = solver.minimise(record)
-            record.seconds = _time.perf_counter() - start
-            record.converged = ok
-            history.steps.append(record)
-            if ok:
-                t += dt
-                history.t_reached = t
-                bar.update(dt)
-                log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
-                if record.iterations <= 4:
-                    dt *= 2
-                continue
-            problem.u.vec.data = saved
-            time.Set(t)
-            log.info("step to t = %.4g failed (%s); cutting the step", t + dt, record.reason)
-            dt /= 2
-            if dt < options.min_step:
-                raise ConvergenceError(
-                    f"growth could not be applied beyond t = {t:.6g}: the load step fell below "
-                    f"min_step = {options.min_step:g} ({record.reason})",
-                    history=history, t_converged=t)
-        history.converged = True
-        return history
-    finally:
-        bar.close()
+    while t < t_end - 1e-12:
+        dt = min(dt, t_end - t)
+        saved.data = problem.u.vec
+        if options.predictor:
+            before = problem.growth_load()
+            time.Set(t + dt)
+            increment = problem.growth_load()
+            increment.data -= before
+            problem.u.vec.data += problem.compatible_displacement(increment)
+        else:
+            time.Set(t + dt)
+        record = StepRecord(t=t + dt, dt=dt, converged=False)
+        start = _time.perf_counter()
+        record.converged = solver.minimise(record)
+        record.seconds = _time.perf_counter() - start
+        history.steps.append(record)
+        if record.converged:
+            t += dt
+            history.t_reached = t
+            bar.update(dt)
+            log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
+            if record.iterations <= 4:
+                dt *= 2
+            continue
+        problem.u.vec.data = saved
+        time.Set(t)
+        log.info("step to t = %.4g failed (%s); cutting the step", t + dt, record.reason)
+        dt /= 2
+        if dt < options.min_step:
+            raise ConvergenceError(
+                f"growth could not be applied beyond t = {t:.6g}: the load step fell below "
+                f"min_step = {options.min_step:g} ({record.reason})",
+                history=history, t_converged=t)
