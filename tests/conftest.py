@@ -1,7 +1,7 @@
 """Shared fixtures: small meshes and evaluation helpers."""
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 
 from geometries import cube

@@ -1,7 +1,7 @@
 """Safe parsing of user expressions."""
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 from conftest import random_points, values_at
 

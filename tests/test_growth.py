@@ -1,14 +1,20 @@
 """Growth tensors (eq. 13, 18, 23) and the positivity check of theta."""
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 from conftest import random_points, values_at
 
 from ngincompat import fields
 from ngincompat.errors import ParameterError
-from ngincompat.growth import (AreaGrowth, FiberGrowth, IsotropicGrowth, TensorGrowth,
-                               check_positive, make_growth)
+from ngincompat.growth import (
+    AreaGrowth,
+    FiberGrowth,
+    IsotropicGrowth,
+    TensorGrowth,
+    check_positive,
+    make_growth,
+)
 
 THETA = 1 + 0.5 * ngs.x + 0.2 * ngs.y
 

@@ -1,7 +1,7 @@
 """Curl (eq. 7), G (eq. 10, 12), Burgers vectors (eq. 11) and the closed forms of section 2.3."""
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 from conftest import l2_norm, random_points, values_at
 

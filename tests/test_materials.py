@@ -1,7 +1,7 @@
 """Neo-Hookean (eq. 36-37) and GOH (eq. 39) energies and their parameter checks."""
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 from conftest import values_at
 

@@ -1,7 +1,7 @@
 """Stresses from the energy, principal values, local components and line sampling."""
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 from conftest import random_points, values_at
 

@@ -1,7 +1,7 @@
 """The mechanics problem and its solver: oracles, consistency and robustness."""
 
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 
 from geometries import cube

@@ -1,0 +1,105 @@
+"""Results on disk: results.json with provenance, VTK fields, all written atomically.
+
+Every file is first written under a temporary name in the target folder and then renamed over
+the final name (``os.replace`` is atomic on POSIX), so an interrupted run never leaves a
+half-written result behind.
+"""
+
+import contextlib
+import json
+import math
+import os
+import platform
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+
+def versions():
+    """Versions of the packages a result depends on."""
+    import netgen
+    import ngsolve
+
+    from . import __version__
+    return {
+        "ngincompat": __version__,
+        "ngsolve": ngsolve.__version__,
+        "netgen": getattr(netgen, "__version__", ngsolve.__version__),
+        "numpy": np.__version__,
+        "python": platform.python_version(),
+    }
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """Yield a temporary path next to ``path``; on success rename it to ``path``."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
+    os.close(fd)
+    try:
+        yield Path(tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def _jsonable(value):
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, (np.floating, float)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def write_json(path, data):
+    """Write ``data`` as JSON atomically; NaN and inf become null, arrays become lists."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(_jsonable(data), indent=2, sort_keys=False) + "\n")
+    return Path(path)
+
+
+def read_json(path):
+    return json.loads(Path(path).read_text())
+
+
+def write_vtk(path, mesh, fields, subdivision=1):
+    """Write CoefficientFunctions as a VTK unstructured grid (``path`` ends in ``.vtu``).
+
+    Parameters
+    ----------
+    fields : dict
+        name -> CoefficientFunction (scalar, 3-vector or 3x3 tensor).
+    subdivision : int
+        Refinements of each element for the output (high-order fields need some).
+    """
+    import ngsolve as ngs
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    stem = path.with_suffix("")
+    tmp_stem = stem.with_name(f".{stem.name}.tmp{os.getpid()}")
+    vtk = ngs.VTKOutput(mesh, coefs=list(fields.values()), names=list(fields.keys()),
+                        filename=str(tmp_stem), subdivision=subdivision, legacy=False)
+    written = Path(vtk.Do())
+    if written.suffix != ".vtu":
+        written = written.with_name(written.name + ".vtu")
+    os.replace(written, path)
+    return path
+
+
+def provenance():
+    """What produced a result: package versions and the command line."""
+    return {"versions": versions(), "argv": sys.argv}

@@ -1,0 +1,55 @@
+"""Matplotlib figures in the style of the paper's profile panels (e.g. Fig. 1g)."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from .io import atomic_path  # noqa: E402
+
+
+def profile_pair(path, s, left, right, xlabel, title=None):
+    """Two quantities against one coordinate, on two y axes (the paper's Fig. 1g).
+
+    Parameters
+    ----------
+    path : path-like
+        PNG file to write (atomically).
+    s : array
+        The coordinate.
+    left, right : tuple (label, values)
+        The quantity on the left and on the right axis.
+    """
+    fig, ax = plt.subplots(figsize=(5.0, 3.6), dpi=120)
+    ax.plot(s, left[1], color="tab:blue", lw=2)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(left[0], color="tab:blue")
+    ax.tick_params(axis="y", labelcolor="tab:blue")
+    twin = ax.twinx()
+    twin.plot(s, right[1], color="tab:red", lw=2, ls="--")
+    twin.set_ylabel(right[0], color="tab:red")
+    twin.tick_params(axis="y", labelcolor="tab:red")
+    if title:
+        ax.set_title(title)
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def profiles(path, s, curves, xlabel, ylabel, title=None):
+    """Several curves against one coordinate on one axis; ``curves`` maps label -> values."""
+    fig, ax = plt.subplots(figsize=(5.0, 3.6), dpi=120)
+    for label, values in curves.items():
+        ax.plot(s, values, lw=2, label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.legend()
+    if title:
+        ax.set_title(title)
+    fig.tight_layout()
+    _save(fig, path)
+
+
+def _save(fig, path):
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png")
+    plt.close(fig)

@@ -1,0 +1,52 @@
+"""The cube of section 3.1: isotropic volume growth driven by a unidirectional field."""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+
+from geometries import cube
+
+from .. import fields
+from ..errors import require
+from ..growth import IsotropicGrowth
+from ..incompatibility import lattice_normals
+from ..materials import NeoHookean
+from . import prescribed
+from .base import param
+
+
+@dataclass(frozen=True)
+class CubeScene(prescribed.PrescribedScene):
+    """1 x 1 x 1 mm cube, theta = 1 + a X1 t (eq. 50, a = 1/4), t in [0, 1], neo-Hookean
+    mu = 0.55 MPa, nu = 0.4, traction-free (rigid-body motions removed).
+
+    Reports b on the planes n_i = Fg e_i / |Fg e_i| (Fig. 1d), S11, S22, S33 (Fig. 1f), Psi and
+    Curl Fg : Curl Fg along the X1 centre line (Fig. 1g), and G against eq. (16).
+    """
+
+    name = "cube"
+    summary = "section 3.1: isotropic growth theta = 1 + X1 t / 4 of a 1 mm cube"
+
+    side: float = param(1.0, "edge length of the cube", "length")
+    a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length")
+    mu: float = param(0.55, "shear modulus", "stress")
+    nu: float = param(0.4, "Poisson's ratio")
+    elements: str = param("hex", "element shape: hex (the paper's C3D8 layout) or tet")
+
+    def __post_init__(self):
+        super().__post_init__()
+        require(self.a * self.side > -1, "a", self.a, "> -1 / side (theta stays positive)")
+
+    def build(self):
+        """The mesh and the prescribed-growth case."""
+        mesh = cube(side=self.side, maxh=min(self.maxh, self.side), elements=self.elements)
+        time = ngs.Parameter(0.0)
+        growth = IsotropicGrowth(1 + self.a * ngs.x * time)
+        n = lattice_normals(growth.Fg)
+        e = [fields.constant(k).cf for k in ("e1", "e2", "e3")]
+        mid = self.side / 2
+        return prescribed.PrescribedCase(
+            mesh=mesh, growth=growth, material=NeoHookean.from_nu(self.mu, self.nu), time=time,
+            planes={"n1": n[0], "n2": n[1], "n3": n[2]},
+            line=((0.0, mid, mid), (self.side, mid, mid), "X1"),
+            stress_components={"S11": (e[0], e[0]), "S22": (e[1], e[1]), "S33": (e[2], e[2])})

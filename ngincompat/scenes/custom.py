@@ -1,0 +1,96 @@
+"""A scene for the user's own growth field, from the command line, without writing code.
+
+Example::
+
+    ngincompat run custom --out o --set growth=isotropic --set theta="1 + 0.25*X1*t"
+    ngincompat run custom --out o --set growth=fiber --set direction=e1 --set theta="1+X2*t/4"
+"""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from geometries import BUILDERS
+
+from .. import fields
+from ..errors import require
+from ..expressions import parse_expression
+from ..growth import KINDS, make_growth
+from ..incompatibility import lattice_normals
+from ..materials import GOH, NeoHookean
+from . import prescribed
+from .base import param
+
+_AXES = {"X1": 0, "X2": 1, "X3": 2}
+
+
+@dataclass(frozen=True)
+class CustomScene(prescribed.PrescribedScene):
+    """Any geometry, growth kind, theta(X1, X2, X3, t) and material.
+
+    theta is a safe expression (see :mod:`ngincompat.expressions`) in X1, X2, X3, t, R and Rxy;
+    ``direction`` is N0 for area growth and f0 for fiber growth; ``fiber`` is the GOH fiber
+    family a0. Burgers vectors are reported on the planes n_i = Fg e_i / |Fg e_i|; profiles
+    along the ``line`` axis through the centre of the body's bounding box.
+    """
+
+    name = "custom"
+    summary = "your own geometry, growth kind, theta(X, t) and material"
+
+    geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(BUILDERS)))
+    growth: str = param("isotropic", "growth kind: " + ", ".join(KINDS))
+    theta: str = param("1 + 0.25*X1*t", "growth indicator theta(X1, X2, X3, t), t in [0, 1]")
+    direction: str = param("e3", "N0 (area) or f0 (fiber growth): e1, e2, e3, radial, "
+                                 "radial_xy, circumferential")
+    material: str = param("neo-hookean", "neo-hookean or goh")
+    mu: float = param(0.55, "shear modulus", "stress")
+    nu: float = param(0.4, "Poisson's ratio")
+    k1: float = param(1.0, "GOH fiber stiffness", "stress")
+    k2: float = param(1.0, "GOH fiber nonlinearity")
+    kappa: float = param(0.0, "GOH fiber dispersion in [0, 1/3]")
+    fiber: str = param("e1", "GOH fiber direction a0 (as direction)")
+    line: str = param("X1", "axis of the profile line: X1, X2 or X3")
+
+    def __post_init__(self):
+        super().__post_init__()
+        require(self.geometry in BUILDERS, "geometry", self.geometry,
+                ", ".join(sorted(BUILDERS)))
+        require(self.growth in KINDS, "growth", self.growth, ", ".join(KINDS))
+        require(self.material in ("neo-hookean", "goh"), "material", self.material,
+                "neo-hookean or goh")
+        require(self.line in _AXES, "line", self.line, "X1, X2 or X3")
+        self.make_material()
+        parse_expression(self.theta, name="theta")
+        fields.from_name(self.direction)
+        fields.from_name(self.fiber)
+
+    def make_material(self):
+        if self.material == "goh":
+            return GOH.from_nu(self.mu, self.nu, self.k1, self.k2, self.kappa)
+        return NeoHookean.from_nu(self.mu, self.nu)
+
+    def build(self):
+        mesh = BUILDERS[self.geometry](maxh=self.maxh)
+        time = ngs.Parameter(0.0)
+        theta = parse_expression(self.theta, time, name="theta")
+        growth = make_growth(self.growth, theta, fields.from_name(self.direction))
+        normals = lattice_normals(growth.Fg)
+        lo, hi = _bounding_box(mesh)
+        k = _AXES[self.line]
+        centre = (lo + hi) / 2
+        start, end = centre.copy(), centre.copy()
+        start[k], end[k] = lo[k], hi[k]
+        e = [fields.constant(a).cf for a in ("e1", "e2", "e3")]
+        material = self.make_material()
+        return prescribed.PrescribedCase(
+            mesh=mesh, growth=growth, material=material, time=time,
+            planes={f"n{i + 1}": n for i, n in enumerate(normals)},
+            line=(tuple(start), tuple(end), self.line),
+            fibers=(fields.from_name(self.fiber),) if material.needs_fibers else (),
+            stress_components={f"S{i}{i}": (e[i - 1], e[i - 1]) for i in (1, 2, 3)})
+
+
+def _bounding_box(mesh):
+    pts = np.array([v.point for v in mesh.vertices])
+    return pts.min(axis=0), pts.max(axis=0)

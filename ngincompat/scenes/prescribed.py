@@ -1,0 +1,197 @@
+"""The pipeline of a scene whose growth field is prescribed (eq. 47): theta = theta(X, t).
+
+    growth field -> mechanics (solve) -> incompatibility (G, b) -> stresses -> outputs
+
+G depends on Fg alone (eq. 10): it is computed by the projected path (Fg interpolated into a
+high-order H1 matrix space, then Curl), compared with the closed form of section 2.3 where one
+exists, and with G from the elastic deformation (eq. 12) of the solved body.
+"""
+
+import contextlib
+import logging
+import time as _time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+
+from .. import incompatibility as inc
+from .. import io, plots, postprocess
+from ..errors import ConvergenceError
+from ..growth import check_positive
+from ..kinematics import deformation_gradient, elastic_part
+from ..problem import GrowthMechanics
+from ..solver import NewtonOptions, solve_growth
+from .base import Scene
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(eq=False)
+class PrescribedCase:
+    """Everything a prescribed-growth scene hands to :func:`run`.
+
+    Attributes
+    ----------
+    mesh : ngsolve.Mesh
+    growth : growth model whose theta depends on ``time``
+    material : material
+    time : ngsolve.Parameter
+    planes : dict
+        label -> unit normal (intermediate configuration) of the planes on which Burgers vectors
+        are reported.
+    line : tuple
+        (start, end, label): the profile line and the name of its coordinate.
+    fibers : tuple of DirectionField
+        Reference fiber directions for anisotropic materials.
+    dirichlet : str
+        Clamped boundaries (empty: traction-free, rigid-body motions removed).
+    stress_components : dict
+        label -> (a, b) unit vectors: S components a . S b to report.
+    """
+
+    mesh: ngs.Mesh
+    growth: object
+    material: object
+    time: ngs.Parameter
+    planes: dict
+    line: tuple
+    fibers: tuple = ()
+    dirichlet: str = ""
+    stress_components: dict = field(default_factory=dict)
+
+
+@contextlib.contextmanager
+def _timed(timings, phase):
+    """Add the wall time of the block to ``timings[phase]``."""
+    start = _time.perf_counter()
+    try:
+        yield
+    finally:
+        timings[phase] = timings.get(phase, 0.0) + _time.perf_counter() - start
+
+
+@dataclass(frozen=True)
+class PrescribedScene(Scene):
+    """A scene with a prescribed growth field; subclasses implement ``build()``."""
+
+    def build(self):
+        """Return the scene's :class:`PrescribedCase` (mesh included)."""
+        raise TypeError(f"{type(self).__name__} must define build()")
+
+    def run(self, out, quiet=True):
+        """Build, solve, measure and write the scene into the folder ``out``."""
+        start = _time.perf_counter()
+        case = self.build()
+        return run(self, case, out, quiet=quiet, mesh_seconds=_time.perf_counter() - start)
+
+
+def run(scene, case, out, quiet=True, mesh_seconds=0.0):
+    """Solve, measure and write a prescribed-growth scene; returns the results dict.
+
+    On a :class:`ConvergenceError` the results of the last converged state are written (with
+    ``solver.converged = false`` and the error) before the error is raised again. Everything
+    runs under NGSolve's TaskManager (all cores: element loops, projections, integrals).
+    """
+    with ngs.TaskManager():
+        return _run(scene, case, Path(out), quiet, mesh_seconds)
+
+
+def _run(scene, case, out, quiet, mesh_seconds):
+    timings = {"mesh": mesh_seconds}
+    mesh, growth, time = case.mesh, case.growth, case.time
+    with _timed(timings, "validate"):
+        check_positive(growth.theta, mesh, time)
+
+    with _timed(timings, "setup"):
+        problem = GrowthMechanics(mesh, growth, case.material, order=scene.order,
+                                  fibers=case.fibers, dirichlet=case.dirichlet)
+    error = None
+    with _timed(timings, "solve"):
+        time.Set(0.0)
+        try:
+            history = solve_growth(problem, time, NewtonOptions(steps=scene.steps), quiet=quiet)
+        except ConvergenceError as err:
+            history, error = err.history, err
+    results = {
+        "scene": scene.name,
+        "params": scene.settings(),
+        "units": scene.units,
+        **io.provenance(),
+        "mesh": {"ne": mesh.ne, "nv": mesh.nv, "ndof": problem.ndof, "order": scene.order,
+                 "maxh": scene.maxh},
+        "solver": history.as_dict(),
+    }
+    if error is not None:
+        results["error"] = str(error)
+
+    with _timed(timings, "incompatibility"):
+        fields, metrics = _incompatibility(scene, case, problem)
+    with _timed(timings, "postprocess"):
+        stress = postprocess.stresses(problem.energy_density, problem.u)
+        Psi = stress["W"] / growth.Jg
+        fields.update({"theta": growth.theta, "u": problem.u, "Psi": Psi,
+                       "sigma_max_principal": postprocess.principal_values(stress["sigma"])[2]})
+        for label, (a, b) in case.stress_components.items():
+            fields[label] = postprocess.component(stress["S"], a, b)
+        metrics["strain_energy"] = problem.strain_energy()
+        metrics["max_principal_stress"] = postprocess.maximum(
+            fields["sigma_max_principal"], mesh)
+        start, end, coord = case.line
+        s, values = postprocess.sample_line(
+            mesh, {k: fields[k] for k in ("theta", "Psi", "curlFg_sq",
+                                          *case.stress_components)}, start, end)
+        profile = {coord: np.asarray(start)[_axis(start, end)] + s, **values}
+        results["profiles"] = {"line": profile}
+    results["metrics"] = metrics
+
+    with _timed(timings, "output"):
+        wanted = scene.output_set()
+        results["files"] = ["results.json"]
+        if "vtk" in wanted:
+            vtk_fields = {k: v for k, v in fields.items() if k != "G"}
+            io.write_vtk(out / "fields.vtu", mesh, vtk_fields, subdivision=2)
+            results["files"].append("fields.vtu")
+        if "figures" in wanted:
+            plots.profile_pair(out / "profile.png", profile[coord],
+                               (r"$\Psi$ [MPa]", profile["Psi"]),
+                               (r"Curl $F^g$ : Curl $F^g$ [1/mm$^2$]", profile["curlFg_sq"]),
+                               xlabel=f"{coord} [mm]",
+                               title=f"{scene.name}: profile along {coord}")
+            results["files"].append("profile.png")
+    results["timings"] = timings
+    io.write_json(out / "results.json", results)
+    if error is not None:
+        raise error
+    return results
+
+
+def _incompatibility(scene, case, problem):
+    """G by the projected path; its errors against the closed form and against eq. (12)."""
+    mesh, growth = case.mesh, case.growth
+    Fg = growth.Fg
+    curl_Fg, _ = inc.curl_projected(Fg, mesh, scene.g_order)
+    G = inc.incompatibility_tensor(Fg, curl_Fg)
+    fields = {"G": G, "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
+    metrics = {}
+    norms = []
+    for label, n in case.planes.items():
+        b = inc.burgers_vector(G, n)
+        fields[f"b_{label}"] = b
+        fields[f"|b_{label}|"] = ngs.Norm(b)
+        norms.append(postprocess.maximum(ngs.Norm(b), mesh))
+    metrics["burgers_max"] = max(norms) if norms else 0.0
+    exact = inc.closed_form_G(growth)
+    if exact is not None:
+        metrics["G_error_L2_rel"] = inc.relative_l2_error(G, exact, mesh)
+        metrics["G_norm_L2"] = ngs.Integrate(ngs.InnerProduct(exact, exact), mesh, order=10) ** 0.5
+    F = deformation_gradient(problem.u)
+    Fe_inv = ngs.Inv(elastic_part(F, Fg))
+    G_e = inc.incompatibility_from_elastic(*inc.project_tensor(Fe_inv, mesh, scene.g_order), F)
+    metrics["G_elastic_vs_growth_L2_rel"] = inc.relative_l2_error(G_e, G, mesh)
+    return fields, metrics
+
+
+def _axis(start, end):
+    return int(np.argmax(np.abs(np.asarray(end, float) - np.asarray(start, float))))

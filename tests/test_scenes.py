@@ -1,0 +1,113 @@
+"""Scenes end to end through the command line: results, files, errors."""
+
+import json
+
+import pytest
+
+from ngincompat.cli import main
+from ngincompat.errors import ParameterError
+from ngincompat.scenes import CubeScene, CustomScene, get_scene
+
+REQUIRED = {"scene", "params", "units", "versions", "mesh", "solver", "timings", "metrics",
+            "profiles"}
+
+
+@pytest.fixture(scope="module")
+def cube_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cube")
+    code = main(["run", "cube", "--out", str(out), "--order", "3", "--maxh", "0.5", "-q"])
+    assert code == 0
+    return out, json.loads((out / "results.json").read_text())
+
+
+def test_cube_run_writes_complete_results(cube_run):
+    out, results = cube_run
+    assert REQUIRED <= set(results)
+    assert results["scene"] == "cube"
+    assert results["mesh"]["order"] == 3 and results["mesh"]["maxh"] == 0.5
+    assert results["mesh"]["ndof"] > 0 and results["mesh"]["ne"] == 8
+    assert set(results["versions"]) >= {"ngincompat", "ngsolve", "netgen", "numpy", "python"}
+    solver = results["solver"]
+    assert solver["converged"] and solver["steps"][-1]["residuals"]
+    assert all(s["iterations"] == len(s["residuals"]) - 1 for s in solver["steps"])
+    assert {"solve", "incompatibility", "postprocess", "output"} <= set(results["timings"])
+    metrics = results["metrics"]
+    assert metrics["strain_energy"] == pytest.approx(2.19533e-7, rel=0.1)
+    assert metrics["G_error_L2_rel"] < 1e-5
+    # max |b| over the planes n2, n3: 1 / (12 theta^(4/3)) at theta = 1, i.e. X1 = 0
+    assert metrics["burgers_max"] == pytest.approx(1 / 12, rel=1e-5)
+    assert metrics["G_elastic_vs_growth_L2_rel"] < 0.05
+    assert {p.name for p in out.iterdir()} == {"results.json", "fields.vtu", "profile.png"}
+
+
+def test_cube_profile_is_fig1g(cube_run):
+    """Along the X1 centre line: Curl Fg : Curl Fg = 2 a^2 / (9 theta^(4/3)) (from eq. 15)
+    decreases with X1, and Psi > 0."""
+    _, results = cube_run
+    line = results["profiles"]["line"]
+    import numpy as np
+    X1 = np.asarray(line["X1"])
+    theta = 1 + X1 / 4
+    np.testing.assert_allclose(line["curlFg_sq"], 2 * 0.0625 / (9 * theta ** (4 / 3)),
+                               rtol=1e-5)
+    np.testing.assert_allclose(line["theta"], theta, rtol=1e-12)
+    assert min(line["Psi"]) > 0
+    assert X1[0] == pytest.approx(0) and X1[-1] == pytest.approx(1)
+
+
+def test_custom_fiber_growth_from_the_command_line(tmp_path):
+    code = main(["run", "custom", "--out", str(tmp_path), "--set", "growth=fiber",
+                 "--set", "direction=e1", "--set", "theta=1 + X2*t/4", "--order", "2",
+                 "--maxh", "0.5", "--set", "outputs=none", "-q"])
+    assert code == 0
+    results = json.loads((tmp_path / "results.json").read_text())
+    assert results["params"]["growth"] == "fiber"
+    # eq. (27): |b| on n3 = e3 is 1/(4 theta), largest (1/4) where theta = 1
+    assert results["metrics"]["burgers_max"] == pytest.approx(0.25, rel=1e-6)
+    assert results["metrics"]["G_error_L2_rel"] < 1e-6
+    assert [p.name for p in tmp_path.iterdir()] == ["results.json"]
+
+
+def test_custom_goh_area_growth(tmp_path):
+    scene = CustomScene(growth="area", direction="e3", theta="1 + 0.25*(X1 + X2**2)*t",
+                        material="goh", mu=0.1, nu=0.45, k1=0.5, k2=2.0, kappa=0.1,
+                        fiber="e1", order=2, maxh=0.5, outputs="none")
+    results = scene.run(tmp_path)
+    assert results["solver"]["converged"]
+    assert results["metrics"]["strain_energy"] > 0
+    assert results["metrics"]["G_error_L2_rel"] < 1e-4
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["run", "nowhere", "--out", "o"], "unknown scene 'nowhere'"),
+    (["run", "cube", "--out", "o", "--set", "colour=red"], "unknown parameter 'colour'"),
+    (["run", "cube", "--out", "o", "--set", "nu=0.5"], "nu = 0.5 is out of range"),
+    (["run", "cube", "--out", "o", "--order", "0"], "order = 0 is out of range"),
+    (["run", "cube", "--out", "o", "--set", "order=two"], "not a valid int"),
+    (["run", "cube", "--out", "o", "--set", "nu"], "KEY=VALUE"),
+    (["run", "custom", "--out", "o", "--set", "theta=exp(X1"], "not a valid expression"),
+    (["run", "custom", "--out", "o", "--set", "growth=volume"], "growth = 'volume'"),
+    (["run", "custom", "--out", "o", "--set", "theta=1 - 2*X1*t"], "must be positive"),
+    (["run", "custom", "--out", "o", "--set", "outputs=pdf"], "outputs = 'pdf'"),
+    (["run", "custom", "--out", "o", "--set", "direction=up"], "direction 'up'"),
+])
+def test_bad_input_exits_2_with_one_line(argv, message, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert err.count("\n") == 1 and err.startswith("ngincompat: error:")
+
+
+def test_list_names_every_scene(capsys):
+    assert main(["list", "-v"]) == 0
+    out = capsys.readouterr().out
+    assert "cube" in out and "custom" in out and "theta" in out
+
+
+def test_scene_registry_and_settings():
+    assert get_scene("cube") is CubeScene
+    scene = CubeScene.from_settings({"order": "3", "nu": "0.3", "elements": "tet"})
+    assert (scene.order, scene.nu, scene.elements) == (3, 0.3, "tet")
+    with pytest.raises(ParameterError):
+        get_scene("sphere")
