@@ -1,11 +1,23 @@
 """Geometry builders: one typed function per geometry, returning an NGSolve mesh whose
 boundaries and materials all carry names.
 
-Lengths are in the unit of the scene (mm for the paper's idealized scenes).
+Every builder takes its dimensions as keywords with the paper's values as defaults, ``maxh``
+and ``curve_order``, validates them (a :class:`ngincompat.errors.ParameterError` names the
+parameter and its range) and returns a curved tetrahedral mesh; the cube can also be
+hexahedral. Lengths are in the unit of the scene (mm for the idealized scenes, cm for skin and
+brain).
 """
 
+from .bilayer import bilayer
+from .brain import brain
 from .cube import cube
+from .cylinder import cylinder
+from .disc import disc
+from .hemisphere import hemisphere
+from .skin_patch import FOOTPRINTS, footprint_area, skin_patch
 
-BUILDERS = {"cube": cube}
+BUILDERS = {"cube": cube, "hemisphere": hemisphere, "disc": disc, "cylinder": cylinder,
+            "skin_patch": skin_patch, "bilayer": bilayer, "brain": brain}
 
-__all__ = ["BUILDERS", "cube"]
+__all__ = ["BUILDERS", "FOOTPRINTS", "bilayer", "brain", "cube", "cylinder", "disc",
+           "footprint_area", "hemisphere", "skin_patch"]

@@ -1,0 +1,38 @@
+"""The cylinder of section 3.4."""
+
+import math
+
+from netgen.occ import X, Cylinder, Pnt
+
+from ngincompat.errors import require
+
+from ._common import check_mesh_args, mesh_shape
+
+
+def cylinder(area=math.pi / 4, length=1.0, maxh=0.25, curve_order=3, material="tissue"):
+    """A circular cylinder along e1, X1 in [0, length], axis through the origin.
+
+    Parameters
+    ----------
+    area : float
+        Cross-section (mm^2), > 0. Default pi/4 (radius 0.5, the paper's).
+    length : float
+        Length (mm), > 0. Default 1.
+    maxh, curve_order, material
+        As for every builder.
+
+    Returns
+    -------
+    ngsolve.Mesh
+        Boundaries ``left`` (X1 = 0), ``right`` (X1 = length) and ``mantle``.
+    """
+    require(area > 0, "area", area, "> 0")
+    require(length > 0, "length", length, "> 0")
+    radius = math.sqrt(area / math.pi)
+    check_mesh_args(maxh, curve_order, max(radius, length))
+    body = Cylinder(Pnt(0, 0, 0), X, r=radius, h=length)
+    body.faces.name = "mantle"
+    body.faces.Min(X).name = "left"
+    body.faces.Max(X).name = "right"
+    body.mat(material)
+    return mesh_shape(body, maxh, curve_order)

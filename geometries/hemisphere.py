@@ -1,0 +1,44 @@
+"""The hemisphere of section 3.2."""
+
+from netgen.occ import Z, Box, Pnt, Sphere
+
+from ngincompat.errors import require
+
+from ._common import check_mesh_args, mesh_shape
+
+
+def hemisphere(R0=1.0, maxh=0.3, curve_order=3, centre_maxh=None, material="tissue"):
+    """The upper half ball X3 >= 0 of radius ``R0`` centred at the origin.
+
+    Parameters
+    ----------
+    R0 : float
+        Radius (mm in the paper), > 0. Default 1.
+    maxh : float
+        Element size.
+    curve_order : int
+        Order of the curved-boundary approximation (use the displacement order).
+    centre_maxh : float, optional
+        Element size at the centre, in (0, maxh]: growth fields of R alone are not smooth
+        there (theta = 1 + R t/4 has a cone point) and a graded mesh restores accuracy.
+    material : str
+        Name of the material region.
+
+    Returns
+    -------
+    ngsolve.Mesh
+        Boundaries ``flat`` (X3 = 0) and ``surface`` (the spherical cap).
+    """
+    require(R0 > 0, "R0", R0, "> 0")
+    check_mesh_args(maxh, curve_order, R0)
+    refine = ()
+    if centre_maxh is not None:
+        require(0 < centre_maxh <= maxh, "centre_maxh", centre_maxh, f"in (0, maxh = {maxh}]")
+        refine = ((0.0, 0.0, 0.0, centre_maxh),)
+    ball = Sphere(Pnt(0, 0, 0), R0)
+    half = ball * Box(Pnt(-2 * R0, -2 * R0, 0), Pnt(2 * R0, 2 * R0, 2 * R0))
+    half.faces.name = "surface"
+    half.faces.Min(Z).name = "flat"
+    half.mat(material)
+    return mesh_shape(half, maxh, curve_order, refine)
+
