@@ -130,12 +130,14 @@ class GOH:
         return psi
 
 
-def make_material(name, **params):
-    """A material by name with keyword parameters (``nu`` may stand in for ``lam``)."""
-    classes = {"neo-hookean": NeoHookean, "goh": GOH}
-    if name not in classes:
-        raise ParameterError(f"material = {name!r} is unknown: allowed {', '.join(classes)}")
-    cls = classes[name]
-    if "nu" in params:
-        return cls.from_nu(**params)
-    return cls(**params)
+MATERIALS = ("neo-hookean", "goh")
+
+
+def make_material(name, mu, nu, k1=0.0, k2=1.0, kappa=0.0):
+    """A material by name from mu, Poisson's ratio nu and, for GOH, the fiber parameters
+    (ignored by the neo-Hookean material)."""
+    if name == "goh":
+        return GOH.from_nu(mu, nu, k1, k2, kappa)
+    if name == "neo-hookean":
+        return NeoHookean.from_nu(mu, nu)
+    raise ParameterError(f"material = {name!r} is unknown: allowed {', '.join(MATERIALS)}")

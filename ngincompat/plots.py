@@ -1,11 +1,8 @@
 """Matplotlib figures in the style of the paper's profile panels (e.g. Fig. 1g)."""
 
-import matplotlib
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
-from .io import atomic_path  # noqa: E402
+from .io import atomic_path
 
 
 def profile_pair(path, s, left, right, xlabel, title=None):
@@ -20,7 +17,8 @@ def profile_pair(path, s, left, right, xlabel, title=None):
     left, right : tuple (label, values)
         The quantity on the left and on the right axis.
     """
-    fig, ax = plt.subplots(figsize=(5.0, 3.6), dpi=120)
+    fig = Figure(figsize=(5.0, 3.6), dpi=120)
+    ax = fig.subplots()
     ax.plot(s, left[1], color="tab:blue", lw=2)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(left[0], color="tab:blue")
@@ -37,7 +35,8 @@ def profile_pair(path, s, left, right, xlabel, title=None):
 
 def profiles(path, s, curves, xlabel, ylabel, title=None):
     """Several curves against one coordinate on one axis; ``curves`` maps label -> values."""
-    fig, ax = plt.subplots(figsize=(5.0, 3.6), dpi=120)
+    fig = Figure(figsize=(5.0, 3.6), dpi=120)
+    ax = fig.subplots()
     for label, values in curves.items():
         ax.plot(s, values, lw=2, label=label)
     ax.set_xlabel(xlabel)
@@ -50,6 +49,7 @@ def profiles(path, s, curves, xlabel, ylabel, title=None):
 
 
 def _save(fig, path):
+    """Write the figure atomically. Figures are made without pyplot, so importing this module
+    never changes matplotlib's backend (notebooks keep their inline figures)."""
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png")
-    plt.close(fig)

@@ -9,6 +9,7 @@ they can never disagree with it: with W(F) = Jg Psi(F Fg^-1) per reference volum
 
 import ngsolve as ngs
 import numpy as np
+from netgen.libngpy._meshing import NgException
 
 from . import kinematics
 from .sampling import element_points
@@ -59,15 +60,32 @@ def sample_line(mesh, cfs, start, end, n=101):
     start, end = np.asarray(start, float), np.asarray(end, float)
     s = np.linspace(0.0, 1.0, n)
     pts = start + np.outer(s, end - start)
-    # Nudge points a hair inside so that points on the boundary find their element.
-    centre = pts.mean(axis=0)
-    pts = pts + 1e-12 * (centre - pts)
-    mips = mesh(pts[:, 0], pts[:, 1], pts[:, 2])
+    points = [mesh(*p) for p in _locatable(mesh, pts)]
     values = {}
     for name, cf in cfs.items():
-        v = np.asarray(cf(mips))
-        values[name] = v[:, 0] if v.ndim == 2 and v.shape[1] == 1 else v
+        v = np.array([np.atleast_1d(cf(p)) for p in points], dtype=float)
+        values[name] = v[:, 0] if v.shape[1] == 1 else v
     return s * np.linalg.norm(end - start), values
+
+
+def _locatable(mesh, pts):
+    """Move points that lie on or just outside a curved boundary (the mesh approximates it)
+    towards the centre of the set, by at most 3 % of their distance, until the mesh finds them.
+    """
+    centre = pts.mean(axis=0)
+    out = pts.copy()
+    for i, p in enumerate(pts):
+        for shift in (1e-9, 1e-4, 1e-3, 1e-2, 3e-2):
+            q = p + shift * (centre - p)
+            try:
+                ngs.x(mesh(*q))
+            except NgException:
+                continue
+            out[i] = q
+            break
+        else:
+            raise ValueError(f"point {tuple(p)} is not in the mesh")
+    return out
 
 
 def maximum(cf, mesh, order=4):

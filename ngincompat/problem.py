@@ -35,11 +35,17 @@ class GrowthMechanics:
         Reference fiber directions a0 for anisotropic materials.
     dirichlet : str
         Regular expression of boundaries with u = 0; empty for a traction-free body.
+    symmetry : dict, optional
+        Symmetry planes: ``{"flat": "z"}`` sets the displacement component normal to the
+        boundary ``flat`` (a plane X3 = const) to zero. The rigid-body pins of a body without
+        ``dirichlet`` are then placed on these boundaries, where they only remove the motions
+        the planes leave free.
     condense : bool
         Static condensation of element-interior dofs (exact; cheaper factorisation).
     """
 
-    def __init__(self, mesh, growth, material, order=2, fibers=(), dirichlet="", condense=True):
+    def __init__(self, mesh, growth, material, order=2, fibers=(), dirichlet="", symmetry=None,
+                 condense=True):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         if material.needs_fibers:
             require(len(fibers) > 0, "fibers", fibers, "at least one fiber direction for GOH")
@@ -49,11 +55,18 @@ class GrowthMechanics:
         self.order = order
         self.fibers = tuple(fibers)
         self.condense = condense
-        self.fes = ngs.VectorH1(mesh, order=order, dirichlet=dirichlet)
+        symmetry = dict(symmetry or {})
+        for name, axis in symmetry.items():
+            require(axis in ("x", "y", "z"), "symmetry axis", axis, "x, y or z")
+            require(name in mesh.GetBoundaries(), "symmetry boundary", name,
+                    ", ".join(sorted(set(mesh.GetBoundaries()))))
+        planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
+                  for axis in ("x", "y", "z") if axis in symmetry.values()}
+        self.fes = ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes)
         self.u = ngs.GridFunction(self.fes, name="displacement")
         self.freedofs = self.fes.FreeDofs(coupling=condense)
         if not dirichlet:
-            self.pinned = self._pin_rigid_modes()
+            self.pinned = self._pin_rigid_modes(tuple(symmetry))
             for dof in self.pinned:
                 self.freedofs.Clear(dof)
         else:
@@ -115,24 +128,39 @@ class GrowthMechanics:
         w.data = self._fit_inverse * load
         return w
 
-    def _pin_rigid_modes(self):
+    def _pin_rigid_modes(self, on=()):
         """Dofs of six displacement components at three vertices that remove rigid motions.
+
+        With symmetry planes, the vertices are taken on them (``on``: boundary names), so the
+        pins add no constraint beyond the planes other than removing the remaining motions.
 
         P0 is fixed; at P1 (the vertex farthest from P0, d = P1 - P0) the two components other
         than d's largest are fixed, which leaves only rotations about d; at P2 (farthest from the
         line P0-P1) the largest component of d x (P2 - P0) is fixed, which removes that rotation.
         """
         pts = np.array([v.point for v in self.mesh.vertices])
+        if on:
+            keep = sorted({v.nr for el in self.mesh.Elements(ngs.BND) if el.mat in on
+                           for v in el.vertices})
+            index = np.array(keep)
+        else:
+            index = np.arange(len(pts))
+        i0, i1, i2 = index[self._three_vertices(pts[index])]
+        d = pts - pts[i0]
+        axis = d[i1] / np.linalg.norm(d[i1])
+        k1 = int(np.argmax(np.abs(axis)))
+        k2 = int(np.argmax(np.abs(np.cross(axis, d[i2]))))
+        comps = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
+        return tuple(self.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, int(v)))[c] for v, c in comps)
+
+    @staticmethod
+    def _three_vertices(pts):
+        """Indices of P0 (smallest coordinate sum), P1 (farthest from P0) and P2 (farthest
+        from the line P0-P1) among ``pts``."""
         i0 = int(np.argmin(pts.sum(axis=1)))
         d = pts - pts[i0]
         i1 = int(np.argmax(np.linalg.norm(d, axis=1)))
         axis = d[i1] / np.linalg.norm(d[i1])
         dist_line = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
         i2 = int(np.argmax(dist_line))
-        k1 = int(np.argmax(np.abs(axis)))
-        k2 = int(np.argmax(np.abs(np.cross(axis, d[i2]))))
-        comps = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
-        dofs = []
-        for vertex, comp in comps:
-            dofs.append(self.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, vertex))[comp])
-        return tuple(dofs)
+        return [i0, i1, i2]

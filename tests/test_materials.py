@@ -45,7 +45,7 @@ def test_poisson_ratio_conversion_and_range():
     m = make_material("neo-hookean", mu=1.0, nu=0.3)
     assert m.lam == pytest.approx(lame_lambda(1.0, 0.3))
     with pytest.raises(ParameterError, match="material = 'rubber'"):
-        make_material("rubber", mu=1.0)
+        make_material("rubber", mu=1.0, nu=0.3)
 
 
 def _second_piola(material, Fe_value, mesh, fibers=()):

@@ -51,7 +51,7 @@ def test_sample_line_includes_boundary_points(unit_cube_hex):
     s, values = postprocess.sample_line(unit_cube_hex, {"x": ngs.x, "v": ngs.CF((ngs.x, 1, 2))},
                                         (0, 0.5, 0.5), (1, 0.5, 0.5), n=11)
     np.testing.assert_allclose(s, np.linspace(0, 1, 11))
-    np.testing.assert_allclose(values["x"], np.linspace(0, 1, 11), atol=1e-10)
+    np.testing.assert_allclose(values["x"], np.linspace(0, 1, 11), atol=1e-8)
     assert values["v"].shape == (11, 3)
 
 

@@ -3,8 +3,12 @@
 from ..errors import ParameterError
 from .cube import CubeScene
 from .custom import CustomScene
+from .cylinder import CylinderScene
+from .disc import DiscScene
+from .hemisphere import HemisphereScene
 
-SCENES = {cls.name: cls for cls in (CubeScene, CustomScene)}
+SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
+                                    CustomScene)}
 
 
 def get_scene(name):
@@ -14,4 +18,5 @@ def get_scene(name):
     return SCENES[name]
 
 
-__all__ = ["SCENES", "CubeScene", "CustomScene", "get_scene"]
+__all__ = ["SCENES", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+           "HemisphereScene", "get_scene"]

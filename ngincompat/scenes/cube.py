@@ -49,4 +49,4 @@ class CubeScene(prescribed.PrescribedScene):
             mesh=mesh, growth=growth, material=NeoHookean.from_nu(self.mu, self.nu), time=time,
             planes={"n1": n[0], "n2": n[1], "n3": n[2]},
             line=((0.0, mid, mid), (self.side, mid, mid), "X1"),
-            stress_components={"S11": (e[0], e[0]), "S22": (e[1], e[1]), "S33": (e[2], e[2])})
+            components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)})

@@ -18,7 +18,7 @@ from ..errors import require
 from ..expressions import parse_expression
 from ..growth import KINDS, make_growth
 from ..incompatibility import lattice_normals
-from ..materials import GOH, NeoHookean
+from ..materials import make_material
 from . import prescribed
 from .base import param
 
@@ -66,9 +66,7 @@ class CustomScene(prescribed.PrescribedScene):
         fields.from_name(self.fiber)
 
     def make_material(self):
-        if self.material == "goh":
-            return GOH.from_nu(self.mu, self.nu, self.k1, self.k2, self.kappa)
-        return NeoHookean.from_nu(self.mu, self.nu)
+        return make_material(self.material, self.mu, self.nu, self.k1, self.k2, self.kappa)
 
     def build(self):
         mesh = BUILDERS[self.geometry](maxh=self.maxh)
@@ -88,7 +86,7 @@ class CustomScene(prescribed.PrescribedScene):
             planes={f"n{i + 1}": n for i, n in enumerate(normals)},
             line=(tuple(start), tuple(end), self.line),
             fibers=(fields.from_name(self.fiber),) if material.needs_fibers else (),
-            stress_components={f"S{i}{i}": (e[i - 1], e[i - 1]) for i in (1, 2, 3)})
+            components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)})
 
 
 def _bounding_box(mesh):

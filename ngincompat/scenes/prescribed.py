@@ -47,8 +47,14 @@ class PrescribedCase:
         Reference fiber directions for anisotropic materials.
     dirichlet : str
         Clamped boundaries (empty: traction-free, rigid-body motions removed).
-    stress_components : dict
-        label -> (a, b) unit vectors: S components a . S b to report.
+    symmetry : dict
+        Symmetry planes, boundary name -> normal axis (see ``GrowthMechanics``).
+    components : dict
+        label -> (tensor, a, b): the component a . T b of T = "S" (second Piola-Kirchhoff) or
+        "sigma" (Cauchy), reported as a field and along the profile line.
+    verify : callable, optional
+        ``verify(problem, fields) -> dict`` of scene-specific verification metrics (errors
+        against closed forms or reference solutions).
     """
 
     mesh: ngs.Mesh
@@ -59,7 +65,9 @@ class PrescribedCase:
     line: tuple
     fibers: tuple = ()
     dirichlet: str = ""
-    stress_components: dict = field(default_factory=dict)
+    symmetry: dict = field(default_factory=dict)
+    components: dict = field(default_factory=dict)
+    verify: object = None
 
 
 @contextlib.contextmanager
@@ -106,7 +114,8 @@ def _run(scene, case, out, quiet, mesh_seconds):
 
     with _timed(timings, "setup"):
         problem = GrowthMechanics(mesh, growth, case.material, order=scene.order,
-                                  fibers=case.fibers, dirichlet=case.dirichlet)
+                                  fibers=case.fibers, dirichlet=case.dirichlet,
+                                  symmetry=case.symmetry)
     error = None
     with _timed(timings, "solve"):
         time.Set(0.0)
@@ -133,15 +142,17 @@ def _run(scene, case, out, quiet, mesh_seconds):
         Psi = stress["W"] / growth.Jg
         fields.update({"theta": growth.theta, "u": problem.u, "Psi": Psi,
                        "sigma_max_principal": postprocess.principal_values(stress["sigma"])[2]})
-        for label, (a, b) in case.stress_components.items():
-            fields[label] = postprocess.component(stress["S"], a, b)
+        for label, (tensor, a, b) in case.components.items():
+            fields[label] = postprocess.component(stress[tensor], a, b)
         metrics["strain_energy"] = problem.strain_energy()
         metrics["max_principal_stress"] = postprocess.maximum(
             fields["sigma_max_principal"], mesh)
+        if case.verify is not None:
+            metrics.update(case.verify(problem, fields))
         start, end, coord = case.line
-        s, values = postprocess.sample_line(
-            mesh, {k: fields[k] for k in ("theta", "Psi", "curlFg_sq",
-                                          *case.stress_components)}, start, end)
+        sampled = ["theta", "Psi", "curlFg_sq", *case.components,
+                   *(f"|b_{label}|" for label in case.planes)]
+        s, values = postprocess.sample_line(mesh, {k: fields[k] for k in sampled}, start, end)
         profile = {coord: np.asarray(start)[_axis(start, end)] + s, **values}
         results["profiles"] = {"line": profile}
     results["metrics"] = metrics
@@ -154,17 +165,32 @@ def _run(scene, case, out, quiet, mesh_seconds):
             io.write_vtk(out / "fields.vtu", mesh, vtk_fields, subdivision=2)
             results["files"].append("fields.vtu")
         if "figures" in wanted:
-            plots.profile_pair(out / "profile.png", profile[coord],
-                               (r"$\Psi$ [MPa]", profile["Psi"]),
-                               (r"Curl $F^g$ : Curl $F^g$ [1/mm$^2$]", profile["curlFg_sq"]),
-                               xlabel=f"{coord} [mm]",
-                               title=f"{scene.name}: profile along {coord}")
-            results["files"].append("profile.png")
+            results["files"] += _figures(scene.name, out, profile, coord, case)
     results["timings"] = timings
     io.write_json(out / "results.json", results)
     if error is not None:
         raise error
     return results
+
+
+def _figures(name, out, profile, coord, case):
+    """The profile figures of a scene; returns the file names written."""
+    x = profile[coord]
+    xlabel = f"{coord} [mm]"
+    plots.profile_pair(out / "profile.png", x, (r"$\Psi$ [MPa]", profile["Psi"]),
+                       (r"Curl $F^g$ : Curl $F^g$ [1/mm$^2$]", profile["curlFg_sq"]),
+                       xlabel=xlabel, title=f"{name}: energy and incompatibility")
+    files = ["profile.png"]
+    if case.planes:
+        plots.profiles(out / "burgers.png", x,
+                       {f"|b| on {label}": profile[f"|b_{label}|"] for label in case.planes},
+                       xlabel=xlabel, ylabel="|b| [1/mm]", title=f"{name}: Burgers vectors")
+        files.append("burgers.png")
+    if case.components:
+        plots.profiles(out / "stress.png", x, {k: profile[k] for k in case.components},
+                       xlabel=xlabel, ylabel="stress [MPa]", title=f"{name}: residual stress")
+        files.append("stress.png")
+    return files
 
 
 def _incompatibility(scene, case, problem):

@@ -1,0 +1,78 @@
+"""The cylinder of section 3.4: fiber growth whose incompatibility is relieved by rotation."""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from geometries import cylinder
+
+from .. import fields, postprocess
+from .. import incompatibility as inc
+from ..growth import FiberGrowth
+from ..kinematics import deformation_gradient, elastic_part
+from ..materials import NeoHookean
+from . import prescribed
+from .base import param
+
+
+@dataclass(frozen=True)
+class CylinderScene(prescribed.PrescribedScene):
+    """Cylinder along e1, cross-section pi/4 mm^2, length 1 mm; fiber growth along f0 = e1 with
+    theta = 1 + a X2 t (eq. 52, a = 1/4); neo-Hookean mu = 0.55 MPa, nu = 0.4; traction-free.
+
+    The exact solution is stress-free: Fe is the rotation about e3 by the angle a X1
+    (eq. 54-56), so the strain energy must vanish under refinement. Reports b on the plane e3
+    against eq. (27) with beta = 90 degrees, the deviation of Fe from a rotation and the
+    rotation rate along the axis.
+    """
+
+    name = "cylinder"
+    summary = "section 3.4: fiber growth of a cylinder, relieved by a stress-free rotation"
+
+    order: int = param(3, "polynomial order of the displacement")
+    maxh: float = param(0.25, "mesh size", "length")
+    area: float = param(float(np.pi / 4), "cross-section", "length^2")
+    length: float = param(1.0, "length", "length")
+    a: float = param(0.25, "growth gradient a in theta = 1 + a X2 t", "1/length")
+    mu: float = param(0.55, "shear modulus", "stress")
+    nu: float = param(0.4, "Poisson's ratio")
+
+    def build(self):
+        mesh = cylinder(area=self.area, length=self.length, maxh=self.maxh,
+                        curve_order=self.order)
+        time = ngs.Parameter(0.0)
+        theta = 1 + self.a * ngs.y * time
+        f0 = fields.constant("e1")
+        growth = FiberGrowth(theta, f0)
+        radius = float(np.sqrt(self.area / np.pi))
+        e = [fields.constant(k).cf for k in ("e1", "e2", "e3")]
+
+        def verify(problem, flds):
+            b = flds["b_e3"]
+            expected = inc.burgers_fiber_magnitude(theta, inc.grad_scalar(theta), f0.cf)
+            Fe = elastic_part(deformation_gradient(problem.u), growth.Fg)
+            stretch = Fe.trans * Fe - ngs.Id(3)
+            xs = np.linspace(0, self.length, 21)
+            _, along = postprocess.sample_line(mesh, {"Fe": Fe}, (0, 0, 0),
+                                               (self.length, 0, 0), n=21)
+            F_axis = along["Fe"].reshape(-1, 3, 3)
+            angle = np.unwrap(np.arctan2(F_axis[:, 1, 0], F_axis[:, 0, 0]))
+            rate = float(np.polyfit(xs, angle, 1)[0])
+            return {
+                "b_eq27_error": postprocess.maximum(
+                    ngs.sqrt((ngs.Norm(b) - expected) ** 2), mesh)
+                / postprocess.maximum(expected, mesh),
+                "Fe_rotation_deviation": postprocess.maximum(ngs.Norm(stretch), mesh),
+                "rotation_rate": rate,
+                # eq. (54): Fe = [[cos, sin], [-sin, cos]] with angle a X1, i.e. a rotation
+                # about e3 by -a X1 (up to the constant rotation the supports leave)
+                "rotation_rate_expected": -self.a,
+            }
+
+        return prescribed.PrescribedCase(
+            mesh=mesh, growth=growth, material=NeoHookean.from_nu(self.mu, self.nu),
+            time=time, planes={"e3": e[2]},
+            line=((self.length / 2, -radius, 0.0), (self.length / 2, radius, 0.0), "X2"),
+            components={"S11": ("S", e[0], e[0])},
+            verify=verify)

@@ -1,0 +1,135 @@
+"""The hemisphere of section 3.2: isotropic growth driven by a radial field."""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from geometries import hemisphere
+
+from .. import postprocess
+from ..errors import require
+from ..growth import IsotropicGrowth
+from ..materials import NeoHookean
+from ..radial import solve_radial
+from . import prescribed
+from .base import param
+
+#: The growth profiles f(R / R0) of Fig. 2f: f(0) = 0, f(1) = 1, as (CF builder, numpy).
+PROFILES = {
+    "linear": (lambda s: s, lambda s: s),
+    "concave": (lambda s: 2 * s - s * s, lambda s: 2 * s - s * s),  # rapid near the core
+    "convex": (lambda s: s * s, lambda s: s * s),                   # rapid near the surface
+}
+
+
+@dataclass(frozen=True)
+class HemisphereScene(prescribed.PrescribedScene):
+    """Half ball R0 = 1 mm, theta = 1 + f(R / R0) t / 4 (Table 1), neo-Hookean mu = 0.55 MPa,
+    nu = 0.4.
+
+    ``flat_face = free`` is the paper's setting (rigid-body constraints only);
+    ``flat_face = symmetry`` removes the normal displacement of the flat face, which makes the
+    body exactly half of a growing ball: the Cauchy stresses are then checked against the
+    independent 1-D radial solution (:mod:`ngincompat.radial`). Burgers vectors are reported on
+    the radial, meridional and circumferential planes (Fig. 2b, 2c); profiles along the ray
+    (1, 1, 1) / sqrt(3) from the centre (Fig. 2d-2h).
+    """
+
+    name = "hemisphere"
+    summary = "section 3.2: radial isotropic growth of a half ball (linear/concave/convex)"
+
+    order: int = param(4, "polynomial order of the displacement")
+    maxh: float = param(0.3, "mesh size", "length")
+    centre_maxh: float = param(0.02, "mesh size at the centre (theta has a cone point there)",
+                               "length")
+    R0: float = param(1.0, "radius", "length")
+    profile: str = param("linear", "growth profile f: linear, concave or convex")
+    flat_face: str = param("free", "flat face: free (the paper's) or symmetry")
+    mu: float = param(0.55, "shear modulus", "stress")
+    nu: float = param(0.4, "Poisson's ratio")
+
+    def __post_init__(self):
+        super().__post_init__()
+        require(self.profile in PROFILES, "profile", self.profile, ", ".join(PROFILES))
+        require(self.flat_face in ("free", "symmetry"), "flat_face", self.flat_face,
+                "free or symmetry")
+        require(0 < self.centre_maxh <= self.maxh, "centre_maxh", self.centre_maxh,
+                f"in (0, maxh = {self.maxh}]")
+
+    def build(self):
+        mesh = hemisphere(R0=self.R0, maxh=self.maxh, curve_order=self.order,
+                          centre_maxh=self.centre_maxh)
+        time = ngs.Parameter(0.0)
+        X = ngs.CF((ngs.x, ngs.y, ngs.z))
+        R = ngs.Norm(X)
+        f_cf, f_np = PROFILES[self.profile]
+        growth = IsotropicGrowth(1 + f_cf(R / self.R0) * time / 4)
+        basis = spherical_basis()
+        material = NeoHookean.from_nu(self.mu, self.nu)
+        ray = np.ones(3) / np.sqrt(3)
+
+        def verify(problem, fields):
+            metrics = burgers_alignment(fields, basis, problem.mesh)
+            if self.flat_face == "symmetry":
+                reference = solve_radial(lambda r: 1 + f_np(r / self.R0) / 4, material.mu,
+                                         material.lam, R0=self.R0)
+                metrics.update(radial_errors(reference, fields, problem.mesh, ray, self.R0))
+            return metrics
+        return prescribed.PrescribedCase(
+            mesh=mesh, growth=growth, material=material, time=time,
+            planes={"radial": basis["r"], "meridional": basis["phi"],
+                    "circumferential": basis["theta"]},
+            line=((0.0, 0.0, 0.0), tuple(self.R0 * ray), "R"),
+            symmetry={"flat": "z"} if self.flat_face == "symmetry" else {},
+            components={"sigma_rr": ("sigma", basis["r"], basis["r"]),
+                        "sigma_thetatheta": ("sigma", basis["theta"], basis["theta"]),
+                        "sigma_phiphi": ("sigma", basis["phi"], basis["phi"])},
+            verify=verify)
+
+
+def spherical_basis():
+    """Unit vectors e_r (radial), e_theta (circumferential, about e3) and e_phi (meridional)
+    as CoefficientFunctions; undefined on the e3 axis (regularised there)."""
+    X = ngs.CF((ngs.x, ngs.y, ngs.z))
+    e_r = X / (ngs.Norm(X) + 1e-30)
+    around = ngs.Cross(ngs.CF((0, 0, 1)), X)
+    e_theta = around / (ngs.Norm(around) + 1e-30)
+    return {"r": e_r, "theta": e_theta, "phi": ngs.Cross(e_theta, e_r)}
+
+
+def burgers_alignment(fields, basis, mesh):
+    """How far b is from the directions of section 3.2, relative to the largest |b|: zero on
+    radial planes, circumferential on the meridional plane, meridional on the circumferential
+    plane (measured away from the e3 axis, where the basis is undefined)."""
+    away = ngs.IfPos(ngs.x * ngs.x + ngs.y * ngs.y - 0.01, 1.0, 0.0)
+    scale = postprocess.maximum(ngs.Norm(fields["b_meridional"]), mesh)
+
+    def off(b, direction):
+        rest = b - ngs.InnerProduct(b, direction) * direction
+        return postprocess.maximum(away * ngs.Norm(rest), mesh) / scale
+
+    return {
+        "b_radial_rel": postprocess.maximum(away * ngs.Norm(fields["b_radial"]), mesh) / scale,
+        "b_meridional_off_circumferential": off(fields["b_meridional"], basis["theta"]),
+        "b_circumferential_off_meridional": off(fields["b_circumferential"], basis["phi"]),
+    }
+
+
+def radial_errors(reference, fields, mesh, ray, R0, radii=np.linspace(0.1, 0.95, 35)):
+    """Largest deviation of the Cauchy stresses from the 1-D radial solution along ``ray``,
+    relative to the largest stress, for R / R0 in [0.1, 0.95] (the centre is a cone point of
+    the linear and concave profiles)."""
+    R = radii * R0
+    pts = np.outer(R, ray)
+    _, fe = postprocess.sample_line(mesh, {k: fields[k] for k in
+                                           ("sigma_rr", "sigma_thetatheta", "sigma_phiphi")},
+                                    pts[0], pts[-1], n=len(R))
+    srr, stt = reference.cauchy(R)
+    scale = max(np.max(np.abs(srr)), np.max(np.abs(stt)))
+    return {
+        "radial_sigma_rr_error": float(np.max(np.abs(fe["sigma_rr"] - srr)) / scale),
+        "radial_sigma_thetatheta_error":
+            float(np.max(np.abs(fe["sigma_thetatheta"] - stt)) / scale),
+        "radial_sigma_phiphi_error": float(np.max(np.abs(fe["sigma_phiphi"] - stt)) / scale),
+    }
