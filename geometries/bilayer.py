@@ -1,6 +1,6 @@
 """The cortex-subcortex bilayer of the cortical-folding scene (section 3.7)."""
 
-from netgen.occ import X, Z, Box, Glue, Pnt
+from netgen.occ import Box, Glue, Pnt, X, Z
 
 from ngincompat.errors import require
 

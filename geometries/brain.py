@@ -1,6 +1,6 @@
 """An idealised adult brain: an ellipsoid of white matter inside a shell of gray matter."""
 
-from netgen.occ import Z, Axes, Ellipsoid, Glue, Pnt
+from netgen.occ import Axes, Ellipsoid, Glue, Pnt, Z
 
 from ngincompat.errors import require
 

@@ -2,7 +2,7 @@
 
 import math
 
-from netgen.occ import X, Cylinder, Pnt
+from netgen.occ import Cylinder, Pnt, X
 
 from ngincompat.errors import require
 

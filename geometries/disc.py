@@ -1,6 +1,6 @@
 """The disc of section 3.3."""
 
-from netgen.occ import Z, Axes, Cylinder, Pnt
+from netgen.occ import Axes, Cylinder, Pnt, Z
 
 from ngincompat.errors import require
 

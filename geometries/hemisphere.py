@@ -1,6 +1,6 @@
 """The hemisphere of section 3.2."""
 
-from netgen.occ import Z, Box, Pnt, Sphere
+from netgen.occ import Box, Pnt, Sphere, Z
 
 from ngincompat.errors import require
 

@@ -2,7 +2,7 @@
 
 import math
 
-from netgen.occ import Z, Axes, Box, Cylinder, Glue, Pnt, WorkPlane
+from netgen.occ import Axes, Box, Cylinder, Glue, Pnt, WorkPlane, Z
 
 from ngincompat.errors import require
 
