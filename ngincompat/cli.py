@@ -1,4 +1,4 @@
-"""Command line: ``ngincompat list | run | bench``.
+"""Command line: ``ngincompat list | run | paper | sweep | bench``.
 
 Errors a user can cause (unknown scene or key, a value out of range, a bad expression) end the
 program with exit code 2 and one line on stderr; a run whose growth could not be applied to the
@@ -55,9 +55,22 @@ def _cmd_run(args):
     return 0
 
 
+def _cmd_paper(args):
+    from . import paper
+    rows = paper.run_all(args.out, quiet=args.quiet)
+    print(paper.summary_markdown(rows))
+    print(f"summary written to {args.out}/summary.md (.csv, .json) with figures")
+    return 0
+
+
 def _cmd_bench(args):
     from . import bench
     return bench.main(args)
+
+
+def _cmd_sweep(args):
+    from . import sweep
+    return sweep.main(args)
 
 
 def build_parser():
@@ -81,10 +94,20 @@ def build_parser():
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_run)
 
+    p = sub.add_parser("paper", help="run every idealized scene of the paper, one summary")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_paper)
+
     from . import bench
     p = sub.add_parser("bench", help="benchmarks: run time against error")
     bench.add_arguments(p)
     p.set_defaults(func=_cmd_bench)
+
+    from . import sweep
+    p = sub.add_parser("sweep", help="parameter sweeps: run a sweep file, plot its table")
+    sweep.add_arguments(p)
+    p.set_defaults(func=_cmd_sweep)
     return parser
 
 
