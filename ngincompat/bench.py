@@ -56,12 +56,11 @@ def format_table(rows):
 
 
 def main(args):
+    """Entry of ``ngincompat bench``; returns the lines for the command line to print."""
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(args.out) if args.out else Path(scratch)
         rows = cube_table(args.maxh, args.orders, out)
-        print(format_table(rows))
-        print("(energy error against the finest run of the table)")
         if args.out:
             io.write_json(out / "bench.json", {"case": args.case, "rows": rows,
                                                **io.provenance()})
-    return 0
+    return [format_table(rows), "(energy error against the finest run of the table)"]

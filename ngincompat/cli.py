@@ -65,12 +65,14 @@ def _cmd_paper(args):
 
 def _cmd_bench(args):
     from . import bench
-    return bench.main(args)
+    print("\n".join(bench.main(args)))
+    return 0
 
 
 def _cmd_sweep(args):
     from . import sweep
-    return sweep.main(args)
+    print("\n".join(sweep.main(args)))
+    return 0
 
 
 def build_parser():

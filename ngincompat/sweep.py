@@ -902,20 +902,19 @@ def _cell(value):
 
 
 def main(args):
-    """Entry of ``ngincompat sweep``: run a sweep or plot one; prints a summary."""
+    """Entry of ``ngincompat sweep``: run a sweep or plot one; returns the summary lines for
+    the command line to print."""
     if args.sweep_command == "plot":
         path = plot_sweep(args.sweep_dir, args.metric, args.x, args.out, hue=args.hue,
                           where=args.where, logx=args.logx, logy=args.logy)
-        print(f"plot written to {path}")
-        return 0
+        return [f"plot written to {path}"]
     sweep = load_sweep(args.file)
     report = run_sweep(sweep, args.out, workers=args.workers, scheduler=args.scheduler,
                        resume=args.resume, quiet=args.quiet, threads=args.threads,
                        max_cases=args.max_cases)
-    print(format_table(report))
     tables = [TABLE] + ([PARQUET] if (report.out / PARQUET).is_file() else [])
-    print(f"{len(report.rows)} cases: {report.ok} ok, {report.failed} failed; run now "
-          f"{report.computed}, taken over {report.reused}"
-          + (f", left for the next run {report.pending}" if report.pending else ""))
-    print(f"table written to {', '.join(str(report.out / t) for t in tables)}")
-    return 0
+    return [format_table(report),
+            f"{len(report.rows)} cases: {report.ok} ok, {report.failed} failed; run now "
+            f"{report.computed}, taken over {report.reused}"
+            + (f", left for the next run {report.pending}" if report.pending else ""),
+            f"table written to {', '.join(str(report.out / t) for t in tables)}"]
