@@ -4,7 +4,7 @@ PYTHON ?= python
 .PHONY: demo test bench lint
 
 demo:
-	$(PYTHON) -m pip install -e ".[test]" && ngincompat run cube --out results/cube
+	$(PYTHON) -m pip install -e ".[test]" && ngincompat paper --out results/paper
 
 test:
 	$(PYTHON) -m pip install -e ".[test]" && $(PYTHON) -m pytest

@@ -286,3 +286,13 @@ def test_sweep_plot_writes_a_png(resumed, tmp_path, capsys):
                  "--out", str(tmp_path / "bad.png")])
     assert code == 2 and "energy" in capsys.readouterr().err
     assert not (tmp_path / "bad.png").exists()
+
+
+@pytest.mark.parametrize("name", ["cube_poisson", "hemisphere_profiles", "disc_fibers"])
+def test_example_sweep_files_are_valid(name):
+    """The sweep files shipped in examples/ parse and expand to the documented case counts."""
+    from pathlib import Path
+    path = Path(__file__).parent.parent / "examples" / "sweeps" / f"{name}.toml"
+    sweep = load_sweep(path)
+    expected = {"cube_poisson": 10, "hemisphere_profiles": 12, "disc_fibers": 6}[name]
+    assert len(sweep.cases()) == expected
