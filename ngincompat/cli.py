@@ -22,6 +22,23 @@ def _settings(pairs):
     return out
 
 
+OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures")
+
+
+def _outputs(text):
+    """--outputs LIST -> the scene settings ``mechanics`` and ``outputs``.
+
+    incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
+    energy; vtk and figures add files."""
+    items = {item.strip() for item in text.split(",") if item.strip()}
+    unknown = items - set(OUTPUT_NAMES)
+    if unknown or not items:
+        raise ParameterError(f"--outputs {text!r}: allowed a comma list of "
+                             f"{', '.join(OUTPUT_NAMES)}")
+    files = [name for name in ("vtk", "figures") if name in items]
+    return {"mechanics": "mechanics" in items, "outputs": ",".join(files) or "none"}
+
+
 def _cmd_list(args):
     from .scenes import SCENES
     for name, cls in SCENES.items():
@@ -43,12 +60,18 @@ def _cmd_run(args):
         settings["order"] = args.order
     if args.maxh is not None:
         settings["maxh"] = args.maxh
+    if args.outputs is not None:
+        settings.update(_outputs(args.outputs))
     scene = cls.from_settings(settings)
     results = scene.run(args.out, quiet=args.quiet)
     metrics = results["metrics"]
-    print(f"{scene.name}: ndof {results['mesh']['ndof']}, "
-          f"Newton iterations {results['solver']['newton_iterations']}, "
-          f"solve {results['timings']['solve']:.2f} s")
+    if "solver" in results:
+        print(f"{scene.name}: ndof {results['mesh']['ndof']}, "
+              f"Newton iterations {results['solver']['newton_iterations']}, "
+              f"solve {results['timings']['solve']:.2f} s")
+    else:
+        print(f"{scene.name}: incompatibility only (no mechanics), "
+              f"{sum(results['timings'].values()):.2f} s")
     for key, value in metrics.items():
         print(f"  {key:28s} {value:.6g}")
     print(f"results written to {args.out}/results.json")
@@ -93,6 +116,9 @@ def build_parser():
                    help="set a scene parameter (repeatable); see 'ngincompat list -v'")
     p.add_argument("--order", type=int, help="polynomial order of the displacement")
     p.add_argument("--maxh", type=float, help="mesh size")
+    p.add_argument("--outputs", metavar="LIST",
+                   help="what to compute and write: comma list of " + ", ".join(OUTPUT_NAMES)
+                   + " (default: all); 'incompatibility' alone builds no mechanics problem")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_run)
 

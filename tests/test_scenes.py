@@ -112,3 +112,38 @@ def test_scene_registry_and_settings():
     assert (scene.order, scene.nu, scene.elements) == (3, 0.3, "tet")
     with pytest.raises(ParameterError):
         get_scene("sphere")
+
+
+def test_incompatibility_only_builds_no_mechanics(tmp_path, monkeypatch):
+    """G depends on Fg alone: asking only for incompatibility never builds the mechanics."""
+    from ngincompat.scenes import prescribed
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("a mechanics problem was built")
+
+    monkeypatch.setattr(prescribed, "GrowthMechanics", forbidden)
+    code = main(["run", "cube", "--out", str(tmp_path), "--outputs", "incompatibility",
+                 "--maxh", "0.5", "-q"])
+    assert code == 0
+    results = json.loads((tmp_path / "results.json").read_text())
+    assert "solver" not in results and "strain_energy" not in results["metrics"]
+    assert results["metrics"]["G_error_L2_rel"] < 1e-6
+    assert results["params"]["mechanics"] is False
+    assert "Psi" not in results["profiles"]["line"]
+    assert [p.name for p in tmp_path.iterdir()] == ["results.json"]
+    with pytest.raises(AssertionError, match="mechanics problem was built"):
+        main(["run", "cube", "--out", str(tmp_path), "--maxh", "0.5", "-q"])
+
+
+def test_incompatibility_only_keeps_the_scene_checks(tmp_path):
+    results = main(["run", "cylinder", "--out", str(tmp_path), "--outputs", "incompatibility",
+                    "--order", "2", "--maxh", "0.4", "-q"])
+    assert results == 0
+    metrics = json.loads((tmp_path / "results.json").read_text())["metrics"]
+    assert metrics["b_eq27_error"] < 1e-6
+    assert "Fe_rotation_deviation" not in metrics
+
+
+def test_bad_outputs_list_exits_2(capsys, tmp_path):
+    assert main(["run", "cube", "--out", str(tmp_path), "--outputs", "stress"]) == 2
+    assert "--outputs 'stress'" in capsys.readouterr().err

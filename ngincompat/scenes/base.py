@@ -34,6 +34,8 @@ class Scene:
     g_order: int = param(6, "order of the H1 space that Fg is projected into for Curl Fg")
     outputs: str = param("vtk,figures", "files besides results.json: comma list of "
                                         "vtk, figures; or none")
+    mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
+                                  "incompatibility of the growth field only")
 
     def __post_init__(self):
         require(isinstance(self.order, int) and 1 <= self.order <= 10, "order", self.order,

@@ -54,7 +54,8 @@ class PrescribedCase:
         "sigma" (Cauchy), reported as a field and along the profile line.
     verify : callable, optional
         ``verify(problem, fields) -> dict`` of scene-specific verification metrics (errors
-        against closed forms or reference solutions).
+        against closed forms or reference solutions); ``problem`` is None when the scene
+        was asked for incompatibility only.
     """
 
     mesh: ngs.Mesh
@@ -111,47 +112,42 @@ def _run(scene, case, out, quiet, mesh_seconds):
     mesh, growth, time = case.mesh, case.growth, case.time
     with _timed(timings, "validate"):
         check_positive(growth.theta, mesh, time)
-
-    with _timed(timings, "setup"):
-        problem = GrowthMechanics(mesh, growth, case.material, order=scene.order,
-                                  fibers=case.fibers, dirichlet=case.dirichlet,
-                                  symmetry=case.symmetry)
-    error = None
-    with _timed(timings, "solve"):
-        time.Set(0.0)
-        try:
-            history = solve_growth(problem, time, NewtonOptions(steps=scene.steps), quiet=quiet)
-        except ConvergenceError as err:
-            history, error = err.history, err
-    results = {
-        "scene": scene.name,
-        "params": scene.settings(),
-        "units": scene.units,
-        **io.provenance(),
-        "mesh": {"ne": mesh.ne, "nv": mesh.nv, "ndof": problem.ndof, "order": scene.order,
-                 "maxh": scene.maxh},
-        "solver": history.as_dict(),
-    }
-    if error is not None:
-        results["error"] = str(error)
+    results = {"scene": scene.name, "params": scene.settings(), "units": scene.units,
+               **io.provenance(),
+               "mesh": {"ne": mesh.ne, "nv": mesh.nv, "order": scene.order,
+                        "maxh": scene.maxh}}
+    problem, error = None, None
+    if scene.mechanics:
+        with _timed(timings, "setup"):
+            problem = GrowthMechanics(mesh, growth, case.material, order=scene.order,
+                                      fibers=case.fibers, dirichlet=case.dirichlet,
+                                      symmetry=case.symmetry)
+        with _timed(timings, "solve"):
+            time.Set(0.0)
+            try:
+                history = solve_growth(problem, time, NewtonOptions(steps=scene.steps),
+                                       quiet=quiet)
+            except ConvergenceError as err:
+                history, error = err.history, err
+        results["mesh"]["ndof"] = problem.ndof
+        results["solver"] = history.as_dict()
+        if error is not None:
+            results["error"] = str(error)
+    else:
+        # G depends on Fg alone (eq. 10): no mechanics problem is built
+        time.Set(1.0)
 
     with _timed(timings, "incompatibility"):
         fields, metrics = _incompatibility(scene, case, problem)
     with _timed(timings, "postprocess"):
-        stress = postprocess.stresses(problem.energy_density, problem.u)
-        Psi = stress["W"] / growth.Jg
-        fields.update({"theta": growth.theta, "u": problem.u, "Psi": Psi,
-                       "sigma_max_principal": postprocess.principal_values(stress["sigma"])[2]})
-        for label, (tensor, a, b) in case.components.items():
-            fields[label] = postprocess.component(stress[tensor], a, b)
-        metrics["strain_energy"] = problem.strain_energy()
-        metrics["max_principal_stress"] = postprocess.maximum(
-            fields["sigma_max_principal"], mesh)
+        fields["theta"] = growth.theta
+        if problem is not None:
+            metrics.update(_mechanics(case, problem, fields))
         if case.verify is not None:
             metrics.update(case.verify(problem, fields))
         start, end, coord = case.line
-        sampled = ["theta", "Psi", "curlFg_sq", *case.components,
-                   *(f"|b_{label}|" for label in case.planes)]
+        sampled = [k for k in ("theta", "Psi", "curlFg_sq", *case.components,
+                               *(f"|b_{label}|" for label in case.planes)) if k in fields]
         s, values = postprocess.sample_line(mesh, {k: fields[k] for k in sampled}, start, end)
         profile = {coord: np.asarray(start)[_axis(start, end)] + s, **values}
         results["profiles"] = {"line": profile}
@@ -173,20 +169,36 @@ def _run(scene, case, out, quiet, mesh_seconds):
     return results
 
 
+def _mechanics(case, problem, fields):
+    """Stress fields and metrics of the solved body; adds the fields, returns the metrics."""
+    stress = postprocess.stresses(problem.energy_density, problem.u)
+    fields.update({"u": problem.u, "Psi": stress["W"] / case.growth.Jg,
+                   "sigma_max_principal": postprocess.principal_values(stress["sigma"])[2]})
+    for label, (tensor, a, b) in case.components.items():
+        fields[label] = postprocess.component(stress[tensor], a, b)
+    return {"strain_energy": problem.strain_energy(),
+            "max_principal_stress": postprocess.maximum(fields["sigma_max_principal"],
+                                                        case.mesh)}
+
+
 def _figures(name, out, profile, coord, case):
     """The profile figures of a scene; returns the file names written."""
     x = profile[coord]
     xlabel = f"{coord} [mm]"
-    plots.profile_pair(out / "profile.png", x, (r"$\Psi$ [MPa]", profile["Psi"]),
-                       (r"Curl $F^g$ : Curl $F^g$ [1/mm$^2$]", profile["curlFg_sq"]),
-                       xlabel=xlabel, title=f"{name}: energy and incompatibility")
+    curl = (r"Curl $F^g$ : Curl $F^g$ [1/mm$^2$]", profile["curlFg_sq"])
+    if "Psi" in profile:
+        plots.profile_pair(out / "profile.png", x, (r"$\Psi$ [MPa]", profile["Psi"]), curl,
+                           xlabel=xlabel, title=f"{name}: energy and incompatibility")
+    else:
+        plots.profiles(out / "profile.png", x, {curl[0]: curl[1]}, xlabel=xlabel,
+                       ylabel=curl[0], title=f"{name}: incompatibility")
     files = ["profile.png"]
     if case.planes:
         plots.profiles(out / "burgers.png", x,
                        {f"|b| on {label}": profile[f"|b_{label}|"] for label in case.planes},
                        xlabel=xlabel, ylabel="|b| [1/mm]", title=f"{name}: Burgers vectors")
         files.append("burgers.png")
-    if case.components:
+    if case.components and all(k in profile for k in case.components):
         plots.profiles(out / "stress.png", x, {k: profile[k] for k in case.components},
                        xlabel=xlabel, ylabel="stress [MPa]", title=f"{name}: residual stress")
         files.append("stress.png")
@@ -212,10 +224,12 @@ def _incompatibility(scene, case, problem):
     if exact is not None:
         metrics["G_error_L2_rel"] = inc.relative_l2_error(G, exact, mesh)
         metrics["G_norm_L2"] = ngs.Integrate(ngs.InnerProduct(exact, exact), mesh, order=10) ** 0.5
-    F = deformation_gradient(problem.u)
-    Fe_inv = ngs.Inv(elastic_part(F, Fg))
-    G_e = inc.incompatibility_from_elastic(*inc.project_tensor(Fe_inv, mesh, scene.g_order), F)
-    metrics["G_elastic_vs_growth_L2_rel"] = inc.relative_l2_error(G_e, G, mesh)
+    if problem is not None:
+        F = deformation_gradient(problem.u)
+        Fe_inv = ngs.Inv(elastic_part(F, Fg))
+        G_e = inc.incompatibility_from_elastic(*inc.project_tensor(Fe_inv, mesh, scene.g_order),
+                                               F)
+        metrics["G_elastic_vs_growth_L2_rel"] = inc.relative_l2_error(G_e, G, mesh)
     return fields, metrics
 
 
