@@ -19,6 +19,8 @@ import numpy as np
 
 from . import kinematics
 from .errors import require
+from .growth import make_growth
+from .growth_laws import euler_residual, total_stretch
 
 
 class GrowthMechanics:
@@ -56,17 +58,12 @@ class GrowthMechanics:
         self.fibers = tuple(fibers)
         self.condense = condense
         symmetry = dict(symmetry or {})
-        for name, axis in symmetry.items():
-            require(axis in ("x", "y", "z"), "symmetry axis", axis, "x, y or z")
-            require(name in mesh.GetBoundaries(), "symmetry boundary", name,
-                    ", ".join(sorted(set(mesh.GetBoundaries()))))
-        planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
-                  for axis in ("x", "y", "z") if axis in symmetry.values()}
-        self.fes = ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes)
+        self.fes = displacement_space(mesh, order, dirichlet, symmetry)
         self.u = ngs.GridFunction(self.fes, name="displacement")
+        self.state = self.u
         self.freedofs = self.fes.FreeDofs(coupling=condense)
         if not dirichlet:
-            self.pinned = self._pin_rigid_modes(tuple(symmetry))
+            self.pinned = rigid_pins(mesh, self.fes, tuple(symmetry))
             for dof in self.pinned:
                 self.freedofs.Clear(dof)
         else:
@@ -76,6 +73,9 @@ class GrowthMechanics:
         density = self.energy_density(kinematics.deformation_gradient(trial))
         self.form = ngs.BilinearForm(self.fes, symmetric=True, condense=condense)
         self.form += ngs.Variation(density.Compile() * ngs.dx)
+
+    has_energy = True
+    inverse = "sparsecholesky"
 
     @property
     def ndof(self):
@@ -128,39 +128,174 @@ class GrowthMechanics:
         w.data = self._fit_inverse * load
         return w
 
-    def _pin_rigid_modes(self, on=()):
-        """Dofs of six displacement components at three vertices that remove rigid motions.
 
-        With symmetry planes, the vertices are taken on them (``on``: boundary names), so the
-        pins add no constraint beyond the planes other than removing the remaining motions.
+def displacement_space(mesh, order, dirichlet="", symmetry=None):
+    """VectorH1 of ``order`` with u = 0 on ``dirichlet`` and the normal component zero on the
+    symmetry planes (boundary name -> axis "x", "y" or "z")."""
+    symmetry = dict(symmetry or {})
+    for name, axis in symmetry.items():
+        require(axis in ("x", "y", "z"), "symmetry axis", axis, "x, y or z")
+        require(name in mesh.GetBoundaries(), "symmetry boundary", name,
+                ", ".join(sorted(set(mesh.GetBoundaries()))))
+    planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
+              for axis in ("x", "y", "z") if axis in symmetry.values()}
+    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes)
 
-        P0 is fixed; at P1 (the vertex farthest from P0, d = P1 - P0) the two components other
-        than d's largest are fixed, which leaves only rotations about d; at P2 (farthest from the
-        line P0-P1) the largest component of d x (P2 - P0) is fixed, which removes that rotation.
-        """
-        pts = np.array([v.point for v in self.mesh.vertices])
-        if on:
-            keep = sorted({v.nr for el in self.mesh.Elements(ngs.BND) if el.mat in on
-                           for v in el.vertices})
-            index = np.array(keep)
-        else:
-            index = np.arange(len(pts))
-        i0, i1, i2 = index[self._three_vertices(pts[index])]
-        d = pts - pts[i0]
-        axis = d[i1] / np.linalg.norm(d[i1])
-        k1 = int(np.argmax(np.abs(axis)))
-        k2 = int(np.argmax(np.abs(np.cross(axis, d[i2]))))
-        comps = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
-        return tuple(self.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, int(v)))[c] for v, c in comps)
+
+def rigid_pins(mesh, fes, on=()):
+    """Dofs of six displacement components at three vertices that remove rigid motions.
+
+    ``fes`` is the displacement space (VectorH1), or a compound space whose first component
+    it is (its dofs come first).
+
+    With symmetry planes, the vertices are taken on them (``on``: boundary names), so the
+    pins add no constraint beyond the planes other than removing the remaining motions.
+
+    P0 is fixed; at P1 (the vertex farthest from P0, d = P1 - P0) the two components other
+    than d's largest are fixed, which leaves only rotations about d; at P2 (farthest from the
+    line P0-P1) the largest component of d x (P2 - P0) is fixed, which removes that rotation.
+    """
+    pts = np.array([v.point for v in mesh.vertices])
+    if on:
+        keep = sorted({v.nr for el in mesh.Elements(ngs.BND) if el.mat in on
+                       for v in el.vertices})
+        index = np.array(keep)
+    else:
+        index = np.arange(len(pts))
+    i0, i1, i2 = index[_three_vertices(pts[index])]
+    d = pts - pts[i0]
+    axis = d[i1] / np.linalg.norm(d[i1])
+    k1 = int(np.argmax(np.abs(axis)))
+    k2 = int(np.argmax(np.abs(np.cross(axis, d[i2]))))
+    comps = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
+    return tuple(fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, int(v)))[c] for v, c in comps)
+
+
+
+def _three_vertices(pts):
+    """Indices of P0 (smallest coordinate sum), P1 (farthest from P0) and P2 (farthest
+    from the line P0-P1) among ``pts``."""
+    i0 = int(np.argmin(pts.sum(axis=1)))
+    d = pts - pts[i0]
+    i1 = int(np.argmax(np.linalg.norm(d, axis=1)))
+    axis = d[i1] / np.linalg.norm(d[i1])
+    dist_line = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
+    i2 = int(np.argmax(dist_line))
+    return [i0, i1, i2]
+
+
+class CoupledGrowth:
+    """Equilibrium and mechanically coupled growth (section 2.6-2.7) solved together.
+
+    Unknowns: the displacement u (VectorH1), the growth theta (L2 of ``growth_order``: its
+    dofs are element-local, so static condensation removes them from the global system) and,
+    with a volume constraint, the pressure p (one number). The residual is
+
+        int dW/du . v dV + int R^g eta dV  [+ p dV/du . v + (V(u) - V*) q],
+
+    with W = Jg Psi(F Fg(theta)^-1) and R^g the implicit-Euler growth residual of eq. (48).
+    Its linearisation, assembled symbolically, is the consistent tangent including c^g
+    (eq. 49), so the global Newton iteration converges quadratically.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+    kind : {"isotropic", "area", "fiber"}
+        Growth kind; ``direction`` is N0 (area) or f0 (fiber).
+    law : growth law (:mod:`ngincompat.growth_laws`)
+    material : material (:mod:`ngincompat.materials`)
+    order : int
+        Displacement order; ``growth_order`` that of theta (default order - 1).
+    dirichlet, symmetry : as for :class:`GrowthMechanics`
+    volume : str, optional
+        A boundary, initially in the plane X3 = 0, whose enclosed volume
+        V = int x3 det(dx_a / dX_b) dA (a, b = 1, 2) is held at the Parameter
+        ``volume_target`` by the pressure p (e.g. an expander's footprint).
+    """
+
+    has_energy = False
+    inverse = "umfpack"
+
+    def __init__(self, mesh, kind, direction, law, material, order=2, growth_order=None,
+                 fibers=(), dirichlet="", symmetry=None, volume=None, condense=True):
+        require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
+        growth_order = max(order - 1, 0) if growth_order is None else growth_order
+        symmetry = dict(symmetry or {})
+        self.mesh, self.kind, self.direction, self.law = mesh, kind, direction, law
+        self.material, self.order, self.condense = material, order, condense
+        self.fibers = tuple(fibers)
+        V = displacement_space(mesh, order, dirichlet, symmetry)
+        Q = ngs.L2(mesh, order=growth_order)
+        spaces = [V, Q] + ([ngs.NumberSpace(mesh)] if volume else [])
+        self.fes = ngs.FESpace(spaces)
+        self.state = ngs.GridFunction(self.fes)
+        self.u = self.state.components[0]
+        self.theta = self.state.components[1]
+        self.theta.Set(1.0)
+        self.theta_old = ngs.GridFunction(Q)
+        self.theta_old.Set(1.0)
+        self.dt = ngs.Parameter(0.0)
+        self.volume_target = ngs.Parameter(0.0)
+        self.volume_region = volume
+        self.freedofs = self.fes.FreeDofs(coupling=condense)
+        self.pinned = () if (dirichlet or volume) else rigid_pins(mesh, self.fes, tuple(symmetry))
+        for dof in self.pinned:
+            self.freedofs.Clear(dof)
+
+        trials, tests = self.fes.TnT()
+        u, th, v, eta = trials[0], trials[1], tests[0], tests[1]
+        F = kinematics.deformation_gradient(u)
+        W = self._energy_density(F, th)
+        self.form = ngs.BilinearForm(self.fes, condense=condense)
+        stretch = total_stretch(kind, F, None if direction is None else direction.cf)
+        growth_residual = euler_residual(law, th, self.theta_old, self.dt, stretch)
+        self.form += (W.Diff(u, v) + growth_residual * eta).Compile() * ngs.dx
+        if volume:
+            p, q = trials[2], tests[2]
+            dV = self._volume_density(u)
+            area = ngs.Integrate(1, mesh, ngs.BND, definedon=mesh.Boundaries(volume))
+            self.form += (p * dV).Diff(u, v) * ngs.ds(volume)
+            self.form += (dV - self.volume_target / area) * q * ngs.ds(volume)
+
+    @property
+    def ndof(self):
+        return self.fes.ndof
+
+    def _energy_density(self, F, theta):
+        growth = make_growth(self.kind, theta, self.direction)
+        Fe = kinematics.elastic_part(F, growth.Fg)
+        pushed = []
+        for f in self.fibers:
+            a = growth.Fg * f.cf
+            pushed.append(a / ngs.Norm(a))
+        return growth.Jg * self.material.energy(Fe, tuple(pushed))
 
     @staticmethod
-    def _three_vertices(pts):
-        """Indices of P0 (smallest coordinate sum), P1 (farthest from P0) and P2 (farthest
-        from the line P0-P1) among ``pts``."""
-        i0 = int(np.argmin(pts.sum(axis=1)))
-        d = pts - pts[i0]
-        i1 = int(np.argmax(np.linalg.norm(d, axis=1)))
-        axis = d[i1] / np.linalg.norm(d[i1])
-        dist_line = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
-        i2 = int(np.argmax(dist_line))
-        return [i0, i1, i2]
+    def _volume_density(u):
+        Fs = ngs.Id(3) + ngs.Grad(u).Trace()
+        x3 = ngs.z + u[2]
+        return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
+
+    def energy_density(self, F):
+        """Strain energy per reference volume at the current growth, Jg Psi(F Fg^-1)."""
+        return self._energy_density(F, self.theta)
+
+    def volume(self):
+        """The volume enclosed under the constrained boundary in the current state."""
+        return ngs.Integrate(self._volume_density(self.u), self.mesh, ngs.BND,
+                             definedon=self.mesh.Boundaries(self.volume_region))
+
+    def pressure(self):
+        """The pressure that holds the volume (the multiplier, with the sign of a pressure
+        pushing on the constrained boundary); 0 without a volume constraint."""
+        if not self.volume_region:
+            return 0.0
+        return -self.state.components[2].vec[0]
+
+    def strain_energy(self):
+        return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
+                             self.mesh)
+
+    def accept_step(self):
+        """Make the converged growth the start of the next step (theta_n <- theta_n+1)."""
+        self.theta_old.vec.data = self.theta.vec

@@ -48,8 +48,10 @@ class NewtonOptions:
         Smallest load step before giving up.
     max_backtracks : int
         Halvings of the line search before the Newton step counts as failed.
-    inverse : str
-        Sparse direct solver: "sparsecholesky", "umfpack" or "pardiso" (if installed).
+    inverse : str or None
+        Sparse direct solver: "sparsecholesky", "umfpack" or "pardiso" (if installed);
+        None takes the problem's choice (Cholesky for energy minimisation, umfpack for the
+        non-symmetric coupled-growth system).
     predictor : bool
         Start each load step from the best compatible approximation of the growth increment
         (:meth:`GrowthMechanics.compatible_displacement`) rather than from the last state.
@@ -64,7 +66,7 @@ class NewtonOptions:
     steps: int = 1
     min_step: float = 1e-4
     max_backtracks: int = 30
-    inverse: str = "sparsecholesky"
+    inverse: str | None = None
     predictor: bool = True
     line_search: bool = True
 
@@ -74,7 +76,7 @@ class NewtonOptions:
         require(self.max_iter >= 1, "max_iter", self.max_iter, ">= 1")
         require(self.steps >= 1, "steps", self.steps, ">= 1")
         require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
-        require(self.inverse in ("sparsecholesky", "umfpack", "pardiso"), "inverse",
+        require(self.inverse in (None, "sparsecholesky", "umfpack", "pardiso"), "inverse",
                 self.inverse, "sparsecholesky, umfpack or pardiso")
 
 
@@ -112,12 +114,14 @@ class SolverHistory:
 
 
 class NewtonSolver:
-    """Newton's method with a line search on the energy of a GrowthMechanics problem."""
+    """Newton's method with a line search, for a problem exposing ``form``, ``state`` (the
+    GridFunction of all unknowns), ``fes``, ``freedofs``, ``pinned``, ``condense``,
+    ``inverse`` and ``has_energy`` (whether ``form`` derives from an energy)."""
 
     def __init__(self, problem, options=NewtonOptions()):
         self.problem = problem
         self.options = options
-        vec = problem.u.vec
+        vec = problem.state.vec
         self._res = vec.CreateVector()
         self._du = vec.CreateVector()
         self._u0 = vec.CreateVector()
@@ -128,7 +132,7 @@ class NewtonSolver:
     def residual(self, vec=None):
         """The residual (energy gradient) on free dofs at ``vec`` (default: the current u)."""
         a = self.problem.form
-        a.Apply(self.problem.u.vec if vec is None else vec, self._res)
+        a.Apply(self.problem.state.vec if vec is None else vec, self._res)
         self._res.FV().NumPy()[self._fixed] = 0.0
         return self._res
 
@@ -136,8 +140,8 @@ class NewtonSolver:
         """Solve the tangent system K du = r at the current state; returns du."""
         p = self.problem
         a, r, du = p.form, self._res, self._du
-        a.AssembleLinearization(p.u.vec)
-        inv = a.mat.Inverse(p.freedofs, inverse=self.options.inverse)
+        a.AssembleLinearization(p.state.vec)
+        inv = a.mat.Inverse(p.freedofs, inverse=self.options.inverse or p.inverse)
         if p.condense:
             rhs = r.CreateVector()
             rhs.data = r
@@ -153,26 +157,27 @@ class NewtonSolver:
         """Is the trial state (already in u) acceptable?
 
         A non-finite energy (Je <= 0 somewhere) never is. Otherwise the Armijo condition on the
-        energy decides; near convergence, where energy differences drown in round-off, a
-        sufficient decrease of the residual norm is accepted instead.
+        energy decides; near convergence, where energy differences drown in round-off, and for
+        problems without an energy, a sufficient decrease of the residual norm is accepted.
         """
         if not math.isfinite(E_new):
             return False
-        if E_new <= E + 1e-4 * alpha * min(slope, 0.0):
+        if self.problem.has_energy and E_new <= E + 1e-4 * alpha * min(slope, 0.0):
             return True
-        return self.residual().Norm() <= (1 - 1e-4 * alpha) * r_norm
+        r_new = self.residual().Norm()
+        return math.isfinite(r_new) and r_new <= (1 - 1e-4 * alpha) * r_norm
 
     def minimise(self, record):
         """Newton iterations at the current load; fills ``record``; returns True if converged."""
         opts = self.options
-        u = self.problem.u.vec
-        energy = self.problem.form.Energy
+        u = self.problem.state.vec
+        energy = self.problem.form.Energy if self.problem.has_energy else _finite_residual(self)
         r = self.residual()
         r0 = r.Norm()
         record.residuals.append(r0)
         E = energy(u)
         if not math.isfinite(E):
-            record.reason = "energy is not finite at the start of the step"
+            record.reason = "energy or residual is not finite at the start of the step"
             return False
         for it in range(1, opts.max_iter + 1):
             if r.Norm() <= max(opts.rtol * r0, opts.atol):
@@ -210,8 +215,15 @@ class NewtonSolver:
         return False
 
 
+def _finite_residual(solver):
+    """Stand-in for the energy of a problem without one: 0 where the residual is finite."""
+    def merit(vec):
+        return 0.0 if math.isfinite(solver.residual(vec).Norm()) else float("nan")
+    return merit
+
+
 def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, quiet=True):
-    """Apply growth from the current time to ``t_end`` in adaptive load steps.
+    """Apply prescribed growth from the current time to ``t_end`` in adaptive load steps.
 
     Parameters
     ----------
@@ -233,54 +245,100 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, quiet=True):
         When a step would fall below ``options.min_step``; ``problem.u`` and ``time`` then
         hold the last converged state.
     """
-    solver = NewtonSolver(problem, options)
-    history = SolverHistory()
-    bar = tqdm(total=t_end - time.Get(), disable=quiet or None, unit="t", desc="growth",
-               bar_format="{l_bar}{bar}| t={n:.3f}/{total:.3f}")
-    with ngs.TaskManager():
-        try:
-            _step_to(problem, time, options, t_end, solver, history, bar)
-        finally:
-            bar.close()
-    history.converged = True
-    return history
-
-
-def _step_to(problem, time, options, t_end, solver, history, bar):
-    """The load-stepping loop of :func:`solve_growth`; fills ``history``."""
-    t = time.Get()
-    dt = (t_end - t) / options.steps
-    saved = problem.u.vec.CreateVector()
-    while t < t_end - 1e-12:
-        dt = min(dt, t_end - t)
-        saved.data = problem.u.vec
+    def advance(t, t_new):
         if options.predictor:
             before = problem.growth_load()
-            time.Set(t + dt)
+            time.Set(t_new)
             increment = problem.growth_load()
             increment.data -= before
             problem.u.vec.data += problem.compatible_displacement(increment)
         else:
-            time.Set(t + dt)
-        record = StepRecord(t=t + dt, dt=dt, converged=False)
-        start = _time.perf_counter()
-        record.converged = solver.minimise(record)
-        record.seconds = _time.perf_counter() - start
-        history.steps.append(record)
-        if record.converged:
-            t += dt
-            history.t_reached = t
-            bar.update(dt)
-            log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
-            if record.iterations <= 4:
-                dt *= 2
-            continue
-        problem.u.vec.data = saved
-        time.Set(t)
-        log.info("step to t = %.4g failed (%s); cutting the step", t + dt, record.reason)
-        dt /= 2
-        if dt < options.min_step:
-            raise ConvergenceError(
-                f"growth could not be applied beyond t = {t:.6g}: the load step fell below "
-                f"min_step = {options.min_step:g} ({record.reason})",
-                history=history, t_converged=t)
+            time.Set(t_new)
+
+    t0 = time.Get()
+    return _march(problem, options, t0, t_end, (t_end - t0) / options.steps, advance,
+                  restore=lambda t: time.Set(t), accept=None, quiet=quiet)
+
+
+def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_start=0.0,
+                  schedule=None, on_step=None, quiet=True):
+    """March a :class:`~ngincompat.problem.CoupledGrowth` problem in time with adaptive steps.
+
+    Parameters
+    ----------
+    problem : CoupledGrowth
+    t_end, dt, t_start : float
+        End time, first time step and start time (the scene's time unit).
+    schedule : callable, optional
+        ``schedule(t)`` sets time-dependent loads (e.g. the volume target) for time t.
+    on_step : callable, optional
+        ``on_step(t)`` after every converged step, e.g. to write a checkpoint.
+
+    Returns
+    -------
+    SolverHistory
+
+    Raises
+    ------
+    ConvergenceError
+        Below ``options.min_step``; the state then holds the last converged step.
+    """
+    def advance(t, t_new):
+        problem.dt.Set(t_new - t)
+        if schedule is not None:
+            schedule(t_new)
+
+    def restore(t):
+        if schedule is not None:
+            schedule(t)
+
+    def accept(t):
+        problem.accept_step()
+        if on_step is not None:
+            on_step(t)
+
+    return _march(problem, options, t_start, t_end, dt, advance, restore, accept, quiet)
+
+
+def _march(problem, options, t, t_end, dt, advance, restore, accept, quiet):
+    """The adaptive stepping loop: a failed step is undone and retried at half the size."""
+    solver = NewtonSolver(problem, options)
+    history = SolverHistory(t_reached=t)
+    saved = problem.state.vec.CreateVector()
+    bar = tqdm(total=t_end - t, disable=quiet or None, unit="t", desc="growth",
+               bar_format="{l_bar}{bar}| t={n:.3f}/{total:.3f}")
+    with ngs.TaskManager():
+        try:
+            while t < t_end - 1e-12 * max(1.0, abs(t_end)):
+                dt = min(dt, t_end - t)
+                saved.data = problem.state.vec
+                advance(t, t + dt)
+                record = StepRecord(t=t + dt, dt=dt, converged=False)
+                start = _time.perf_counter()
+                record.converged = solver.minimise(record)
+                record.seconds = _time.perf_counter() - start
+                history.steps.append(record)
+                if record.converged:
+                    t += dt
+                    history.t_reached = t
+                    if accept is not None:
+                        accept(t)
+                    bar.update(dt)
+                    log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
+                    if record.iterations <= 4:
+                        dt *= 2
+                    continue
+                problem.state.vec.data = saved
+                restore(t)
+                log.info("step to t = %.4g failed (%s); cutting the step", t + dt,
+                         record.reason)
+                dt /= 2
+                if dt < options.min_step:
+                    raise ConvergenceError(
+                        f"growth could not be applied beyond t = {t:.6g}: the step fell below "
+                        f"min_step = {options.min_step:g} ({record.reason})",
+                        history=history, t_converged=t)
+        finally:
+            bar.close()
+    history.converged = True
+    return history

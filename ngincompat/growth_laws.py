@@ -1,0 +1,125 @@
+"""Growth laws for mechanically coupled growth (section 2.6, eq. 44-48).
+
+A law gives the growth rate d theta / dt from the current growth theta and the elastic
+stretch measure theta_e = theta_total / theta, where theta_total is the total stretch that
+matches the growth kind (:func:`total_stretch`). The update is implicit Euler (eq. 48),
+
+    R^g = theta_{n+1} - theta_n - dt * rate(theta_{n+1}, theta_e(F, theta_{n+1})) = 0,
+
+solved together with equilibrium in the global Newton iteration, so the tangent contains the
+growth part c^g of eq. (49) exactly (it is the symbolic derivative of the same residual).
+"""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+
+from .errors import ParameterError, require
+
+
+def _macaulay(a):
+    return ngs.IfPos(a, a, 0.0)
+
+
+def _positive_power(a, n):
+    """<a>^n, with a derivative that is finite everywhere (a ** n alone has a NaN derivative
+    at a = 0 for non-integer arithmetic; the branch not taken is never used)."""
+    if n == 0:
+        return ngs.IfPos(a, 1.0, 0.0)
+    return ngs.IfPos(a, a ** n, 0.0)
+
+
+def total_stretch(kind, F, direction=None):
+    """The total stretch measure that drives growth of a kind (section 2.6).
+
+    isotropic: volume J = det F; area: area stretch J |F^-T N0| (Nanson); fiber: |F f0|.
+    """
+    if kind == "isotropic":
+        return ngs.Det(F)
+    if kind == "area":
+        return ngs.Det(F) * ngs.Norm(ngs.Inv(F).trans * direction)
+    if kind == "fiber":
+        return ngs.Norm(F * direction)
+    raise ParameterError(f"growth = {kind!r} is unknown: allowed isotropic, area, fiber")
+
+
+@dataclass(frozen=True)
+class StrainDrivenLaw:
+    """Strain-driven growth, eq. (45):
+
+    rate = (1/tau) ((theta_max - theta) / (theta_max - 1))^gamma <theta_e - theta_crit>.
+
+    Parameters
+    ----------
+    tau : float
+        Time constant, > 0 (its unit is the time unit of the scene).
+    theta_max : float
+        Upper limit of growth, > 1: the rate vanishes there (saturation).
+    gamma : float
+        Shape exponent, >= 0.
+    theta_crit : float
+        Elastic stretch below which nothing grows (homeostasis), > 0.
+    """
+
+    tau: float
+    theta_max: float
+    gamma: float = 2.0
+    theta_crit: float = 1.0
+
+    def __post_init__(self):
+        require(self.tau > 0, "tau", self.tau, "> 0")
+        require(self.theta_max > 1, "theta_max", self.theta_max, "> 1")
+        require(self.gamma >= 0, "gamma", self.gamma, ">= 0")
+        require(self.theta_crit > 0, "theta_crit", self.theta_crit, "> 0")
+
+    def rate(self, theta, theta_e):
+        room = _positive_power((self.theta_max - theta) / (self.theta_max - 1), self.gamma)
+        return (1.0 / self.tau) * room * _macaulay(theta_e - self.theta_crit)
+
+
+@dataclass(frozen=True)
+class HillLaw:
+    """Hill-type growth with saturation in the stimulus, eq. (46):
+
+    rate = k s^n / (K^n + s^n) <(theta_max - theta) / (theta_max - 1)>,
+    s = <theta_e - theta_crit>;
+
+    the last factor (ours; eq. 46 has none) lets growth saturate continuously at
+    ``theta_max``, so that Newton's method sees a continuous rate.
+
+    Parameters
+    ----------
+    k : float
+        Largest growth rate, > 0 (1 / time unit of the scene).
+    K : float
+        Stimulus of half the largest rate, > 0.
+    n : float
+        Hill exponent, >= 1.
+    theta_crit : float
+        Elastic stretch below which nothing grows, > 0.
+    theta_max : float
+        Saturation of growth, > 1.
+    """
+
+    k: float
+    K: float
+    n: float = 2.0
+    theta_crit: float = 1.0
+    theta_max: float = 3.0
+
+    def __post_init__(self):
+        require(self.k > 0, "k", self.k, "> 0")
+        require(self.K > 0, "K", self.K, "> 0")
+        require(self.n >= 1, "n", self.n, ">= 1")
+        require(self.theta_crit > 0, "theta_crit", self.theta_crit, "> 0")
+        require(self.theta_max > 1, "theta_max", self.theta_max, "> 1")
+
+    def rate(self, theta, theta_e):
+        sn = _positive_power(theta_e - self.theta_crit, self.n)
+        room = _macaulay((self.theta_max - theta) / (self.theta_max - 1))
+        return self.k * sn / (self.K ** self.n + sn) * room
+
+
+def euler_residual(law, theta, theta_old, dt, theta_total):
+    """R^g of eq. (48) with theta_e = theta_total / theta."""
+    return theta - theta_old - dt * law.rate(theta, theta_total / theta)
