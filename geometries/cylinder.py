@@ -10,7 +10,9 @@ from ._common import check_mesh_args, mesh_shape
 
 
 def cylinder(area=math.pi / 4, length=1.0, maxh=0.25, curve_order=3, material="tissue"):
-    """A circular cylinder along e1, X1 in [0, length], axis through the origin.
+    """A circular cylinder along e1, X1 in [0, length], resting on the planes X2 = 0 and
+    X3 = 0 (its axis is the line X2 = X3 = radius), as in the paper's Fig. 4: theta = 1 + X2 t/4
+    is then 1 at the bottom and 1.25 at the top.
 
     Parameters
     ----------
@@ -30,7 +32,7 @@ def cylinder(area=math.pi / 4, length=1.0, maxh=0.25, curve_order=3, material="t
     require(length > 0, "length", length, "> 0")
     radius = math.sqrt(area / math.pi)
     check_mesh_args(maxh, curve_order, max(radius, length))
-    body = Cylinder(Pnt(0, 0, 0), X, r=radius, h=length)
+    body = Cylinder(Pnt(0, radius, radius), X, r=radius, h=length)
     body.faces.name = "mantle"
     body.faces.Min(X).name = "left"
     body.faces.Max(X).name = "right"

@@ -24,9 +24,8 @@
 #
 # $$\theta(X, t) = 1 + a\, X_2\, t, \qquad t \in [0, 1].$$
 #
-# The fibers on the top (X2 = +1/2) grow by 12.5 %, those at the bottom shrink by 12.5 %. (The
-# paper's cylinder lies on X2 in [0, 1], from no growth at the bottom to 25 % at the top; the
-# scene centres the axis at X2 = 0. Only the range of theta differs.) The growth field is
+# As in the paper, the cylinder lies on X2 in [0, 1]: no growth at the bottom, 25 % at the
+# top. The growth field is
 # incompatible: Curl Fg = (grad theta x f0) (x) f0 (eq. 24) does not vanish,
 # and on the plane e3 the Burgers vector is |b| = |grad theta| sin(beta) / theta along f0
 # (eq. 27, beta = 90 degrees here).
@@ -118,19 +117,19 @@ G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
 b = {f"e{i + 1}": inc.burgers_vector(G, n) for i, n in enumerate(inc.lattice_normals(growth.Fg))}
 for label, vec in b.items():
     print(f"max |b| on plane {label}: {postprocess.maximum(ngs.Norm(vec), mesh):.6f} 1/mm")
-print(f"eq. (27) at X2 = -1/2:    {a / (1 - a * radius):.6f} 1/mm")
+print(f"eq. (27) at X2 = 0:       {a:.6f} 1/mm")
 curl_sq = inc.curl_norm_squared(curl_Fg)
 print(f"Curl Fg : Curl Fg from {-postprocess.maximum(-curl_sq, mesh):.6f} "
       f"to {postprocess.maximum(curl_sq, mesh):.6f} 1/mm^2 (a^2 = {a * a})")
-print("b on e3 at the centre:", np.round(b["e3"](mesh(0.5, 0, 0)), 6))
+print("b on e3 at the centre:", np.round(b["e3"](mesh(0.5, radius, radius)), 6))
 
 # %% [markdown]
-# |b| on the plane e3 with the vectors b on the clipping plane X3 = 0 (Fig. 4b). Every vector
+# |b| on the plane e3 with the vectors b on the clipping plane X3 = 1/2 (Fig. 4b). Every vector
 # points along -e1 (eq. 27 with the plane m = grad theta x f0 / |grad theta x f0| = -e3 gives
 # +f0; the plane e3 has the opposite orientation) and the vectors shrink towards the top.
 
 # %%
-clip = {"x": 0, "y": 0, "z": -1, "dist": 0}
+clip = {"x": 0, "y": 0, "z": -1, "dist": -radius}
 b3_view = Draw(b["e3"], mesh, "b on e3", clipping=clip, vectors={"grid_size": 12})
 
 # %% [markdown]
@@ -169,7 +168,8 @@ deformed_view = Draw(stretch, mesh, "|Fe^T Fe - I|", deformation=problem.u)
 
 # %%
 X1 = np.linspace(0, scene.length, 21)
-_, along = postprocess.sample_line(mesh, {"Fe": Fe}, (0, 0, 0), (scene.length, 0, 0), n=21)
+_, along = postprocess.sample_line(mesh, {"Fe": Fe}, (0, radius, radius),
+                                   (scene.length, radius, radius), n=21)
 Fe_axis = along["Fe"].reshape(-1, 3, 3)
 angle = np.unwrap(np.arctan2(Fe_axis[:, 1, 0], Fe_axis[:, 0, 0]))
 rate, offset = np.polyfit(X1, angle, 1)
@@ -245,7 +245,7 @@ plt.show()
 # %% [markdown]
 # ## |b| across the fibers: the 1/theta trend of eq. (27)
 #
-# The profile along X2 at X1 = 1/2, X3 = 0 (the scene's line) of the finest run: |b| on the
+# The profile along X2 at X1 = 1/2, X3 = 1/2 (the scene's line) of the finest run: |b| on the
 # plane e3 against a / (1 + a X2), and the strain energy density Psi, which is all
 # discretisation error.
 
