@@ -1,4 +1,5 @@
-"""Benchmarks: ``ngincompat bench cube`` measures run time against error.
+"""Benchmarks: ``ngincompat bench cube`` measures run time against error;
+``ngincompat bench stability`` runs the numerical stress-test matrix.
 
 For every (maxh, order) the cube scene is solved and the table reports ndof, Newton iterations,
 solve time, the strain energy and its relative error against the finest run of the table, and
@@ -14,7 +15,13 @@ from . import io
 
 
 def add_arguments(parser):
-    parser.add_argument("case", choices=["cube"], help="what to benchmark")
+    parser.add_argument("case", choices=["cube", "stability"],
+                        help="cube: run time against error; stability: the numerical "
+                             "stress-test matrix (see ngincompat.stability)")
+    parser.add_argument("--quick", action="store_true",
+                        help="stability: only a small corner of the matrix")
+    parser.add_argument("--threads", type=int, default=1,
+                        help="stability: NGSolve threads (default 1)")
     parser.add_argument("--maxh", type=float, nargs="+", default=[0.5, 0.25],
                         help="mesh sizes (default: 0.5 0.25)")
     parser.add_argument("--orders", type=int, nargs="+", default=[2, 3, 4, 5],
@@ -57,6 +64,9 @@ def format_table(rows):
 
 def main(args):
     """Entry of ``ngincompat bench``; returns the lines for the command line to print."""
+    if args.case == "stability":
+        from . import stability
+        return stability.main(args)
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(args.out) if args.out else Path(scratch)
         rows = cube_table(args.maxh, args.orders, out)

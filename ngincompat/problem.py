@@ -22,6 +22,25 @@ from .errors import require
 from .growth import make_growth
 from .growth_laws import euler_residual, total_stretch
 
+#: NGSolve's local heap as set on import (ngincompat/__init__.py); only ever raised here.
+_heap_size = 200 * 1000 * 1000
+
+
+def ensure_heap(order):
+    """Raise NGSolve's local heap so the element matrices of ``order`` fit.
+
+    The symbolic linearisation of the energy needs about 265 bytes per integration point and
+    element dof: 210 MB at order 7 and 435 MB at order 8 on a hexahedron (measured; 512 x 1536
+    and 729 x 2187), beyond the 200 MB set on import ("Local Heap overflow"). This asks for
+    400 bytes per (order + 1)^3 points x 3 (order + 1)^3 dofs, an upper bound for tetrahedra;
+    the heap is allocated once per assembly and only the part used is touched.
+    """
+    global _heap_size
+    need = 400 * 3 * (order + 1) ** 6
+    if need > _heap_size:
+        ngs.SetHeapSize(need)
+        _heap_size = need
+
 
 class GrowthMechanics:
     """The discrete energy minimisation problem for a growth model and a material.
@@ -49,6 +68,7 @@ class GrowthMechanics:
     def __init__(self, mesh, growth, material, order=2, fibers=(), dirichlet="", symmetry=None,
                  condense=True):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
+        ensure_heap(order)
         if material.needs_fibers:
             require(len(fibers) > 0, "fibers", fibers, "at least one fiber direction for GOH")
         self.mesh = mesh
@@ -219,6 +239,7 @@ class CoupledGrowth:
     def __init__(self, mesh, kind, direction, law, material, order=2, growth_order=None,
                  fibers=(), dirichlet="", symmetry=None, volume=None, condense=True):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
+        ensure_heap(order)
         growth_order = max(order - 1, 0) if growth_order is None else growth_order
         symmetry = dict(symmetry or {})
         self.mesh, self.kind, self.direction, self.law = mesh, kind, direction, law

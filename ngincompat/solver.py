@@ -55,6 +55,8 @@ class NewtonOptions:
     predictor : bool
         Start each load step from the best compatible approximation of the growth increment
         (:meth:`GrowthMechanics.compatible_displacement`) rather than from the last state.
+    max_step : float
+        Largest step the adaptive stepping may grow to (time accuracy of coupled growth).
     line_search : bool
         Backtrack on the energy; without it every Newton step is taken in full (plain Newton,
         kept for comparison: it fails where a full step leaves the domain Je > 0).
@@ -69,6 +71,7 @@ class NewtonOptions:
     inverse: str | None = None
     predictor: bool = True
     line_search: bool = True
+    max_step: float = float("inf")
 
     def __post_init__(self):
         require(0 < self.rtol < 1, "rtol", self.rtol, "in (0, 1)")
@@ -156,9 +159,12 @@ class NewtonSolver:
     def _acceptable(self, E, E_new, alpha, slope, r_norm):
         """Is the trial state (already in u) acceptable?
 
-        A non-finite energy (Je <= 0 somewhere) never is. Otherwise the Armijo condition on the
-        energy decides; near convergence, where energy differences drown in round-off, and for
-        problems without an energy, a sufficient decrease of the residual norm is accepted.
+        A non-finite energy (Je <= 0 somewhere) never is. Otherwise a step is accepted if it
+        satisfies the Armijo condition on the energy or decreases the residual norm
+        sufficiently. The second test is what lets Newton finish where energy differences drown
+        in round-off and what drives problems without an energy; it also accepts steps that
+        raise the energy (seen with nearly incompressible materials, where the tangent at the
+        start of a step is indefinite).
         """
         if not math.isfinite(E_new):
             return False
@@ -326,7 +332,7 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, quiet):
                     bar.update(dt)
                     log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
                     if record.iterations <= 4:
-                        dt *= 2
+                        dt = min(2 * dt, options.max_step)
                     continue
                 problem.state.vec.data = saved
                 restore(t)

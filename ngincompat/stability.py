@@ -1,45 +1,57 @@
 """A numerical stress-test matrix: where does the growth solver converge, and at what cost?
 
-Every :class:`Cell` is one solve of a cube whose growth, material and discretisation are given
-by parameters: large shrinkage and growth for every growth kind, Poisson's ratios up to 0.499,
-steep tanh fronts, polynomial orders 1-8, one element and a fine mesh, GOH fibers in
-compression, and the full growth in one load step against many. :func:`run_cell` never raises:
-a cell ends as
+Every :class:`Cell` is one traction-free solve of the unit cube, from t = 0 to 1, whose growth,
+material and discretisation are parameters: shrinkage to theta = 0.5 and growth to 3 for every
+growth kind, Poisson's ratios up to 0.499, steep tanh fronts, orders 1-8, one element and a
+fine mesh, GOH fibers in compression with k2 up to 50, the full growth in one load step against
+eight, and two inputs that must fail cleanly. :func:`run_cell` never raises; a cell ends as
 
 * ``"converged"``: the growth reached t = 1 and the strain energy is finite,
 * ``"error"``: a clean :class:`~ngincompat.errors.NgincompatError` (a parameter out of range,
   or the load step fell below ``min_step``), with its one-line message,
-* ``"unexpected"``: any other exception, or a non-finite result. This is a bug of ngincompat
-  (or an NGSolve failure that should become a clear error); the tests assert that none occurs.
+* ``"unexpected"``: any other exception, or a non-finite result: a bug of ngincompat (or an
+  NGSolve failure that should become a clear error). The row keeps the traceback; the tests
+  assert that no cell ends so.
 
-Each cell reports the load steps attempted and converged, the Newton iterations of all
-attempted steps, the wall time of the solve and the strain energy. Nothing hangs: every cell
-runs with at most 30 Newton iterations per load step and a smallest load step of 1e-3.
+Each cell reports the load steps attempted and converged, the Newton iterations of all attempted
+steps (failed ones included), the wall time of the solve and the strain energy. The work of a
+cell is bounded: at most 30 Newton iterations per load step (each with at most 30 halvings of
+the line search), and no load step below 1e-3.
 
-:func:`locking_table` shows volumetric locking at nu = 0.499: the cube's strain energy under
-p-refinement on 2 x 2 x 2 hexahedra, where order 1 is far off and higher orders converge.
+:func:`locking` shows volumetric locking at nu = 0.499: the cube's strain energy under
+p-refinement on 2 x 2 x 2 hexahedra, next to the same runs at nu = 0.3.
 
-Command line (when wired into the CLI): ``stability [--quick] [--out FOLDER]``; from Python::
+Not yet a subcommand of the CLI (:func:`add_arguments` and :func:`main` are ready for it);
+from Python::
 
     from ngincompat import stability
-    print("\\n".join(stability.main(stability.parse_args(["--quick"]))))
+    lines = stability.main(stability.parse_args(["--quick", "--out", "results/stability"]))
 """
 
 import argparse
+import contextlib
 import logging
 import math
+import os
 import time as _time
+import traceback
 from dataclasses import dataclass, fields
+from pathlib import Path
 
 import ngsolve as ngs
+import numpy as np
+
+from geometries import cube
 
 from . import io
 from .errors import NgincompatError
 from .expressions import parse_expression
 from .fields import constant
 from .growth import check_positive, make_growth
-from .materials import GOH, NeoHookean
+from .kinematics import deformation_gradient, elastic_part
+from .materials import GOH, NeoHookean, lame_lambda
 from .problem import GrowthMechanics
+from .sampling import element_points
 from .solver import NewtonOptions, solve_growth
 
 log = logging.getLogger(__name__)
@@ -108,8 +120,6 @@ class Cell:
 
     def build(self):
         """The problem and its time parameter (at t = 0), after checking theta > 0."""
-        from geometries import cube
-
         time = ngs.Parameter(0.0)
         theta = parse_expression(self.theta, time, name="theta")
         direction = constant(self.direction) if self.direction else None
@@ -117,8 +127,7 @@ class Cell:
         mesh = cube(maxh=self.maxh, elements=self.elements)
         check_positive(growth.theta, mesh, time)
         if self.material == "goh":
-            nh = NeoHookean.from_nu(MU, self.nu)
-            material = GOH(MU, nh.lam, GOH_K1, self.k2, GOH_KAPPA)
+            material = GOH(MU, lame_lambda(MU, self.nu), GOH_K1, self.k2, GOH_KAPPA)
             fibers = (constant(self.fiber),)
         else:
             material = NeoHookean.from_nu(MU, self.nu)
@@ -140,30 +149,30 @@ def run_cell(cell):
            "ndof": None, "steps_attempted": 0, "steps_converged": 0, "newton": 0,
            "t_reached": 0.0, "seconds": 0.0, "strain_energy": None, "params": cell.params()}
     history = None
-    start = None
     try:
         problem, time = cell.build()
         row["ndof"] = problem.ndof
-        if cell.material == "goh":
-            row["fiber_compressed"] = None
         start = _time.perf_counter()
         try:
             history = solve_growth(problem, time, cell.options())
         finally:
             row["seconds"] = _time.perf_counter() - start
-        energy = problem.strain_energy()
-        if not math.isfinite(energy):
-            raise FloatingPointError(f"strain energy is {energy} after convergence")
-        row.update(status="converged", strain_energy=energy)
+        results = {"strain_energy": problem.strain_energy()}
         if cell.material == "goh":
-            row["fiber_compressed"] = fiber_compressed_fraction(problem)
+            results.update(zip(("fiber_strain_min", "fiber_strain_max", "fiber_compressed"),
+                               fiber_strain(problem), strict=True))
+        for key, value in results.items():
+            if not math.isfinite(value):
+                raise FloatingPointError(f"{key} is {value} after convergence")
+        row.update(status="converged", **results)
     except NgincompatError as err:
         row["message"] = f"{type(err).__name__}: {_one_line(err)}"
-        history = getattr(err, "history", None) or history
-    except Exception as err:  # noqa: BLE001 - a cell must never end in a traceback
-        log.exception("cell %s/%s raised", cell.group, cell.label)
-        row["status"] = UNEXPECTED
-        row["message"] = f"{type(err).__name__}: {_one_line(err)}"
+        if getattr(err, "history", None) is not None:
+            history = err.history
+    except Exception as err:  # a cell never ends in a traceback; the row keeps it
+        row.update(status=UNEXPECTED, message=f"{type(err).__name__}: {_one_line(err)}",
+                   traceback=traceback.format_exc())
+        log.warning("cell %s / %s: %s", cell.group, cell.label, row["message"])
     if history is not None:
         row["steps_attempted"] = len(history.steps)
         row["steps_converged"] = sum(s.converged for s in history.steps)
@@ -173,45 +182,59 @@ def run_cell(cell):
     return row
 
 
-def fiber_compressed_fraction(problem):
-    """Volume fraction of the body where the GOH fiber strain E = Cbar : H - 1 is negative
-    (fibers in compression, cut off by the Macaulay bracket), for the first fiber family."""
-    from .kinematics import deformation_gradient, elastic_part
-
+def fiber_strain(problem):
+    """The GOH fiber strain E = kappa I1bar + (1 - 3 kappa) Cbar : a (x) a - 1 of the first
+    fiber family (eq. 39) at the integration points and vertices of every element: returns
+    (min, max, volume fraction with E < 0). Where E < 0 the fibers are compressed and the
+    Macaulay bracket switches them off."""
     Fe = elastic_part(deformation_gradient(problem.u), problem.growth.Fg)
     C = Fe.trans * Fe
     Jm23 = ngs.Det(Fe) ** (-2.0 / 3.0)
     a = problem.fibers_intermediate()[0]
     kappa = problem.material.kappa
     E = kappa * Jm23 * ngs.Trace(C) + (1 - 3 * kappa) * Jm23 * ngs.InnerProduct(a, C * a) - 1
-    mesh = problem.mesh
+    values = np.asarray(E(element_points(problem.mesh, 2 * problem.order))).ravel()
     order = 2 * problem.order + 2
-    volume = ngs.Integrate(ngs.CF(1.0), mesh, order=order)
-    return float(ngs.Integrate(ngs.IfPos(E, 0.0, 1.0), mesh, order=order)) / volume
+    volume = ngs.Integrate(ngs.CF(1.0), problem.mesh, order=order)
+    compressed = ngs.Integrate(ngs.IfPos(E, 0.0, 1.0), problem.mesh, order=order) / volume
+    return float(values.min()), float(values.max()), float(compressed)
 
 
 def _theta_to(theta_end, coordinate="X1"):
+    """theta = 1 + (theta_end - 1) X t: from 1 at X = 0 to theta_end at X = 1 (and t = 1)."""
     return f"1 + ({theta_end - 1:g})*{coordinate}*t"
 
 
 def _tanh_front(delta):
+    """A growth front of width ``delta`` at X1 = 0.5: theta from 1 to 1.25."""
     return f"1 + 0.25*(1 + tanh((X1 - 0.5)/{delta:g}))/2*t"
 
 
 def matrix(quick=False):
-    """The cells of the stress-test matrix; ``quick``: a small corner (~30 s on 2 cores)."""
+    """The cells of the stress-test matrix, in table order.
+
+    ``quick``: a small corner for the default test suite (a few seconds on one thread): one or
+    two cells per group, the hard growth to theta = 3 and the two designed errors.
+    """
+    errors = [
+        Cell("errors", "theta <= 0 (rejected before the solve)", theta="1 - 2*X1*t"),
+        Cell("errors", "max_iter = 1, min_step = 0.25 (must give up)", theta=_theta_to(3),
+             max_iter=1, min_step=0.25),
+    ]
     if quick:
         return [
-            Cell("growth", "isotropic theta -> 3", theta=_theta_to(3)),
+            Cell("growth", "isotropic, theta -> 3", theta=_theta_to(3)),
             Cell("growth", "fiber e1, theta(X2) -> 0.5", theta=_theta_to(0.5, "X2"),
                  kind="fiber", direction="e1"),
             Cell("nu", "nu = 0.499", nu=0.499),
-            Cell("gradient", "tanh front delta = 0.03", theta=_tanh_front(0.03), maxh=0.25),
+            Cell("gradient", "tanh front, delta = 0.01", theta=_tanh_front(0.01), maxh=0.25),
             Cell("order", "order 1, one hex", order=1, maxh=1.0),
-            Cell("goh", "k2 = 50, shrink to 0.5", theta=_theta_to(0.5), material="goh",
-                 k2=50.0),
-            Cell("steps", "theta -> 3, order 3, 1 step", theta=_theta_to(3), order=3),
-            Cell("input", "theta <= 0 (clean error)", theta="1 - 2*X1*t"),
+            Cell("goh", "k2 = 50, shrink to 0.5, fibers e1", theta=_theta_to(0.5),
+                 material="goh", k2=50.0),
+            Cell("steps", "theta -> 3, order 3, steps = 1", theta=_theta_to(3), order=3),
+            Cell("steps", "theta -> 3, order 3, steps = 8", theta=_theta_to(3), order=3,
+                 steps=8),
+            *errors,
         ]
     cells = []
     for kind, direction in (("isotropic", None), ("area", "e3"), ("fiber", "e1")):
@@ -219,74 +242,117 @@ def matrix(quick=False):
             name = kind if direction is None else f"{kind} {direction}"
             cells.append(Cell("growth", f"{name}, theta -> {theta_end:g}",
                               theta=_theta_to(theta_end), kind=kind, direction=direction))
-    for theta_end in (0.5, 3.0):   # f0 = e1 with theta(X1) is compatible: stress-free
+    # f0 = e1 with theta(X1) is compatible (Fg = Grad of a map): stress-free. With theta(X2)
+    # the fibers of different length lie side by side: incompatible.
+    for theta_end in (0.5, 3.0):
         cells.append(Cell("growth", f"fiber e1, theta(X2) -> {theta_end:g}",
                           theta=_theta_to(theta_end, "X2"), kind="fiber", direction="e1"))
     for nu in (0.3, 0.45, 0.49, 0.499):
         cells.append(Cell("nu", f"nu = {nu:g}", nu=nu))
     for delta in (0.1, 0.03, 0.01):
-        cells.append(Cell("gradient", f"tanh front delta = {delta:g}",
+        cells.append(Cell("gradient", f"tanh front, delta = {delta:g}",
                           theta=_tanh_front(delta), maxh=0.25, order=3))
     for order in range(1, 9):
         cells.append(Cell("order", f"order {order}, one hex", order=order, maxh=1.0))
     cells += [
         Cell("mesh", "one hex, order 2", maxh=1.0),
-        Cell("mesh", "maxh 0.125 hex, order 2", maxh=0.125),
+        Cell("mesh", "maxh 0.125 hex (512), order 2", maxh=0.125),
         Cell("mesh", "maxh 0.25 tet, order 2", maxh=0.25, elements="tet"),
     ]
     for k2 in (1.0, 10.0, 50.0):
-        cells.append(Cell("goh", f"k2 = {k2:g}, shrink to 0.5", theta=_theta_to(0.5),
-                          material="goh", k2=k2))
-        cells.append(Cell("goh", f"k2 = {k2:g}, grow to 2", theta=_theta_to(2.0),
-                          material="goh", k2=k2))
+        for theta_end in (0.5, 3.0):
+            cells.append(Cell("goh", f"k2 = {k2:g}, theta -> {theta_end:g}, fibers e1",
+                              theta=_theta_to(theta_end), material="goh", k2=k2))
     for steps in (1, 8):
         cells.append(Cell("steps", f"theta -> 3, order 4, steps = {steps}",
                           theta=_theta_to(3), order=4, steps=steps))
-    return cells
+    for steps in (1, 8):
+        cells.append(Cell("steps", f"nu = 0.499, order 3, steps = {steps}",
+                          nu=0.499, order=3, steps=steps))
+    return cells + errors
 
 
-def run_matrix(cells):
-    """Run every cell in order; returns the rows."""
-    return [run_cell(cell) for cell in cells]
+@contextlib.contextmanager
+def ngsolve_threads(threads=None):
+    """Run the block with ``threads`` NGSolve threads (None: leave them as they are).
+
+    NGSolve cannot report its thread count outside a task manager, so afterwards the default
+    is restored: ``NGS_NUM_THREADS`` if set, else the number of cores.
+    """
+    if threads is None:
+        yield
+        return
+    ngs.SetNumThreads(int(threads))
+    try:
+        yield
+    finally:
+        ngs.SetNumThreads(int(os.environ.get("NGS_NUM_THREADS") or os.cpu_count() or 1))
+
+
+def run_matrix(cells, threads=None):
+    """Run every cell in order (with ``threads`` NGSolve threads); returns the rows."""
+    with ngsolve_threads(threads):
+        return [run_cell(cell) for cell in cells]
 
 
 def _fmt(value, spec):
     return "" if value is None else format(value, spec)
 
 
+def _note(row):
+    if row.get("fiber_compressed") is not None:
+        return (f"fiber strain in [{row['fiber_strain_min']:.3f}, "
+                f"{row['fiber_strain_max']:.3f}], compressed in "
+                f"{100 * row['fiber_compressed']:.0f} % of the volume")
+    return row["message"].replace("|", "/")
+
+
 def format_table(rows):
-    """The rows as a markdown table."""
-    lines = ["| group | cell | status | ndof | load steps (conv./att.) | Newton | t reached | "
-             "solve [s] | strain energy [N mm] | message |",
+    """The rows of :func:`run_matrix` as a markdown table."""
+    lines = ["| group | cell | status | ndof | load steps conv./att. | Newton | t reached | "
+             "solve [s] | strain energy [N mm] | message / note |",
              "|" + "---|" * 10]
     for r in rows:
-        message = r["message"]
-        if r.get("fiber_compressed") is not None:
-            message = f"fibers compressed in {100 * r['fiber_compressed']:.0f} % of the volume"
         lines.append(
             f"| {r['group']} | {r['label']} | {r['status']} | {_fmt(r['ndof'], 'd')} | "
             f"{r['steps_converged']}/{r['steps_attempted']} | {r['newton']} | "
             f"{r['t_reached']:.4g} | {r['seconds']:.2f} | {_fmt(r['strain_energy'], '.6e')} | "
-            f"{message.replace('|', '/')} |")
+            f"{_note(r)} |")
     return "\n".join(lines)
 
 
-def locking(orders=(1, 2, 3, 4, 5), nu=0.499, maxh=0.5):
-    """The cube (theta = 1 + X1 t / 4) at ``nu`` on hexahedra of size ``maxh`` for each order.
+def _relative(a, b):
+    """|a - b| / |b|, None if either is missing or b is zero."""
+    if a is None or b is None or b == 0:
+        return None
+    return abs(a - b) / abs(b)
 
-    Returns rows with the strain energy and its relative change from the previous order and
-    relative difference to the highest order.
+
+def locking(orders=(1, 2, 3, 4, 5), nu=0.499, maxh=0.5, reference_nu=0.3, threads=None):
+    """Volumetric locking: the cube (theta = 1 + X1 t / 4) on hexahedra of size ``maxh`` at
+    ``nu`` for each order, next to the same runs at the compressible ``reference_nu``.
+
+    Returns one row per order: the cell row at ``nu`` with ``change`` (relative change from
+    the previous order), ``vs_highest`` (relative difference to the highest order) and
+    ``reference`` (the row at ``reference_nu``, with its own ``vs_highest``). Locking shows as
+    a far larger error of the low orders at ``nu`` than at ``reference_nu``.
     """
-    rows = [run_cell(Cell("locking", f"order {p}", nu=nu, order=p, maxh=maxh))
-            for p in orders]
-    best = rows[-1]["strain_energy"]
-    previous = None
-    for r in rows:
-        energy = r["strain_energy"]
-        ok = energy is not None
-        r["change"] = abs(energy - previous) / abs(energy) if ok and previous else None
-        r["vs_highest"] = abs(energy - best) / abs(best) if ok and best else None
-        previous = energy
+    orders = sorted(orders)
+    with ngsolve_threads(threads):
+        rows = [run_cell(Cell("locking", f"order {p}", nu=nu, order=p, maxh=maxh))
+                for p in orders]
+        refs = [run_cell(Cell("locking", f"order {p}", nu=reference_nu, order=p, maxh=maxh))
+                for p in orders] if reference_nu is not None else []
+    for series in (rows, refs):
+        best = series[-1]["strain_energy"] if series else None
+        previous = None
+        for r in series:
+            r["order"] = r["params"]["order"]
+            r["change"] = _relative(previous, r["strain_energy"])
+            r["vs_highest"] = _relative(r["strain_energy"], best)
+            previous = r["strain_energy"]
+    for r, ref in zip(rows, refs, strict=False):   # refs is empty without reference_nu
+        r["reference"] = ref
     return rows
 
 
@@ -294,20 +360,37 @@ def locking_table(rows=None):
     """The locking study as a markdown table (runs :func:`locking` unless ``rows`` given)."""
     rows = locking() if rows is None else rows
     nu = rows[0]["params"]["nu"]
-    lines = [f"| order (nu = {nu:g}) | ndof | status | Newton | solve [s] | "
-             "strain energy [N mm] | change from previous order | difference to highest order |",
-             "|" + "---|" * 8]
+    ref = rows[0].get("reference")
+    head = (f"| order | ndof | Newton (nu = {nu:g}) | solve [s] | strain energy, nu = {nu:g} "
+            "[N mm] | change from previous order | difference to highest order |")
+    if ref:
+        head += f" strain energy, nu = {ref['params']['nu']:g} | its difference to highest |"
+    lines = [head, "|" + "---|" * (9 if ref else 7)]
     for r in rows:
-        lines.append(f"| {r['params']['order']} | {r['ndof']} | {r['status']} | {r['newton']} | "
-                     f"{r['seconds']:.2f} | {_fmt(r['strain_energy'], '.6e')} | "
-                     f"{_fmt(r['change'], '.1e')} | {_fmt(r['vs_highest'], '.1e')} |")
+        line = (f"| {r['order']} | {_fmt(r['ndof'], 'd')} | {r['newton']} | {r['seconds']:.2f} "
+                f"| {_fmt(r['strain_energy'], '.6e')} | {_fmt(r['change'], '.1e')} | "
+                f"{_fmt(r['vs_highest'], '.1e')} |")
+        if r.get("reference"):
+            line += (f" {_fmt(r['reference']['strain_energy'], '.6e')} | "
+                     f"{_fmt(r['reference']['vs_highest'], '.1e')} |")
+        if r["status"] != "converged":
+            line += f" {r['status']}: {r['message']}"
+        lines.append(line)
     return "\n".join(lines)
+
+
+#: Orders of the locking study: full and ``--quick``.
+LOCKING_ORDERS = (1, 2, 3, 4, 5)
+LOCKING_ORDERS_QUICK = (1, 2, 3)
 
 
 def add_arguments(parser):
     parser.add_argument("--quick", action="store_true",
-                        help="only a small corner of the matrix (about 30 s)")
+                        help="only a small corner of the matrix and locking orders 1-3")
     parser.add_argument("--out", default=None, help="folder for stability.json")
+    parser.add_argument("--threads", type=int, default=1,
+                        help="NGSolve threads (default 1: the cells are small, and times on a "
+                             "shared machine stay comparable)")
 
 
 def parse_args(argv=()):
@@ -317,20 +400,22 @@ def parse_args(argv=()):
 
 
 def main(args):
-    """Run the matrix and the locking study; returns the lines to print."""
+    """Run the matrix and the locking study; returns the lines to print.
+
+    With ``args.out`` the rows are also written to ``OUT/stability.json`` (atomically).
+    """
     start = _time.perf_counter()
-    rows = run_matrix(matrix(quick=args.quick))
-    lock = locking(orders=(1, 3, 4) if args.quick else (1, 2, 3, 4, 5))
+    threads = getattr(args, "threads", None)
+    rows = run_matrix(matrix(quick=args.quick), threads=threads)
+    lock = locking(LOCKING_ORDERS_QUICK if args.quick else LOCKING_ORDERS, threads=threads)
     seconds = _time.perf_counter() - start
     counts = {s: sum(r["status"] == s for r in rows) for s in ("converged", "error", UNEXPECTED)}
     summary = (f"{len(rows)} cells: {counts['converged']} converged, {counts['error']} error, "
-               f"{counts[UNEXPECTED]} unexpected; {seconds:.0f} s")
+               f"{counts[UNEXPECTED]} unexpected; matrix and locking study {seconds:.0f} s")
+    lines = [format_table(rows), "", locking_table(lock), "", summary]
     if args.out:
-        io.write_json(f"{args.out}/stability.json",
-                      {"quick": args.quick, "rows": rows, "locking": lock, "seconds": seconds,
-                       **io.provenance()})
-    return [format_table(rows), "", locking_table(lock), "", summary]
-
-
-__all__ = ["Cell", "run_cell", "matrix", "run_matrix", "format_table", "locking",
-           "locking_table", "add_arguments", "main"]
+        path = io.write_json(Path(args.out) / "stability.json",
+                             {"quick": args.quick, "threads": threads, "seconds": seconds,
+                              "rows": rows, "locking": lock, **io.provenance()})
+        lines.append(f"written to {path}")
+    return lines
