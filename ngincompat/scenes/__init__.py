@@ -6,9 +6,10 @@ from .custom import CustomScene
 from .cylinder import CylinderScene
 from .disc import DiscScene
 from .hemisphere import HemisphereScene
+from .skin import SkinExpansionScene
 
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
-                                    CustomScene)}
+                                    SkinExpansionScene, CustomScene)}
 
 
 def get_scene(name):
@@ -19,4 +20,4 @@ def get_scene(name):
 
 
 __all__ = ["SCENES", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
-           "HemisphereScene", "get_scene"]
+           "HemisphereScene", "SkinExpansionScene", "get_scene"]

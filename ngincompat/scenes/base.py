@@ -6,13 +6,25 @@ strings (the command line's ``--set``), converting each value to the field's typ
 the key and the allowed values in every error.
 """
 
+import contextlib
 import dataclasses
+import time as _time
 from dataclasses import dataclass, field
 from typing import ClassVar
 
 from ..errors import ParameterError, require
 
 OUTPUTS = {"vtk", "figures"}
+
+
+@contextlib.contextmanager
+def timed(timings, phase):
+    """Add the wall time of the block to ``timings[phase]``."""
+    start = _time.perf_counter()
+    try:
+        yield
+    finally:
+        timings[phase] = timings.get(phase, 0.0) + _time.perf_counter() - start
 
 
 def param(default, help, unit=""):

@@ -7,7 +7,6 @@ high-order H1 matrix space, then Curl), compared with the closed form of section
 exists, and with G from the elastic deformation (eq. 12) of the solved body.
 """
 
-import contextlib
 import logging
 import time as _time
 from dataclasses import dataclass, field
@@ -23,7 +22,7 @@ from ..growth import check_positive
 from ..kinematics import deformation_gradient, elastic_part
 from ..problem import GrowthMechanics
 from ..solver import NewtonOptions, solve_growth
-from .base import Scene
+from .base import Scene, timed
 
 log = logging.getLogger(__name__)
 
@@ -71,16 +70,6 @@ class PrescribedCase:
     verify: object = None
 
 
-@contextlib.contextmanager
-def _timed(timings, phase):
-    """Add the wall time of the block to ``timings[phase]``."""
-    start = _time.perf_counter()
-    try:
-        yield
-    finally:
-        timings[phase] = timings.get(phase, 0.0) + _time.perf_counter() - start
-
-
 @dataclass(frozen=True)
 class PrescribedScene(Scene):
     """A scene with a prescribed growth field; subclasses implement ``build()``."""
@@ -110,7 +99,7 @@ def run(scene, case, out, quiet=True, mesh_seconds=0.0):
 def _run(scene, case, out, quiet, mesh_seconds):
     timings = {"mesh": mesh_seconds}
     mesh, growth, time = case.mesh, case.growth, case.time
-    with _timed(timings, "validate"):
+    with timed(timings, "validate"):
         check_positive(growth.theta, mesh, time)
     results = {"scene": scene.name, "params": scene.settings(), "units": scene.units,
                **io.provenance(),
@@ -118,11 +107,11 @@ def _run(scene, case, out, quiet, mesh_seconds):
                         "maxh": scene.maxh}}
     problem, error = None, None
     if scene.mechanics:
-        with _timed(timings, "setup"):
+        with timed(timings, "setup"):
             problem = GrowthMechanics(mesh, growth, case.material, order=scene.order,
                                       fibers=case.fibers, dirichlet=case.dirichlet,
                                       symmetry=case.symmetry)
-        with _timed(timings, "solve"):
+        with timed(timings, "solve"):
             time.Set(0.0)
             try:
                 history = solve_growth(problem, time, NewtonOptions(steps=scene.steps),
@@ -137,9 +126,9 @@ def _run(scene, case, out, quiet, mesh_seconds):
         # G depends on Fg alone (eq. 10): no mechanics problem is built
         time.Set(1.0)
 
-    with _timed(timings, "incompatibility"):
+    with timed(timings, "incompatibility"):
         fields, metrics = _incompatibility(scene, case, problem)
-    with _timed(timings, "postprocess"):
+    with timed(timings, "postprocess"):
         fields["theta"] = growth.theta
         if problem is not None:
             metrics.update(_mechanics(case, problem, fields))
@@ -153,7 +142,7 @@ def _run(scene, case, out, quiet, mesh_seconds):
         results["profiles"] = {"line": profile}
     results["metrics"] = metrics
 
-    with _timed(timings, "output"):
+    with timed(timings, "output"):
         wanted = scene.output_set()
         results["files"] = ["results.json"]
         if "vtk" in wanted:
