@@ -1,4 +1,4 @@
-"""Command line: ``ngincompat list | run | paper | sweep | bench``.
+"""Command line: ``ngincompat list | run | paper | expansion | sweep | bench``.
 
 Errors a user can cause (unknown scene or key, a value out of range, a bad expression) end the
 program with exit code 2 and one line on stderr; a run whose growth could not be applied to the
@@ -86,6 +86,19 @@ def _cmd_paper(args):
     return 0
 
 
+def _cmd_expansion(args):
+    from .scenes import skin
+    rows = skin.summary(args.out, quiet=args.quiet, **_settings(args.set))
+    keys = list(rows[0])
+    print("| " + " | ".join(keys) + " |")
+    print("|" + "---|" * len(keys))
+    for row in rows:
+        print("| " + " | ".join(f"{v:.4g}" if isinstance(v, float) else str(v)
+                                for v in row.values()) + " |")
+    print(f"summary written to {args.out}/summary.json")
+    return 0
+
+
 def _cmd_bench(args):
     from . import bench
     print("\n".join(bench.main(args)))
@@ -126,6 +139,13 @@ def build_parser():
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_paper)
+
+    p = sub.add_parser("expansion", help="the skin-expansion scene for all four expanders")
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="a parameter of the skin scene for every expander (repeatable)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_expansion)
 
     from . import bench
     p = sub.add_parser("bench", help="benchmarks: run time against error")

@@ -258,12 +258,15 @@ def _restore(problem, path):
 
 
 def summary(out, footprints=FOOTPRINTS, quiet=True, **settings):
-    """Run every expander into ``out/<footprint>``; returns the summary rows."""
+    """Run every expander into ``out/<footprint>``; returns the summary rows.
+
+    ``settings`` are scene parameters by name (strings are converted as on the command line).
+    """
     rows = []
     for footprint in footprints:
         start = _time.perf_counter()
-        r = SkinExpansionScene(footprint=footprint, **settings).run(Path(out) / footprint,
-                                                                    quiet=quiet)
+        scene = SkinExpansionScene.from_settings({**settings, "footprint": footprint})
+        r = scene.run(Path(out) / footprint, quiet=quiet)
         m = r["metrics"]
         rows.append({"footprint": footprint, "ndof": r["mesh"]["ndof"],
                      "seconds": round(_time.perf_counter() - start, 1),
