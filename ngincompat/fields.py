@@ -74,7 +74,8 @@ def circumferential(axis="e3", center=(0.0, 0.0, 0.0)):
 
 
 def from_name(spec):
-    """A direction field from a short name: e1, e2, e3, radial, radial_xy, circumferential."""
+    """A direction field from a short name: e1, e2, e3, radial, radial_xy, circumferential,
+    or the bilayer's axons_curved, axons_concentric, axons_straight (default placement)."""
     if spec in _AXES:
         return constant(spec)
     if spec == "radial":
@@ -83,5 +84,41 @@ def from_name(spec):
         return radial(axis="e3")
     if spec == "circumferential":
         return circumferential()
+    if spec.startswith("axons_") and spec[len("axons_"):] in AXONS:
+        return axons(spec[len("axons_"):])
     raise ParameterError(
-        f"direction {spec!r} is unknown: allowed e1, e2, e3, radial, radial_xy, circumferential")
+        f"direction {spec!r} is unknown: allowed e1, e2, e3, radial, radial_xy, "
+        "circumferential, axons_curved, axons_concentric, axons_straight")
+
+
+AXONS = ("curved", "concentric", "straight")
+
+
+def axons(kind, interface=0.95, length=3.0, focus_depth=3.0):
+    """The bilayer's axon orientations in the subcortex (cortical folding, Fig. 7).
+
+    Parameters
+    ----------
+    kind : {"curved", "concentric", "straight"}
+        ``straight``: normal to the cortex-subcortex interface (e3); ``curved``: fanning
+        outward, radial from a focus ``focus_depth`` below the interface at the middle of the
+        strip; ``concentric``: arcs around that focus (e2 x radial), parallel to the interface
+        above the focus.
+    interface : float
+        Height X3 of the flat interface (cm).
+    length : float
+        Length of the strip along X1 (cm); the focus lies below its middle.
+    focus_depth : float
+        Depth of the focus below the interface (cm), > 0.
+    """
+    if kind not in AXONS:
+        raise ParameterError(f"axons = {kind!r} is unknown: allowed {', '.join(AXONS)}")
+    if kind == "straight":
+        return constant("e3", name="axons straight")
+    if focus_depth <= 0:
+        raise ParameterError(f"focus_depth = {focus_depth!r} is out of range: allowed > 0")
+    focus = (length / 2, 0.0, interface - focus_depth)
+    fan = radial(focus, axis="e2")
+    if kind == "curved":
+        return DirectionField(fan.cf, "axons curved")
+    return DirectionField(ngs.Cross(constant("e2").cf, fan.cf), "axons concentric")

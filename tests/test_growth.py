@@ -79,3 +79,23 @@ def test_non_positive_theta_is_an_error_that_names_where(unit_cube_hex):
     assert time.Get() == 0.0  # the caller's time is restored
     with pytest.raises(ParameterError, match="positive"):
         check_positive(ngs.log(ngs.x), unit_cube_hex)
+
+
+def test_bilayer_axon_orientations(unit_cube_hex):
+    """Straight axons are normal to the interface; curved ones fan out from the focus below
+    the middle; concentric ones are orthogonal to the curved ones and to e2 (in-plane)."""
+    pts = random_points(12)
+    straight = values_at(fields.axons("straight").cf, unit_cube_hex, pts)
+    np.testing.assert_allclose(straight, np.tile([0, 0, 1.0], (12, 1)))
+    curved = values_at(fields.axons("curved", interface=0.95, length=1.0).cf, unit_cube_hex, pts)
+    concentric = values_at(fields.axons("concentric", interface=0.95, length=1.0).cf,
+                           unit_cube_hex, pts)
+    np.testing.assert_allclose(np.linalg.norm(curved, axis=1), 1, rtol=1e-12)
+    np.testing.assert_allclose(np.sum(curved * concentric, axis=1), 0, atol=1e-12)
+    np.testing.assert_allclose(concentric[:, 1], 0, atol=1e-12)
+    focus = np.array([0.5, 0.0, 0.95 - 3.0])
+    d = pts - focus
+    d[:, 1] = 0
+    np.testing.assert_allclose(curved, d / np.linalg.norm(d, axis=1)[:, None], rtol=1e-12)
+    with pytest.raises(ParameterError, match="axons = 'wavy'"):
+        fields.axons("wavy")
