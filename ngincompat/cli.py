@@ -45,9 +45,7 @@ def _cmd_list(args):
         print(f"{name:10s} {cls.summary}")
         if args.verbose:
             for key, (default, help, unit) in cls.parameters().items():
-                for quantity, symbol in cls.units.items():
-                    unit = unit.replace(quantity, symbol)
-                unit = f" [{unit}]" if unit else ""
+                unit = f" [{cls.unit_of(unit)}]" if unit else ""
                 print(f"    {key:10s} = {default!r:24s} {help}{unit}")
     return 0
 

@@ -54,11 +54,7 @@ from ngincompat.solver import NewtonOptions, solve_growth
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
 scene = CubeScene(order=2, maxh=0.5) if COARSE else CubeScene()
-for name, (_, help_text, unit) in CubeScene.parameters().items():
-    if name != "outputs":
-        for quantity, symbol in scene.units.items():
-            unit = unit.replace(quantity, symbol)
-        print(f"{name:8s} = {getattr(scene, name)!s:6s} {unit:4s} {help_text}")
+print(scene.describe())
 
 # %% [markdown]
 # ## The growth field

@@ -70,11 +70,7 @@ if COARSE:
 else:
     scene = CylinderScene(outputs="none")
     orders = (2, 3, 4, 5)
-for name, (_, help_text, unit) in CylinderScene.parameters().items():
-    if name not in ("outputs", "mechanics"):
-        for quantity, symbol in scene.units.items():
-            unit = unit.replace(quantity, symbol)
-        print(f"{name:8s} = {getattr(scene, name)!s:9.9s} {unit:6s} {help_text}")
+print(scene.describe())
 
 # %% [markdown]
 # ## The growth field

@@ -62,11 +62,7 @@ from ngincompat.solver import NewtonOptions, solve_growth
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
 settings = dict(order=2, maxh=0.25, g_order=4) if COARSE else {}
 scene = DiscScene(fibers="radial", **settings)
-for name, (_, help_text, unit) in DiscScene.parameters().items():
-    if name not in ("outputs", "mechanics"):
-        for quantity, symbol in scene.units.items():
-            unit = unit.replace(quantity, symbol)
-        print(f"{name:8s} = {getattr(scene, name)!s:9s} {unit:4s} {help_text}")
+print(scene.describe())
 
 # %% [markdown]
 # ## The growth field

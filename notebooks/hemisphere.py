@@ -71,11 +71,7 @@ COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
 settings = (dict(order=2, maxh=0.4, centre_maxh=0.1, g_order=4, outputs="none") if COARSE
             else dict(outputs="none"))
 scene = HemisphereScene(profile="convex", **settings)
-for name, (_, help_text, unit) in HemisphereScene.parameters().items():
-    if name not in ("outputs", "mechanics"):
-        for quantity, symbol in scene.units.items():
-            unit = unit.replace(quantity, symbol)
-        print(f"{name:11s} = {getattr(scene, name)!s:9s} {unit:4s} {help_text}")
+print(scene.describe())
 
 # %% [markdown]
 # ## The three growth profiles (Fig. 2f)

@@ -147,3 +147,9 @@ def test_incompatibility_only_keeps_the_scene_checks(tmp_path):
 def test_bad_outputs_list_exits_2(capsys, tmp_path):
     assert main(["run", "cube", "--out", str(tmp_path), "--outputs", "stress"]) == 2
     assert "--outputs 'stress'" in capsys.readouterr().err
+
+
+def test_scene_describes_its_parameters_in_its_units():
+    text = CubeScene(maxh=0.5).describe()
+    assert "maxh" in text and "0.5" in text and "[mm]" in text and "[MPa]" in text
+    assert "outputs" not in text

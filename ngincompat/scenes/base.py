@@ -86,6 +86,22 @@ class Scene:
             kwargs[key] = _convert(key, raw, type(fields[key].default))
         return cls(**kwargs)
 
+    @classmethod
+    def unit_of(cls, unit):
+        """A parameter's unit spelled in the scene's units ("length" -> "mm")."""
+        for quantity, symbol in cls.units.items():
+            unit = unit.replace(quantity, symbol)
+        return unit
+
+    def describe(self, skip=("outputs", "mechanics")):
+        """The parameters with their values, units and help texts, one line each."""
+        lines = []
+        for name, (_, help_text, unit) in self.parameters().items():
+            if name not in skip:
+                unit = f"[{self.unit_of(unit)}]" if unit else ""
+                lines.append(f"{name:14s} = {getattr(self, name)!s:14.14s} {unit:10s} {help_text}")
+        return "\n".join(lines)
+
     def settings(self):
         """The parameters as a plain dict (for results.json)."""
         return dataclasses.asdict(self)
