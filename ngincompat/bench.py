@@ -15,8 +15,10 @@ from . import io
 
 
 def add_arguments(parser):
-    parser.add_argument("case", choices=["cube", "stability"],
-                        help="cube: run time against error; stability: the numerical "
+    parser.add_argument("case", choices=["cube", "accuracy", "stability"],
+                        help="cube: run time against error of the cube; accuracy: the same "
+                             "for cube, hemisphere (symmetry mode) and cylinder, with a plot "
+                             "and the cheapest setting per target; stability: the numerical "
                              "stress-test matrix (see ngincompat.stability)")
     parser.add_argument("--quick", action="store_true",
                         help="stability: only a small corner of the matrix")
@@ -67,6 +69,8 @@ def main(args):
     if args.case == "stability":
         from . import stability
         return stability.main(args)
+    if args.case == "accuracy":
+        return accuracy_main(args)
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(args.out) if args.out else Path(scratch)
         rows = cube_table(args.maxh, args.orders, out)
@@ -74,3 +78,83 @@ def main(args):
             io.write_json(out / "bench.json", {"case": args.case, "rows": rows,
                                                **io.provenance()})
     return [format_table(rows), "(energy error against the finest run of the table)"]
+
+
+#: Converged strain energy of the cube (N mm): order 6 on 4^3 hexahedra, 2.195334e-7, which
+#: agrees with the independent reference 2.19533e-7.
+CUBE_ENERGY = 2.195334e-7
+
+#: (scene, settings grid) of the accuracy study; errors as documented in :func:`_error`.
+ACCURACY = {
+    "cube": ("cube", [dict(maxh=h, order=p) for h in (1.0, 0.5, 0.25) for p in (2, 3, 4, 5)]),
+    "hemisphere": ("hemisphere", [dict(maxh=h, centre_maxh=c, order=p, flat_face="symmetry")
+                                  for h, c in ((0.4, 0.1), (0.3, 0.02)) for p in (2, 3, 4)]),
+    "cylinder": ("cylinder", [dict(maxh=h, order=p) for h in (0.5, 0.25) for p in (2, 3, 4)]),
+}
+TARGETS = (1e-2, 1e-4, 1e-6)
+
+
+def _error(case, results):
+    """The error measure of a case: relative energy error (cube), largest Cauchy-stress error
+    against the 1-D radial solution relative to the largest stress (hemisphere), strain energy
+    over mu |B| (a L)^2, which must vanish (cylinder)."""
+    m = results["metrics"]
+    if case == "cube":
+        return abs(m["strain_energy"] - CUBE_ENERGY) / CUBE_ENERGY
+    if case == "hemisphere":
+        return max(m["radial_sigma_rr_error"], m["radial_sigma_thetatheta_error"])
+    p = results["params"]
+    return m["strain_energy"] / (p["mu"] * p["area"] * p["length"] * (p["a"] * p["length"]) ** 2)
+
+
+def accuracy_table(out, cases=None):
+    """Run every setting of the accuracy study; returns rows with error and solve time."""
+    from .scenes import get_scene
+    rows = []
+    for case in ACCURACY if cases is None else cases:
+        name, grid = ACCURACY[case]
+        for settings in grid:
+            scene = get_scene(name)(outputs="none", **settings)
+            label = "_".join(f"{k}{v}" for k, v in settings.items() if k != "flat_face")
+            r = scene.run(Path(out) / f"{case}_{label}")
+            rows.append({"case": case, "maxh": settings["maxh"], "order": settings["order"],
+                         "ndof": r["mesh"]["ndof"], "newton": r["solver"]["newton_iterations"],
+                         "solve_s": r["timings"]["solve"], "error": _error(case, r)})
+    return rows
+
+
+def cheapest(rows, case, target):
+    """The fastest row of ``case`` whose error is at most ``target``, or None."""
+    ok = [r for r in rows if r["case"] == case and r["error"] <= target]
+    return min(ok, key=lambda r: r["solve_s"]) if ok else None
+
+
+def accuracy_main(args):
+    from . import plots
+    with tempfile.TemporaryDirectory() as scratch:
+        out = Path(args.out) if args.out else Path(scratch)
+        rows = accuracy_table(out)
+        lines = ["| case | maxh | order | ndof | Newton | solve [s] | error |",
+                 "|---|---|---|---|---|---|---|"]
+        lines += [f"| {r['case']} | {r['maxh']:g} | {r['order']} | {r['ndof']} | "
+                  f"{r['newton']} | {r['solve_s']:.2f} | {r['error']:.1e} |" for r in rows]
+        lines += ["", "| case | target | cheapest setting | solve [s] |", "|---|---|---|---|"]
+        for case in ACCURACY:
+            for target in TARGETS:
+                best = cheapest(rows, case, target)
+                setting = (f"maxh {best['maxh']:g}, order {best['order']}" if best
+                           else "none in the grid")
+                seconds = f"{best['solve_s']:.2f}" if best else "-"
+                lines.append(f"| {case} | {target:g} | {setting} | {seconds} |")
+        if args.out:
+            for case in ACCURACY:
+                curves = {}
+                for order in sorted({r["order"] for r in rows if r["case"] == case}):
+                    pts = sorted((r["solve_s"], r["error"]) for r in rows
+                                 if r["case"] == case and r["order"] == order)
+                    curves[f"order {order}"] = pts
+                plots.error_against_time(out / f"accuracy_{case}.png", curves,
+                                         title=f"{case}: error against solve time")
+            io.write_json(out / "accuracy.json", {"rows": rows, **io.provenance()})
+            lines.append(f"plots and table written to {out}")
+    return lines

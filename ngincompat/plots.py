@@ -48,6 +48,22 @@ def profiles(path, s, curves, xlabel, ylabel, title=None):
     _save(fig, path)
 
 
+def error_against_time(path, curves, title=None):
+    """Error against run time on log-log axes; ``curves`` maps a label to (time, error) pairs."""
+    fig = Figure(figsize=(5.0, 3.6), dpi=120)
+    ax = fig.subplots()
+    for label, pts in curves.items():
+        ax.loglog([p[0] for p in pts], [max(p[1], 1e-16) for p in pts], marker="o", lw=2,
+                  label=label)
+    ax.set_xlabel("solve time [s]")
+    ax.set_ylabel("relative error")
+    ax.legend()
+    if title:
+        ax.set_title(title)
+    fig.tight_layout()
+    _save(fig, path)
+
+
 def _save(fig, path):
     """Write the figure atomically. Figures are made without pyplot, so importing this module
     never changes matplotlib's backend (notebooks keep their inline figures)."""
