@@ -169,8 +169,6 @@ def _run(scene, out, quiet):
         G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
         b = inc.burgers_vector(G, N0.cf)
         metrics["burgers_max"] = postprocess.maximum(ngs.Norm(b), mesh)
-    inflated_u = ngs.GridFunction(problem.u.space)
-    inflated_u.vec.data = problem.u.vec
 
     # The residual states are found by applying the grown field theta to the unloaded patch
     # (clamped, then free) in load steps from u = 0, the path the prescribed-growth solver is
@@ -191,7 +189,7 @@ def _run(scene, out, quiet):
                                                                            mesh)
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
             final[stage] = relaxed.u
-    metrics.update(_where(mesh, theta, ngs.Norm(b), scene))
+    metrics.update(_where(mesh, theta, ngs.Norm(b)))
 
     line = ((-4.99, 0.0, 0.0), (4.99, 0.0, 0.0))
     s, values = postprocess.sample_line(
@@ -204,7 +202,7 @@ def _run(scene, out, quiet):
         if "vtk" in wanted:
             io.write_vtk(out / "fields.vtu", mesh,
                          {"theta": theta, "b": b, "|b|": ngs.Norm(b),
-                          "u_inflated": inflated_u, "u_clamped": final["clamped"],
+                          "u_inflated": problem.u, "u_clamped": final["clamped"],
                           "u_released": final["released"],
                           "sigma_max_clamped": stresses["clamped"],
                           "sigma_max_released": stresses["released"]}, subdivision=1)
@@ -225,7 +223,7 @@ def _run(scene, out, quiet):
     return results
 
 
-def _where(mesh, theta, b_norm, scene):
+def _where(mesh, theta, b_norm):
     """Where growth and incompatibility sit: at the apex (centre of the bottom face) and the
     largest |b| with its distance from the centre."""
     pts = np.array([v.point for v in mesh.vertices])
