@@ -61,10 +61,14 @@ class NeoHookean:
         return cls.from_nu(0.55, 0.4)
 
     def energy(self, Fe, fibers=()):
-        C = Fe.trans * Fe
-        J = ngs.Det(Fe)
-        lnJ = ngs.log(J)
-        return self.mu / 2 * (ngs.Trace(C) - 3 - 2 * lnJ) + self.lam / 2 * lnJ * lnJ
+        rest, lnJ = self.bulk_split(Fe)
+        return rest + self.lam / 2 * lnJ * lnJ
+
+    def bulk_split(self, Fe):
+        """(Psi - lam/2 g^2, g) with g = ln Je: the energy without its bulk term and the
+        volume measure whose square the bulk term penalises (used by the mixed formulation)."""
+        lnJ = ngs.log(ngs.Det(Fe))
+        return self.mu / 2 * (ngs.Trace(Fe.trans * Fe) - 3 - 2 * lnJ), lnJ
 
 
 @dataclass(frozen=True)

@@ -8,9 +8,10 @@ over displacements u in VectorH1 of any order. Growth enters through Fg(X, t); t
 :class:`ngsolve.Parameter` owned by the caller, so a load step is ``time.Set(t)``.
 
 Boundary conditions: ``dirichlet`` names boundaries where u = 0. A body with none is
-traction-free and only its six rigid-body motions are removed, by pinning six displacement
-components at three vertices (a statically determinate "3-2-1" support: it carries no reaction
-for a self-equilibrated body, so it gives the same solution as Lagrange multipliers on the rigid
+traction-free and only its rigid-body motions are removed, by pinning as many displacement
+components at vertices as there are motions left free (a statically determinate support, six
+components at three vertices without symmetry planes: it carries no reaction for a
+self-equilibrated body, so it gives the same solution as Lagrange multipliers on the rigid
 modes while keeping the tangent symmetric positive definite near equilibrium).
 """
 
@@ -59,15 +60,29 @@ class GrowthMechanics:
     symmetry : dict, optional
         Symmetry planes: ``{"flat": "z"}`` sets the displacement component normal to the
         boundary ``flat`` (a plane X3 = const) to zero. The rigid-body pins of a body without
-        ``dirichlet`` are then placed on these boundaries, where they only remove the motions
-        the planes leave free.
+        ``dirichlet`` then remove only the motions the planes leave free.
     condense : bool
         Static condensation of element-interior dofs (exact; cheaper factorisation).
+    formulation : {"displacement", "mixed"}
+        "mixed" adds a pressure p, discontinuous of order - 1, and replaces the bulk term
+        lam/2 g(Je)^2 of the energy by p g(Je) - p^2 / (2 lam) (a perturbed Lagrangian: at
+        stationarity in p, p = lam g and the energies agree). The constraint g = 0 is then
+        enforced only against the pressure space, which removes the volumetric locking of
+        nearly incompressible materials (lam >> mu); p is element-local and condensed. The
+        problem is a saddle point, so the line search tests the residual instead of the energy.
+        Needs a material with such a bulk term (neo-Hookean, g = ln Je) and order >= 2.
     """
 
     def __init__(self, mesh, growth, material, order=2, fibers=(), dirichlet="", symmetry=None,
-                 condense=True):
+                 condense=True, formulation="displacement"):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
+        require(formulation in ("displacement", "mixed"), "formulation", formulation,
+                "displacement or mixed")
+        mixed = formulation == "mixed"
+        if mixed:
+            require(hasattr(material, "bulk_split"), "formulation", formulation,
+                    f"displacement for the {material.name} material (mixed needs neo-hookean)")
+            require(order >= 2, "order", order, ">= 2 for the mixed formulation")
         ensure_heap(order)
         if material.needs_fibers:
             require(len(fibers) > 0, "fibers", fibers, "at least one fiber direction for GOH")
@@ -77,20 +92,32 @@ class GrowthMechanics:
         self.order = order
         self.fibers = tuple(fibers)
         self.condense = condense
+        self.formulation = formulation
         symmetry = dict(symmetry or {})
-        self.fes = displacement_space(mesh, order, dirichlet, symmetry)
-        self.u = ngs.GridFunction(self.fes, name="displacement")
-        self.state = self.u
+        self.space = displacement_space(mesh, order, dirichlet, symmetry)
+        if mixed:
+            self.fes = ngs.FESpace([self.space, ngs.L2(mesh, order=order - 1)])
+            self.state = ngs.GridFunction(self.fes, name="state")
+            self.u, self.pressure = self.state.components
+            self.has_energy = False
+            self.inverse = "sparsecholesky" if condense else "umfpack"
+        else:
+            self.fes = self.space
+            self.u = self.state = ngs.GridFunction(self.fes, name="displacement")
+            self.pressure = None
         self.freedofs = self.fes.FreeDofs(coupling=condense)
         if not dirichlet:
-            self.pinned = rigid_pins(mesh, self.fes, tuple(symmetry))
+            self.pinned = rigid_pins(mesh, self.fes)
             for dof in self.pinned:
                 self.freedofs.Clear(dof)
         else:
             self.pinned = ()
         self._fit_inverse = None
         trial = self.fes.TrialFunction()
-        density = self.energy_density(kinematics.deformation_gradient(trial))
+        if mixed:
+            density = self._density(kinematics.deformation_gradient(trial[0]), trial[1])
+        else:
+            density = self._density(kinematics.deformation_gradient(trial))
         self.form = ngs.BilinearForm(self.fes, symmetric=True, condense=condense)
         self.form += ngs.Variation(density.Compile() * ngs.dx)
 
@@ -110,18 +137,27 @@ class GrowthMechanics:
             pushed.append(v / ngs.Norm(v))
         return tuple(pushed)
 
-    def energy_density(self, F):
-        """Strain energy per reference volume, Jg Psi(Fe) with Fe = F Fg^-1."""
+    def _density(self, F, p=None):
+        """Jg Psi(Fe), Fe = F Fg^-1; with a pressure p, the mixed form of the bulk term."""
         Fe = kinematics.elastic_part(F, self.growth.Fg)
-        return self.growth.Jg * self.material.energy(Fe, self.fibers_intermediate())
+        if p is None:
+            return self.growth.Jg * self.material.energy(Fe, self.fibers_intermediate())
+        rest, g = self.material.bulk_split(Fe)
+        return self.growth.Jg * (rest + p * g - p * p / (2 * self.material.lam))
+
+    def energy_density(self, F):
+        """Strain energy per reference volume, Jg Psi(Fe) with Fe = F Fg^-1 (mixed: with the
+        computed pressure in the bulk term, so its derivative is the mixed stress)."""
+        return self._density(F, self.pressure)
 
     def strain_energy(self):
-        """Total elastic energy int Jg Psi dV of the current state."""
-        return self.form.Energy(self.u.vec)
+        """Total elastic energy int Jg Psi dV of the current state (mixed: the value of the
+        discrete saddle-point functional)."""
+        return self.form.Energy(self.state.vec)
 
     def growth_load(self):
         """The vector f with f . v = int (Fg - I) : Grad v dV, at the current growth time."""
-        v = self.fes.TestFunction()
+        v = self.space.TestFunction()
         form = ngs.LinearForm(ngs.InnerProduct(self.growth.Fg - ngs.Id(3), ngs.Grad(v)) * ngs.dx)
         load = self.u.vec.CreateVector()
         load.data = form.Assemble().vec
@@ -133,19 +169,62 @@ class GrowthMechanics:
 
         A growth step that starts from u + w instead of u begins close to the stress-free state
         it would reach if dFg were compatible, so Newton starts in its quadratic range. The
-        factorisation of the vector Laplacian is made once and reused. Of the rigid-body pins
-        only the translation (the first vertex) constrains the fit: the Laplacian has no
-        rotational kernel, and pinning rotations linearly would strain the fit.
+        minimisation decouples into one scalar Laplace problem per displacement component
+        (VectorH1 stores its three H1 components one after the other), so a single scalar
+        stiffness matrix is assembled, about a thirtieth of the cost of the vector one at
+        order 5, and factorised once per distinct set of free dofs; the factorisations are
+        reused. The rigid-body pins do not constrain the fit (the Laplacian has no rotational
+        kernel, and pinning rotations linearly would strain it); a component free everywhere
+        is only anchored at one dof against its constant.
         """
         if self._fit_inverse is None:
-            u, v = self.fes.TnT()
-            lap = ngs.BilinearForm(ngs.InnerProduct(ngs.Grad(u), ngs.Grad(v)) * ngs.dx)
-            free = self.fes.FreeDofs()
-            for dof in self.pinned[:3]:
-                free.Clear(dof)
-            self._fit_inverse = lap.Assemble().mat.Inverse(free, inverse="sparsecholesky")
+            self._fit_inverse = _ComponentLaplaceInverse(self.space, self.order)
+        return self._fit_inverse.solve(load)
+
+
+class _ComponentLaplaceInverse:
+    """The inverse of the vector Laplacian on VectorH1, applied component by component with
+    factorisations of one scalar H1 stiffness matrix: free dofs per component as in ``fes``,
+    and a component without fixed dofs anchored at its first vertex."""
+
+    def __init__(self, fes, order):
+        mesh = fes.mesh
+        scalar = ngs.H1(mesh, order=order)
+        self.n = scalar.ndof
+        require(3 * self.n == fes.ndof, "displacement space", fes,
+                "VectorH1 of three H1 components")
+        s, t = scalar.TnT()
+        lap = ngs.BilinearForm(scalar, symmetric=True)
+        lap += ngs.grad(s) * ngs.grad(t) * ngs.dx
+        lap.Assemble()
+        free = np.array(fes.FreeDofs(), dtype=bool)
+        vertex = scalar.GetDofNrs(ngs.NodeId(ngs.VERTEX, 0))[0]
+        self.inverses = []
+        factorised = {}
+        for c in range(3):
+            mask = free[c * self.n:(c + 1) * self.n].copy()
+            if mask.all():
+                mask[vertex] = False
+            key = mask.tobytes()
+            if key not in factorised:
+                bits = ngs.BitArray(self.n)
+                bits.Clear()
+                for i in np.flatnonzero(mask):
+                    bits.Set(int(i))
+                factorised[key] = lap.mat.Inverse(bits, inverse="sparsecholesky")
+            self.inverses.append(factorised[key])
+        self._rhs = ngs.BaseVector(self.n)
+        self._sol = ngs.BaseVector(self.n)
+
+    def solve(self, load):
+        """w = L^-1 load, with the components of ``load`` solved one at a time."""
         w = load.CreateVector()
-        w.data = self._fit_inverse * load
+        f, x = load.FV().NumPy(), w.FV().NumPy()
+        for c, inverse in enumerate(self.inverses):
+            block = slice(c * self.n, (c + 1) * self.n)
+            self._rhs.FV().NumPy()[:] = f[block]
+            self._sol.data = inverse * self._rhs
+            x[block] = self._sol.FV().NumPy()
         return w
 
 
@@ -162,46 +241,65 @@ def displacement_space(mesh, order, dirichlet="", symmetry=None):
     return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes)
 
 
-def rigid_pins(mesh, fes, on=()):
-    """Dofs of six displacement components at three vertices that remove rigid motions.
+def rigid_pins(mesh, fes):
+    """Displacement dofs at vertices whose pinning removes exactly the rigid-body motions
+    that the boundary conditions of ``fes`` leave free.
 
     ``fes`` is the displacement space (VectorH1), or a compound space whose first component
-    it is (its dofs come first).
-
-    With symmetry planes, the vertices are taken on them (``on``: boundary names), so the
-    pins add no constraint beyond the planes other than removing the remaining motions.
-
-    P0 is fixed; at P1 (the vertex farthest from P0, d = P1 - P0) the two components other
-    than d's largest are fixed, which leaves only rotations about d; at P2 (farthest from the
-    line P0-P1) the largest component of d x (P2 - P0) is fixed, which removes that rotation.
+    it is. A rigid motion t + w x X is interpolated exactly by vertex dofs alone, so the six
+    modes are known at every vertex dof. Those that vanish on the dofs already fixed (e.g. by
+    symmetry planes: one plane leaves three motions, two perpendicular planes one, a clamped
+    face none) span the free motions, of dimension k. Dofs are taken greedily, each only if
+    it constrains a motion the ones before leave free, until k are pinned; the order of
+    preference is the "3-2-1" support: all of P0 (smallest coordinate sum), the components
+    of P1 (farthest from P0) across the line P0-P1, the component of P2 (farthest from that
+    line) normal to the plane P0 P1 P2, then the other dofs. Pins across the line leave the
+    body free to stretch along it, so the pinned values (from the predictor) cost no
+    rotation that Newton would have to undo. The support is statically determinate: it
+    carries no reaction for a self-equilibrated body, gives the same deformation as Lagrange
+    multipliers on the modes, and keeps the tangent symmetric positive definite near
+    equilibrium.
     """
     pts = np.array([v.point for v in mesh.vertices])
-    if on:
-        keep = sorted({v.nr for el in mesh.Elements(ngs.BND) if el.mat in on
-                       for v in el.vertices})
-        index = np.array(keep)
-    else:
-        index = np.arange(len(pts))
-    i0, i1, i2 = index[_three_vertices(pts[index])]
-    d = pts - pts[i0]
-    axis = d[i1] / np.linalg.norm(d[i1])
-    k1 = int(np.argmax(np.abs(axis)))
-    k2 = int(np.argmax(np.abs(np.cross(axis, d[i2]))))
-    comps = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
-    return tuple(fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, int(v)))[c] for v, c in comps)
+    size = max(np.ptp(pts, axis=0).max(), 1e-300)
+    centred = (pts - pts.mean(axis=0)) / size
+    dofs = np.array([fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))[:3] for v in range(len(pts))])
+    modes = np.zeros((len(pts), 3, 6))          # value of mode m in component c at a vertex
+    for c in range(3):
+        modes[:, c, c] = 1.0
+        for k in range(3):                       # rotation about axis k: (e_k x X)_c
+            modes[:, c, 3 + k] = np.cross(np.eye(3)[k], centred)[:, c]
+    free = np.array(fes.FreeDofs(), dtype=bool)[dofs]
+    fixed = modes[~free]
+    basis = np.eye(6)
+    if len(fixed):
+        _, s, vt = np.linalg.svd(fixed)
+        basis = vt[int(np.sum(s > 1e-10 * s[0])):].T
+    pinned, chosen = [], np.zeros((0, basis.shape[1]))
+    for v, c in _support_preference(pts):
+        if len(pinned) == basis.shape[1]:
+            break
+        if not free[v, c]:
+            continue
+        trial = np.vstack([chosen, modes[v, c] @ basis])
+        if np.linalg.matrix_rank(trial, tol=1e-8) > len(chosen):
+            chosen = trial
+            pinned.append(int(dofs[v, c]))
+    return tuple(pinned)
 
 
-
-def _three_vertices(pts):
-    """Indices of P0 (smallest coordinate sum), P1 (farthest from P0) and P2 (farthest
-    from the line P0-P1) among ``pts``."""
+def _support_preference(pts):
+    """(vertex, component) pairs in the order of preference of :func:`rigid_pins`."""
     i0 = int(np.argmin(pts.sum(axis=1)))
     d = pts - pts[i0]
     i1 = int(np.argmax(np.linalg.norm(d, axis=1)))
     axis = d[i1] / np.linalg.norm(d[i1])
-    dist_line = np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)
-    i2 = int(np.argmax(dist_line))
-    return [i0, i1, i2]
+    i2 = int(np.argmax(np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)))
+    k1 = int(np.argmax(np.abs(axis)))
+    k2 = int(np.argmax(np.abs(np.cross(axis, d[i2]))))
+    first = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
+    rest = [(v, c) for v in range(len(pts)) for c in range(3) if (v, c) not in first]
+    return first + rest
 
 
 class CoupledGrowth:
@@ -259,7 +357,7 @@ class CoupledGrowth:
         self.volume_target = ngs.Parameter(0.0)
         self.volume_region = volume
         self.freedofs = self.fes.FreeDofs(coupling=condense)
-        self.pinned = () if (dirichlet or volume) else rigid_pins(mesh, self.fes, tuple(symmetry))
+        self.pinned = () if (dirichlet or volume) else rigid_pins(mesh, self.fes)
         for dof in self.pinned:
             self.freedofs.Clear(dof)
 

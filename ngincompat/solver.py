@@ -60,6 +60,14 @@ class NewtonOptions:
     line_search : bool
         Backtrack on the energy; without it every Newton step is taken in full (plain Newton,
         kept for comparison: it fails where a full step leaves the domain Je > 0).
+    reuse_tangent : bool
+        Keep the factorised tangent for the following iterations as long as each of them
+        reduces the residual norm at least ``1 / reuse_contraction``-fold and needs no
+        backtracking (a modified Newton method); otherwise, and at the start of every load
+        step, the tangent is assembled and factorised afresh. Pays where assembling and
+        factorising cost far more than a residual (high order, few elements).
+    reuse_contraction : float
+        The contraction in (0, 1) a reused tangent must achieve per iteration.
     """
 
     rtol: float = 1e-10
@@ -72,6 +80,8 @@ class NewtonOptions:
     predictor: bool = True
     line_search: bool = True
     max_step: float = float("inf")
+    reuse_tangent: bool = False
+    reuse_contraction: float = 0.1
 
     def __post_init__(self):
         require(0 < self.rtol < 1, "rtol", self.rtol, "in (0, 1)")
@@ -81,6 +91,8 @@ class NewtonOptions:
         require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
         require(self.inverse in (None, "sparsecholesky", "umfpack", "pardiso"), "inverse",
                 self.inverse, "sparsecholesky, umfpack or pardiso")
+        require(0 < self.reuse_contraction < 1, "reuse_contraction", self.reuse_contraction,
+                "in (0, 1)")
 
 
 @dataclass
@@ -91,6 +103,7 @@ class StepRecord:
     dt: float
     converged: bool
     iterations: int = 0
+    tangents: int = 0
     residuals: list = field(default_factory=list)
     line_search: list = field(default_factory=list)
     energy: float = float("nan")
@@ -110,9 +123,15 @@ class SolverHistory:
     def newton_iterations(self):
         return sum(s.iterations for s in self.steps if s.converged)
 
+    @property
+    def tangent_assemblies(self):
+        """Tangents assembled and factorised over all attempted steps."""
+        return sum(s.tangents for s in self.steps)
+
     def as_dict(self):
         return {"converged": self.converged, "t_reached": self.t_reached,
                 "newton_iterations": self.newton_iterations,
+                "tangent_assemblies": self.tangent_assemblies,
                 "steps": [asdict(s) for s in self.steps]}
 
 
@@ -128,6 +147,7 @@ class NewtonSolver:
         self._res = vec.CreateVector()
         self._du = vec.CreateVector()
         self._u0 = vec.CreateVector()
+        self._inverse = None
         free = problem.fes.FreeDofs()
         self._fixed = np.array([not free[i] for i in range(len(free))], dtype=bool)
         self._fixed[list(problem.pinned)] = True
@@ -139,12 +159,18 @@ class NewtonSolver:
         self._res.FV().NumPy()[self._fixed] = 0.0
         return self._res
 
-    def direction(self):
-        """Solve the tangent system K du = r at the current state; returns du."""
+    def factorise(self):
+        """Assemble the tangent at the current state and factorise it (kept for
+        :meth:`direction` until the next call)."""
         p = self.problem
-        a, r, du = p.form, self._res, self._du
-        a.AssembleLinearization(p.state.vec)
-        inv = a.mat.Inverse(p.freedofs, inverse=self.options.inverse or p.inverse)
+        p.form.AssembleLinearization(p.state.vec)
+        self._inverse = p.form.mat.Inverse(p.freedofs, inverse=self.options.inverse or p.inverse)
+
+    def direction(self):
+        """Solve K du = r with the last factorised tangent K (of the current state unless
+        tangents are reused); returns du."""
+        p = self.problem
+        a, r, du, inv = p.form, self._res, self._du, self._inverse
         if p.condense:
             rhs = r.CreateVector()
             rhs.data = r
@@ -173,6 +199,29 @@ class NewtonSolver:
         r_new = self.residual().Norm()
         return math.isfinite(r_new) and r_new <= (1 - 1e-4 * alpha) * r_norm
 
+    def _step(self, E, r):
+        """One line-searched step along the Newton direction from the current state.
+
+        Returns (alpha, energy) of the accepted step, or (0, E) with the state unchanged when
+        no step length was acceptable."""
+        opts = self.options
+        u = self.problem.state.vec
+        energy = self.problem.form.Energy if self.problem.has_energy else _finite_residual(self)
+        du = self.direction()
+        slope = -ngs.InnerProduct(du, r)
+        r_norm = r.Norm()
+        self._u0.data = u
+        alpha = 1.0
+        for _ in range(opts.max_backtracks if opts.line_search else 1):
+            u.data = self._u0 - alpha * du
+            E_new = energy(u)
+            if not opts.line_search or self._acceptable(E, E_new, alpha, slope, r_norm):
+                return alpha, E_new
+            alpha /= 2
+        u.data = self._u0
+        self.residual()
+        return 0.0, E
+
     def minimise(self, record):
         """Newton iterations at the current load; fills ``record``; returns True if converged."""
         opts = self.options
@@ -185,25 +234,21 @@ class NewtonSolver:
         if not math.isfinite(E):
             record.reason = "energy or residual is not finite at the start of the step"
             return False
+        fresh = True
         for it in range(1, opts.max_iter + 1):
             if r.Norm() <= max(opts.rtol * r0, opts.atol):
                 record.iterations, record.energy = it - 1, E
                 return True
-            du = self.direction()
-            slope = -ngs.InnerProduct(du, r)
-            r_norm = r.Norm()
-            self._u0.data = u
-            alpha, accepted = 1.0, False
-            for _ in range(opts.max_backtracks if opts.line_search else 1):
-                u.data = self._u0 - alpha * du
-                E_new = energy(u)
-                if not opts.line_search or self._acceptable(E, E_new, alpha, slope, r_norm):
-                    accepted = True
-                    break
-                alpha /= 2
+            if fresh or not opts.reuse_tangent:
+                self.factorise()
+                record.tangents += 1
+            r_old = r.Norm()
+            alpha, E_new = self._step(E, r)
             record.line_search.append(alpha)
-            if not accepted:
-                u.data = self._u0
+            if alpha == 0.0:
+                if not fresh and opts.reuse_tangent:
+                    fresh = True    # an old tangent failed: retry with a new one
+                    continue
                 record.iterations = it
                 record.reason = "line search found no acceptable step"
                 return False
@@ -213,6 +258,7 @@ class NewtonSolver:
             if not math.isfinite(record.residuals[-1]):
                 record.reason = "residual is not finite"
                 return False
+            fresh = alpha < 1.0 or r.Norm() > opts.reuse_contraction * r_old
         record.iterations = opts.max_iter
         if r.Norm() <= max(opts.rtol * r0, opts.atol):
             record.energy = E

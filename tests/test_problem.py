@@ -188,3 +188,61 @@ def test_clamped_body_keeps_zero_displacement_on_the_clamped_face():
     assert on_left < 1e-28
     assert on_right > 1e-3
     assert problem.strain_energy() > 1e-5
+
+
+def test_componentwise_compatible_fit_equals_the_vector_laplace_solve():
+    """The predictor's scalar factorisations solve the same problem as the vector Laplacian,
+    also when the components have different free dofs (a symmetry plane, the pins)."""
+    time = ngs.Parameter(1.0)
+    growth = IsotropicGrowth(1 + 0.25 * ngs.x * time + 0.1 * ngs.y * ngs.z)
+    problem = GrowthMechanics(cube(maxh=0.5), growth, MATERIAL, order=3,
+                              symmetry={"left": "x"})
+    load = problem.growth_load()
+    w = problem.compatible_displacement(load)
+    u, v = problem.fes.TnT()
+    lap = ngs.BilinearForm(ngs.InnerProduct(ngs.Grad(u), ngs.Grad(v)) * ngs.dx).Assemble()
+    free = problem.fes.FreeDofs()
+    for dof in problem.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, 0)):   # (0, 0, 0), on "left"
+        free.Clear(dof)
+    reference = ngs.GridFunction(problem.fes)
+    reference.vec.data = lap.mat.Inverse(free, inverse="umfpack") * load
+    fit = ngs.GridFunction(problem.fes)
+    fit.vec.data = w
+    # the same minimiser up to the constants that the anchoring of each component leaves open
+    misfit = ngs.Integrate(ngs.InnerProduct(ngs.Grad(fit - reference), ngs.Grad(fit - reference)),
+                           problem.mesh)
+    assert ngs.Integrate(ngs.InnerProduct(ngs.Grad(fit), ngs.Grad(fit)), problem.mesh) > 1e-3
+    assert misfit < 1e-20
+
+
+@pytest.mark.parametrize("symmetry, dirichlet, count", [
+    ({}, "", 6), ({"left": "x"}, "", 3), ({"back": "y", "top": "z"}, "", 1),
+    ({}, "left", 0)])
+def test_pins_remove_exactly_the_rigid_motions_left_free(symmetry, dirichlet, count):
+    """Pinned and fixed dofs together admit no rigid motion, and no more pins than free
+    motions are used (the support stays statically determinate)."""
+    time = ngs.Parameter(1.0)
+    problem = GrowthMechanics(cube(maxh=0.5), IsotropicGrowth(1 + 0.25 * ngs.x * time),
+                              MATERIAL, order=2, dirichlet=dirichlet, symmetry=symmetry)
+    assert len(problem.pinned) == count
+    free = np.array(problem.fes.FreeDofs(), dtype=bool)
+    free[list(problem.pinned)] = False
+    motions = []
+    for cf in (ngs.CF((1, 0, 0)), ngs.CF((0, 1, 0)), ngs.CF((0, 0, 1)),
+               ngs.CF((0, -ngs.z, ngs.y)), ngs.CF((ngs.z, 0, -ngs.x)), ngs.CF((-ngs.y, ngs.x, 0))):
+        gf = ngs.GridFunction(problem.fes)
+        gf.Set(cf)
+        motions.append(gf.vec.FV().NumPy()[~free])
+    assert np.linalg.matrix_rank(np.array(motions).T, tol=1e-8) == 6
+
+
+def test_reused_tangents_reach_the_same_state_with_fewer_assemblies():
+    solutions = {}
+    for reuse in (False, True):
+        problem, time = _cube_problem(order=3)
+        history = solve_growth(problem, time, NewtonOptions(reuse_tangent=reuse))
+        solutions[reuse] = (problem.strain_energy(), history)
+    (e_full, h_full), (e_reuse, h_reuse) = solutions[False], solutions[True]
+    assert h_full.tangent_assemblies == h_full.newton_iterations
+    assert h_reuse.tangent_assemblies < h_full.tangent_assemblies
+    assert e_reuse == pytest.approx(e_full, rel=1e-9)
