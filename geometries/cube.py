@@ -13,8 +13,8 @@ from ngincompat.errors import require
 FACES = ("left", "right", "front", "back", "bottom", "top")
 
 
-def cube(side=1.0, maxh=0.25, elements="hex", curve_order=1, material="tissue"):
-    """A cube [0, side]^3.
+def cube(side=1.0, maxh=0.25, elements="hex", curve_order=1, material="tissue", quarter=False):
+    """A cube [0, side]^3, or its quarter [0, side] x [0, side/2]^2.
 
     Parameters
     ----------
@@ -29,6 +29,9 @@ def cube(side=1.0, maxh=0.25, elements="hex", curve_order=1, material="tissue"):
         Order of the geometry approximation (a cube needs none; kept for a uniform interface).
     material : str
         Name of the single material region.
+    quarter : bool
+        Only the quarter X2, X3 <= side / 2; its faces ``back`` and ``top`` then lie on the
+        cube's mid-planes (mirror planes of a body and load symmetric about them).
 
     Returns
     -------
@@ -42,8 +45,9 @@ def cube(side=1.0, maxh=0.25, elements="hex", curve_order=1, material="tissue"):
             "an integer >= 1")
     if elements == "hex":
         n = max(1, math.ceil(side / maxh - 1e-9))
-        mesh = MakeStructured3DMesh(hexes=True, nx=n, ny=n, nz=n,
-                                    mapping=lambda x, y, z: (side * x, side * y, side * z))
+        m, w = (max(1, math.ceil(n / 2)), side / 2) if quarter else (n, side)
+        mesh = MakeStructured3DMesh(hexes=True, nx=n, ny=m, nz=m,
+                                    mapping=lambda x, y, z: (side * x, w * y, w * z))
         # MakeStructured3DMesh names X1 = 0, 1 "back", "front" and X2 = 0, 1 "left", "right".
         rename = {"back": "left", "front": "right", "left": "front", "right": "back"}
         ngmesh = mesh.ngmesh
@@ -51,7 +55,8 @@ def cube(side=1.0, maxh=0.25, elements="hex", curve_order=1, material="tissue"):
             ngmesh.SetBCName(i, rename.get(name, name))
         ngmesh.SetMaterial(1, material)
         return ngs.Mesh(ngmesh)
-    box = Box(Pnt(0, 0, 0), Pnt(side, side, side))
+    w = side / 2 if quarter else side
+    box = Box(Pnt(0, 0, 0), Pnt(side, w, w))
     box.mat(material)
     for k, axis in enumerate((X, Y, Z)):
         box.faces.Min(axis).name = FACES[2 * k]

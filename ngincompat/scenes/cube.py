@@ -22,6 +22,11 @@ class CubeScene(prescribed.PrescribedScene):
 
     Reports b on the planes n_i = Fg e_i / |Fg e_i| (Fig. 1d), S11, S22, S33 (Fig. 1f), Psi and
     Curl Fg : Curl Fg along the X1 centre line (Fig. 1g), and G against eq. (16).
+
+    Body, growth and material are symmetric about the mid-planes X2 = X3 = side / 2, so
+    ``model = "quarter"`` solves the quarter X2, X3 <= side / 2 with the normal displacement
+    held on those planes: the same solution at a quarter of the elements (the strain energy
+    is reported for the whole cube).
     """
 
     name = "cube"
@@ -32,14 +37,18 @@ class CubeScene(prescribed.PrescribedScene):
     mu: float = param(0.55, "shear modulus", "stress")
     nu: float = param(0.4, "Poisson's ratio")
     elements: str = param("hex", "element shape: hex (the paper's C3D8 layout) or tet")
+    model: str = param("full", "full cube, or quarter (mirror planes X2 = X3 = side / 2)")
 
     def __post_init__(self):
         super().__post_init__()
         require(self.a * self.side > -1, "a", self.a, "> -1 / side (theta stays positive)")
+        require(self.model in ("full", "quarter"), "model", self.model, "full or quarter")
 
     def build(self):
         """The mesh and the prescribed-growth case."""
-        mesh = cube(side=self.side, maxh=min(self.maxh, self.side), elements=self.elements)
+        quarter = self.model == "quarter"
+        mesh = cube(side=self.side, maxh=min(self.maxh, self.side), elements=self.elements,
+                    quarter=quarter)
         time = ngs.Parameter(0.0)
         growth = IsotropicGrowth(1 + self.a * ngs.x * time)
         n = lattice_normals(growth.Fg)
@@ -49,4 +58,5 @@ class CubeScene(prescribed.PrescribedScene):
             mesh=mesh, growth=growth, material=NeoHookean.from_nu(self.mu, self.nu), time=time,
             planes={"n1": n[0], "n2": n[1], "n3": n[2]},
             line=((0.0, mid, mid), (self.side, mid, mid), "X1"),
-            components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)})
+            components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)},
+            symmetry={"back": "y", "top": "z"} if quarter else {}, mirror=4 if quarter else 1)

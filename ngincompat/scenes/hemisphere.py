@@ -41,6 +41,8 @@ class HemisphereScene(prescribed.PrescribedScene):
 
     order: int = param(4, "polynomial order of the displacement")
     maxh: float = param(0.3, "mesh size", "length")
+    steps: int = param(2, "initial number of load steps (two take 4 Newton iterations each, "
+                            "one 7-9)")
     centre_maxh: float = param(0.02, "mesh size at the centre (theta has a cone point there)",
                                "length")
     R0: float = param(1.0, "radius", "length")
