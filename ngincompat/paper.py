@@ -48,8 +48,11 @@ def run_all(out, quiet=True):
         r = scene.run(out / label, quiet=quiet)
         results[label] = r
         m = r["metrics"]
+        converged = [s for s in r["solver"]["steps"] if s["converged"]]
         rows.append({
             "case": label, "ndof": r["mesh"]["ndof"], "newton": r["solver"]["newton_iterations"],
+            "load_steps": len(converged),
+            "newton_per_step": max(s["iterations"] for s in converged),
             "seconds": round(time.perf_counter() - start, 2),
             "strain_energy": m["strain_energy"], "burgers_max": m["burgers_max"],
             "max_principal_stress": m["max_principal_stress"],
@@ -61,7 +64,8 @@ def run_all(out, quiet=True):
 
 
 def summary_markdown(rows):
-    keys = ["case", "ndof", "newton", "seconds", "strain_energy", "burgers_max",
+    keys = ["case", "ndof", "newton", "load_steps", "newton_per_step", "seconds",
+            "strain_energy", "burgers_max",
             "max_principal_stress", *CHECKS]
     lines = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
     for row in rows:

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ngincompat.radial import solve_radial
-from ngincompat.scenes import CylinderScene, DiscScene, HemisphereScene
+from ngincompat.scenes import CylinderScene, DiscScene, HemisphereScene, get_scene
 
 
 def test_radial_reference_is_stress_free_for_uniform_growth():
@@ -124,3 +124,17 @@ def test_cylinder_burgers_vector_eq27(cylinders):
     # the end points are nudged 1e-4 of their distance inward to find their element
     np.testing.assert_allclose(line["|b_e3|"], 0.25 / (1 + X2 / 4), rtol=2e-4)
     assert X2[0] == pytest.approx(0.0) and X2[-1] == pytest.approx(1.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, settings", [
+    ("cube", {}), ("hemisphere", {}), ("hemisphere", {"profile": "concave"}),
+    ("hemisphere", {"profile": "convex"}), ("hemisphere", {"flat_face": "symmetry"}),
+    ("disc", {}), ("disc", {"fibers": "circumferential"}), ("cylinder", {})])
+def test_default_settings_need_at_most_five_newton_iterations_per_load_step(name, settings,
+                                                                             tmp_path):
+    """The solver target of the idealized scenes at their defaults (about 4 minutes for all)."""
+    results = get_scene(name)(outputs="none", **settings).run(tmp_path)
+    steps = [s for s in results["solver"]["steps"] if s["converged"]]
+    assert results["solver"]["converged"] and steps
+    assert max(s["iterations"] for s in steps) <= 5, [s["iterations"] for s in steps]
