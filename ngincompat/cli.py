@@ -1,15 +1,28 @@
 """Command line: ``ngincompat list | run | paper | expansion | sweep | bench``.
 
-Errors a user can cause (unknown scene or key, a value out of range, a bad expression) end the
-program with exit code 2 and one line on stderr; a run whose growth could not be applied to the
-end exits with code 1 after writing the last converged state.
+Exit codes:
+
+* 0: done;
+* 2: bad input (unknown scene or key, a value out of range, a bad expression, an output
+  folder that is a file or holds another run): one line on stderr, nothing computed;
+* 3: not converged: the last converged state was measured and written, marked
+  ``"status": "not converged"`` in results.json;
+* 4: a sweep finished with failed cases (the table has every case, failed ones with their
+  error);
+* 130: interrupted (Ctrl-C): one line; what was finished is kept, an unfinished run's
+  results.json is marked ``"status": "interrupted"``.
+
+This is the only module that parses arguments; everything it calls takes plain values.
 """
 
 import argparse
 import logging
 import sys
 
-from .errors import ConvergenceError, ParameterError
+from .errors import ConvergenceError, Interrupted, ParameterError
+from .progress import Progress
+
+EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_INTERRUPTED = 0, 2, 3, 4, 130
 
 
 def _settings(pairs):
@@ -61,52 +74,70 @@ def _cmd_run(args):
     if args.outputs is not None:
         settings.update(_outputs(args.outputs))
     scene = cls.from_settings(settings)
-    results = scene.run(args.out, quiet=args.quiet)
-    metrics = results["metrics"]
-    if "solver" in results:
-        print(f"{scene.name}: ndof {results['mesh']['ndof']}, "
-              f"Newton iterations {results['solver']['newton_iterations']}, "
-              f"solve {results['timings']['solve']:.2f} s")
+    try:
+        results = scene.run(args.out, overwrite=args.overwrite,
+                            progress=Progress(quiet=args.quiet))
+    except ConvergenceError as err:
+        _print_run(err.results, args.out)
+        raise
+    _print_run(results, args.out)
+    return EXIT_OK
+
+
+def _print_run(results, out):
+    """The summary lines of a run: size, solver, time, metrics with the scene's units."""
+    if results.solver:
+        stages = ", ".join(f"{stage} {h.newton_iterations}"
+                           for stage, h in results.solver.items())
+        print(f"{results.scene}: {results.status}; ndof {results.mesh.ndof}, "
+              f"Newton iterations {results.newton_iterations} ({stages}), "
+              f"solve {results.solve_seconds:.2f} s, "
+              f"total {sum(results.timings.values()):.2f} s")
     else:
-        print(f"{scene.name}: incompatibility only (no mechanics), "
-              f"{sum(results['timings'].values()):.2f} s")
-    for key, value in metrics.items():
-        print(f"  {key:28s} {value:.6g}")
-    print(f"results written to {args.out}/results.json")
-    return 0
+        print(f"{results.scene}: incompatibility only (no mechanics), "
+              f"{sum(results.timings.values()):.2f} s")
+    for key, value in results.metrics.items():
+        print(f"  {key:32s} {value:.6g}")
+    print(f"results written to {out}/results.json (units: "
+          + ", ".join(f"{q} {u}" for q, u in results.units.items()) + ")")
+
+
+def _status_code(rows):
+    """3 if a row did not converge, 130 if one was interrupted, else 0."""
+    statuses = {row["status"] for row in rows}
+    if "interrupted" in statuses:
+        return EXIT_INTERRUPTED
+    return EXIT_NOT_CONVERGED if statuses - {"done"} else EXIT_OK
 
 
 def _cmd_paper(args):
     from . import paper
-    rows = paper.run_all(args.out, quiet=args.quiet)
+    rows = paper.run_all(args.out, progress=Progress(quiet=args.quiet),
+                         overwrite=args.overwrite)
     print(paper.summary_markdown(rows))
     print(f"summary written to {args.out}/summary.md (.csv, .json) with figures")
-    return 0
+    return _status_code(rows)
 
 
 def _cmd_expansion(args):
-    from .scenes import skin
-    rows = skin.summary(args.out, quiet=args.quiet, **_settings(args.set))
-    keys = list(rows[0])
-    print("| " + " | ".join(keys) + " |")
-    print("|" + "---|" * len(keys))
-    for row in rows:
-        print("| " + " | ".join(f"{v:.4g}" if isinstance(v, float) else str(v)
-                                for v in row.values()) + " |")
-    print(f"summary written to {args.out}/summary.json")
-    return 0
+    from . import expansion
+    rows = expansion.run_all(args.out, progress=Progress(quiet=args.quiet),
+                             overwrite=args.overwrite, **_settings(args.set))
+    print(expansion.summary_markdown(rows))
+    print(f"summary written to {args.out}/summary.md (.csv, .json)")
+    return _status_code(rows)
 
 
 def _cmd_bench(args):
     from . import bench
     print("\n".join(bench.main(args)))
-    return 0
+    return EXIT_OK
 
 
 def _cmd_sweep(args):
     from . import sweep
     print("\n".join(sweep.main(args)))
-    return 0
+    return EXIT_OK
 
 
 def build_parser():
@@ -130,19 +161,25 @@ def build_parser():
     p.add_argument("--outputs", metavar="LIST",
                    help="what to compute and write: comma list of " + ", ".join(OUTPUT_NAMES)
                    + " (default: all); 'incompatibility' alone builds no mechanics problem")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace a run already in --out (its files are removed first)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
     p.set_defaults(func=_cmd_run)
 
     p = sub.add_parser("paper", help="run every idealized scene of the paper, one summary")
     p.add_argument("--out", required=True, help="output folder")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace a run already in --out (its files are removed first)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
     p.set_defaults(func=_cmd_paper)
 
     p = sub.add_parser("expansion", help="the skin-expansion scene for all four expanders")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="a parameter of the skin scene for every expander (repeatable)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace a run already in --out (its files are removed first)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
     p.set_defaults(func=_cmd_expansion)
 
     from . import bench
@@ -158,6 +195,7 @@ def build_parser():
 
 
 def main(argv=None):
+    """Run the command line; returns the exit code (see the module docstring)."""
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -169,10 +207,15 @@ def main(argv=None):
         return args.func(args)
     except ParameterError as err:
         print(f"ngincompat: error: {err}", file=sys.stderr)
-        return 2
+        return EXIT_INPUT
     except ConvergenceError as err:
-        print(f"ngincompat: not converged: {err}", file=sys.stderr)
-        return 1
+        print(f"ngincompat: not converged: {err} (the last converged state is written)",
+              file=sys.stderr)
+        return EXIT_NOT_CONVERGED
+    except (Interrupted, KeyboardInterrupt):
+        print("ngincompat: interrupted; finished results are kept, an unfinished run is "
+              "marked \"interrupted\" in its results.json", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

@@ -28,6 +28,21 @@ class ConvergenceError(NgincompatError):
         super().__init__(message)
         self.history = history
         self.t_converged = t_converged
+        #: The :class:`~ngincompat.results.Results` of the last converged state, once a
+        #: pipeline has measured (and written) them.
+        self.results = None
+
+
+class Interrupted(NgincompatError):
+    """The user interrupted a solve (Ctrl-C); the state was reset to the last converged step.
+
+    ``history`` holds the per-step record up to the interruption."""
+
+    def __init__(self, message, history=None, t_converged=None):
+        super().__init__(message)
+        self.history = history
+        self.t_converged = t_converged
+        self.results = None
 
 
 def require(condition, name, value, allowed):

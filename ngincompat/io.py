@@ -47,18 +47,21 @@ def atomic_path(path):
             os.unlink(tmp)
 
 
-def _jsonable(value):
+def jsonable(value):
+    """``value`` with arrays as lists, numpy scalars as Python ones, NaN and inf as None."""
     if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
+        return [jsonable(v) for v in value]
     if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
+        return jsonable(value.tolist())
     if isinstance(value, (np.floating, float)):
         v = float(value)
         return v if math.isfinite(v) else None
     if isinstance(value, np.integer):
         return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
     if isinstance(value, Path):
         return str(value)
     return value
@@ -67,7 +70,7 @@ def _jsonable(value):
 def write_json(path, data):
     """Write ``data`` as JSON atomically; NaN and inf become null, arrays become lists."""
     with atomic_path(path) as tmp:
-        tmp.write_text(json.dumps(_jsonable(data), indent=2, sort_keys=False) + "\n")
+        tmp.write_text(json.dumps(jsonable(data), indent=2, sort_keys=False) + "\n")
     return Path(path)
 
 

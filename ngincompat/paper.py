@@ -7,16 +7,13 @@ written as ``summary.md``, ``summary.csv`` and ``summary.json``, and the compari
 Fig. 2g-h (hemisphere profiles) and Fig. 3e (disc fiber families) as PNG.
 """
 
-import csv
-import io as _io
-import logging
 import time
-from pathlib import Path
 
-from . import io, plots
+from . import output, plots, tables
+from .errors import ConvergenceError
+from .progress import SILENT
+from .results import DONE
 from .scenes import CubeScene, CylinderScene, DiscScene, HemisphereScene
-
-log = logging.getLogger(__name__)
 
 #: Verification metrics reported in the summary, by scene (closed forms and references).
 CHECKS = ("G_error_L2_rel", "radial_sigma_rr_error", "radial_sigma_thetatheta_error",
@@ -38,72 +35,83 @@ def cases():
     ]
 
 
-def run_all(out, quiet=True):
-    """Run every case into ``out/<label>``; returns the summary rows."""
-    out = Path(out)
+#: Columns of the summary table and their units.
+COLUMNS = ("case", "status", "ndof", "newton", "load_steps", "newton_per_step", "seconds",
+           "strain_energy", "burgers_max", "max_principal_stress", *CHECKS)
+UNITS = {"seconds": "s", "strain_energy": "N mm", "burgers_max": "1/mm",
+         "max_principal_stress": "MPa", **{k: "-" for k in CHECKS}}
+
+
+def row(label, results, seconds):
+    """The summary row of one run."""
+    m = results.metrics
+    history = results.solver.get("growth")
+    converged = [s for s in history.steps if s.converged] if history else []
+    return {
+        "case": label, "status": results.status, "ndof": results.mesh.ndof,
+        "newton": results.newton_iterations, "load_steps": len(converged),
+        "newton_per_step": max((s.iterations for s in converged), default=0),
+        "seconds": round(seconds, 2), "strain_energy": m.get("strain_energy"),
+        "burgers_max": m.get("burgers_max"),
+        "max_principal_stress": m.get("max_principal_stress"),
+        **{k: m[k] for k in CHECKS if k in m},
+    }
+
+
+def run_all(out=None, progress=SILENT, overwrite=False, cases=cases):
+    """Run every case (into ``out/<label>`` when ``out`` is given); returns the summary rows.
+
+    A case that does not converge is a row with its status; the others still run."""
+    if out is not None:
+        out = output.prepare(out, overwrite=overwrite)
     rows, results = [], {}
     for label, scene in cases():
-        log.info("running %s", label)
         start = time.perf_counter()
-        r = scene.run(out / label, quiet=quiet)
+        try:
+            r = scene.run(None if out is None else out / label, overwrite=overwrite,
+                          progress=progress, label=label)
+        except ConvergenceError as err:
+            r = err.results
         results[label] = r
-        m = r["metrics"]
-        converged = [s for s in r["solver"]["steps"] if s["converged"]]
-        rows.append({
-            "case": label, "ndof": r["mesh"]["ndof"], "newton": r["solver"]["newton_iterations"],
-            "load_steps": len(converged),
-            "newton_per_step": max(s["iterations"] for s in converged),
-            "seconds": round(time.perf_counter() - start, 2),
-            "strain_energy": m["strain_energy"], "burgers_max": m["burgers_max"],
-            "max_principal_stress": m["max_principal_stress"],
-            **{k: m[k] for k in CHECKS if k in m},
-        })
-    _comparison_figures(out, results)
-    _write_summary(out, rows)
+        rows.append(row(label, r, time.perf_counter() - start))
+    if out is not None:
+        files = [label for label, _ in cases()]
+        if all(results[k].status == DONE for k in FIGURE_CASES if k in results):
+            files += _comparison_figures(out, results)
+        files += ["summary.md", "summary.csv", "summary.json"]
+        tables.write(out, "summary", rows, list(COLUMNS), UNITS, files=files)
     return rows
 
 
 def summary_markdown(rows):
-    keys = ["case", "ndof", "newton", "load_steps", "newton_per_step", "seconds",
-            "strain_energy", "burgers_max",
-            "max_principal_stress", *CHECKS]
-    lines = ["| " + " | ".join(keys) + " |", "|" + "---|" * len(keys)]
-    for row in rows:
-        cells = []
-        for k in keys:
-            v = row.get(k, "")
-            cells.append(f"{v:.3g}" if isinstance(v, float) else str(v))
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+    """The summary table in markdown, with units."""
+    return tables.markdown(rows, list(COLUMNS), UNITS)
 
 
-def _write_summary(out, rows):
-    keys = sorted({k for row in rows for k in row}, key=lambda k: (k != "case", k))
-    buffer = _io.StringIO()
-    writer = csv.DictWriter(buffer, fieldnames=keys)
-    writer.writeheader()
-    writer.writerows(rows)
-    with io.atomic_path(out / "summary.csv") as tmp:
-        tmp.write_text(buffer.getvalue())
-    with io.atomic_path(out / "summary.md") as tmp:
-        tmp.write_text(summary_markdown(rows) + "\n")
-    io.write_json(out / "summary.json", {"rows": rows, **io.provenance()})
+#: The runs the comparison figures are drawn from.
+FIGURE_CASES = ("hemisphere-linear", "hemisphere-concave", "hemisphere-convex", "disc-radial",
+                "disc-circumferential")
 
 
 def _comparison_figures(out, results):
-    hemi = {k.split("-")[1]: results[k]["profiles"]["line"]
+    """Fig. 2g, 2h (hemisphere profiles) and 3e (disc fiber families); returns the files."""
+    hemi = {k.split("-")[1]: results[k].profile("line")
             for k in ("hemisphere-linear", "hemisphere-concave", "hemisphere-convex")}
     R = hemi["linear"]["R"]
     plots.profiles(out / "fig2g_burgers.png", R,
                    {k: p["|b_meridional|"] for k, p in hemi.items()}, xlabel="R [mm]",
-                   ylabel="|b| on the meridional plane [1/mm]", title="Fig. 2g")
+                   ylabel="|b| on the meridional plane [1/mm]",
+                   title="Fig. 2g: hemisphere, growth profiles")
     plots.profiles(out / "fig2h_curl.png", R, {k: p["curlFg_sq"] for k, p in hemi.items()},
-                   xlabel="R [mm]", ylabel="Curl Fg : Curl Fg [1/mm^2]", title="Fig. 2h")
-    disc = {k.split("-")[1]: results[k]["profiles"]["line"]
+                   xlabel="R [mm]", ylabel="Curl Fg : Curl Fg [1/mm$^2$]",
+                   title="Fig. 2h: hemisphere, growth profiles")
+    disc = {k.split("-")[1]: results[k].profile("line")
             for k in ("disc-radial", "disc-circumferential")}
     curves = {}
     for family, p in disc.items():
-        curves[f"sigma_r ({family})"] = p["sigma_r"]
-        curves[f"sigma_theta ({family})"] = p["sigma_theta"]
+        curves[f"sigma_r ({family} fibers)"] = p["sigma_r"]
+        curves[f"sigma_theta ({family} fibers)"] = p["sigma_theta"]
     plots.profiles(out / "fig3e_disc_stress.png", disc["radial"]["R"], curves,
-                   xlabel="R [mm]", ylabel="Cauchy stress [MPa]", title="Fig. 3e")
+                   xlabel="R [mm]", ylabel="Cauchy stress [MPa]",
+                   title="Fig. 3e: disc, GOH fiber families")
+    return ["fig2g_burgers.png", "fig2h_curl.png", "fig3e_disc_stress.png"]

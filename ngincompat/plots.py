@@ -1,71 +1,124 @@
-"""Matplotlib figures in the style of the paper's profile panels (e.g. Fig. 1g)."""
+"""Matplotlib figures in the style of the paper's profile panels (e.g. Fig. 1g).
 
+Every figure is made without pyplot, so importing this module never changes matplotlib's
+backend (notebooks keep their inline figures), and written atomically. Curves on one axis
+differ in colour, line style and marker, so curves that coincide (S22 and S33 of the cube)
+stay visible; axes never use an offset, and an axis whose curves vary by less than a
+``floor`` (round-off around a constant, as in a stress-free body) is drawn with at least that
+range, so round-off is not magnified into apparent oscillation.
+"""
+
+from itertools import cycle
+
+import numpy as np
 from matplotlib.figure import Figure
 
 from .io import atomic_path
 
+#: (line style, marker) per curve, in order: coinciding curves stay distinguishable.
+STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)), "v"),
+          ((0, (1, 1)), "D"))
 
-def profile_pair(path, s, left, right, xlabel, title=None):
-    """Two quantities against one coordinate, on two y axes (the paper's Fig. 1g).
+
+def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_label="",
+                   floor=0.0):
+    """A matplotlib Figure of curves against one coordinate.
 
     Parameters
     ----------
-    path : path-like
-        PNG file to write (atomically).
-    s : array
+    x : array
         The coordinate.
-    left, right : tuple (label, values)
-        The quantity on the left and on the right axis.
+    curves : dict
+        Legend label -> values, on the left axis.
+    xlabel, ylabel : str
+        Axis labels with units.
+    title : str, optional
+    right : dict, optional
+        Legend label -> values on a second axis (labelled ``right_label``).
+    floor : float
+        Smallest range of the left axis.
     """
-    fig = Figure(figsize=(5.0, 3.6), dpi=120)
+    fig = Figure(figsize=(5.4, 3.8), dpi=120)
     ax = fig.subplots()
-    ax.plot(s, left[1], color="tab:blue", lw=2)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(left[0], color="tab:blue")
-    ax.tick_params(axis="y", labelcolor="tab:blue")
-    twin = ax.twinx()
-    twin.plot(s, right[1], color="tab:red", lw=2, ls="--")
-    twin.set_ylabel(right[0], color="tab:red")
-    twin.tick_params(axis="y", labelcolor="tab:red")
-    if title:
-        ax.set_title(title)
-    fig.tight_layout()
-    _save(fig, path)
-
-
-def profiles(path, s, curves, xlabel, ylabel, title=None):
-    """Several curves against one coordinate on one axis; ``curves`` maps label -> values."""
-    fig = Figure(figsize=(5.0, 3.6), dpi=120)
-    ax = fig.subplots()
-    for label, values in curves.items():
-        ax.plot(s, values, lw=2, label=label)
+    styles = cycle(STYLES)
+    lines = _plot(ax, x, curves, styles, colours=None)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.legend()
+    _floor(ax, curves.values(), floor)
+    if right:
+        twin = ax.twinx()
+        lines += _plot(twin, x, right, styles, colours=["tab:red", "tab:purple", "tab:brown"])
+        twin.set_ylabel(right_label)
+        twin.ticklabel_format(axis="y", useOffset=False)
+    if len(lines) > 1:
+        ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
     if title:
-        ax.set_title(title)
+        ax.set_title(title, fontsize="medium")
     fig.tight_layout()
-    _save(fig, path)
+    return fig
+
+
+def _plot(ax, x, curves, styles, colours):
+    lines = []
+    n = len(np.atleast_1d(x))
+    for i, (label, values) in enumerate(curves.items()):
+        style, marker = next(styles)
+        kwargs = {"color": colours[i % len(colours)]} if colours else {}
+        (line,) = ax.plot(x, values, lw=2, ls=style, marker=marker,
+                          markevery=max(1, n // 10), markersize=4, label=label, **kwargs)
+        lines.append(line)
+    ax.ticklabel_format(axis="y", useOffset=False)
+    return lines
+
+
+def _floor(ax, values, floor):
+    """Widen the y range of ``ax`` to at least ``floor`` around the data's middle."""
+    data = np.concatenate([np.ravel(v) for v in values]) if values else np.zeros(0)
+    data = data[np.isfinite(data)]
+    if floor <= 0 or data.size == 0:
+        return
+    lo, hi = float(data.min()), float(data.max())
+    if hi - lo < floor:
+        mid = (hi + lo) / 2
+        ax.set_ylim(mid - floor / 2, mid + floor / 2)
+
+
+def draw(results, spec, path):
+    """Write the figure ``spec`` (a :class:`~ngincompat.results.Figure`) of ``results``."""
+    save(figure(results, spec), path)
+
+
+def figure(results, spec):
+    """The matplotlib Figure of ``spec`` drawn from the profiles of ``results``."""
+    p = results.profiles[spec.profile]
+    return profile_figure(p[spec.x], {label: p[k] for label, k in spec.curves.items()},
+                          spec.xlabel, spec.ylabel, spec.title,
+                          right={label: p[k] for label, k in spec.right.items()},
+                          right_label=spec.right_label, floor=spec.floor)
+
+
+def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):
+    """Several curves against one coordinate on one axis; ``curves`` maps label -> values."""
+    save(profile_figure(s, curves, xlabel, ylabel, title, floor=floor), path)
 
 
 def error_against_time(path, curves, title=None):
     """Error against run time on log-log axes; ``curves`` maps a label to (time, error) pairs."""
     fig = Figure(figsize=(5.0, 3.6), dpi=120)
     ax = fig.subplots()
-    for label, pts in curves.items():
-        ax.loglog([p[0] for p in pts], [max(p[1], 1e-16) for p in pts], marker="o", lw=2,
-                  label=label)
+    for (label, pts), (style, marker) in zip(curves.items(), cycle(STYLES)):
+        ax.loglog([p[0] for p in pts], [max(p[1], 1e-16) for p in pts], ls=style,
+                  marker=marker or "o", lw=2, label=label)
     ax.set_xlabel("solve time [s]")
-    ax.set_ylabel("relative error")
+    ax.set_ylabel("relative error [-]")
     ax.legend()
     if title:
         ax.set_title(title)
     fig.tight_layout()
-    _save(fig, path)
+    save(fig, path)
 
 
-def _save(fig, path):
-    """Write the figure atomically. Figures are made without pyplot, so importing this module
-    never changes matplotlib's backend (notebooks keep their inline figures)."""
+def save(fig, path):
+    """Write a figure as PNG, atomically."""
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png")

@@ -43,6 +43,18 @@ def ensure_heap(order):
         _heap_size = need
 
 
+def check_formulation(material, formulation, order):
+    """Raise ParameterError unless ``formulation`` ("displacement" or "mixed") can be used with
+    ``material`` at displacement ``order``: the mixed form needs a bulk split of the energy
+    and order >= 2."""
+    require(formulation in ("displacement", "mixed"), "formulation", formulation,
+            "displacement or mixed")
+    if formulation == "mixed":
+        require(hasattr(material, "bulk_split"), "formulation", formulation,
+                f"displacement for the {material.name} material (mixed needs neo-hookean)")
+        require(order >= 2, "order", order, ">= 2 for the mixed formulation")
+
+
 class GrowthMechanics:
     """The discrete energy minimisation problem for a growth model and a material.
 
@@ -76,13 +88,8 @@ class GrowthMechanics:
     def __init__(self, mesh, growth, material, order=2, fibers=(), dirichlet="", symmetry=None,
                  condense=True, formulation="displacement"):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
-        require(formulation in ("displacement", "mixed"), "formulation", formulation,
-                "displacement or mixed")
+        check_formulation(material, formulation, order)
         mixed = formulation == "mixed"
-        if mixed:
-            require(hasattr(material, "bulk_split"), "formulation", formulation,
-                    f"displacement for the {material.name} material (mixed needs neo-hookean)")
-            require(order >= 2, "order", order, ">= 2 for the mixed formulation")
         ensure_heap(order)
         if material.needs_fibers:
             require(len(fibers) > 0, "fibers", fibers, "at least one fiber direction for GOH")

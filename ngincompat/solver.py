@@ -23,9 +23,9 @@ from dataclasses import asdict, dataclass, field
 
 import ngsolve as ngs
 import numpy as np
-from tqdm.auto import tqdm
 
-from .errors import ConvergenceError, require
+from .errors import ConvergenceError, Interrupted, require
+from .progress import SILENT, Progress
 
 log = logging.getLogger(__name__)
 
@@ -277,7 +277,8 @@ def _finite_residual(solver):
     return merit
 
 
-def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, quiet=True):
+def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Progress = SILENT,
+                 stage="growth"):
     """Apply prescribed growth from the current time to ``t_end`` in adaptive load steps.
 
     Parameters
@@ -287,8 +288,10 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, quiet=True):
         The growth time that the problem's Fg depends on.
     options : NewtonOptions
     t_end : float
-    quiet : bool
-        No progress bar when True (it is also off when not attached to a terminal).
+    progress : Progress
+        Where steps and cuts are reported (default: nowhere).
+    stage : str
+        The stage's name in the progress report.
 
     Returns
     -------
@@ -312,11 +315,13 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, quiet=True):
 
     t0 = time.Get()
     return _march(problem, options, t0, t_end, (t_end - t0) / options.steps, advance,
-                  restore=lambda t: time.Set(t), accept=None, quiet=quiet)
+                  restore=lambda t: time.Set(t), accept=None,
+                  report=progress.march(stage, t0, t_end))
 
 
 def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_start=0.0,
-                  schedule=None, on_step=None, quiet=True):
+                  schedule=None, on_step=None, progress: Progress = SILENT, stage="growth",
+                  unit=""):
     """March a :class:`~ngincompat.problem.CoupledGrowth` problem in time with adaptive steps.
 
     Parameters
@@ -328,6 +333,8 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
         ``schedule(t)`` sets time-dependent loads (e.g. the volume target) for time t.
     on_step : callable, optional
         ``on_step(t)`` after every converged step, e.g. to write a checkpoint.
+    progress : Progress
+        Where steps and cuts are reported, under the name ``stage`` with time ``unit``.
 
     Returns
     -------
@@ -352,21 +359,23 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
         if on_step is not None:
             on_step(t)
 
-    return _march(problem, options, t_start, t_end, dt, advance, restore, accept, quiet)
+    return _march(problem, options, t_start, t_end, dt, advance, restore, accept,
+                  progress.march(stage, t_start, t_end, unit))
 
 
-def _march(problem, options, t, t_end, dt, advance, restore, accept, quiet):
-    """The adaptive stepping loop: a failed step is undone and retried at half the size."""
+def _march(problem, options, t, t_end, dt, advance, restore, accept, report):
+    """The adaptive stepping loop: a failed step is undone and retried at half the size.
+
+    ``report`` (a :class:`~ngincompat.progress.StageProgress`) hears of every converged and
+    every cut step as it happens."""
     solver = NewtonSolver(problem, options)
     history = SolverHistory(t_reached=t)
     saved = problem.state.vec.CreateVector()
-    bar = tqdm(total=t_end - t, disable=quiet or None, unit="t", desc="growth",
-               bar_format="{l_bar}{bar}| t={n:.3f}/{total:.3f}")
+    saved.data = problem.state.vec          # the last converged state, always
     with ngs.TaskManager():
         try:
             while t < t_end - 1e-12 * max(1.0, abs(t_end)):
                 dt = min(dt, t_end - t)
-                saved.data = problem.state.vec
                 advance(t, t + dt)
                 record = StepRecord(t=t + dt, dt=dt, converged=False)
                 start = _time.perf_counter()
@@ -378,13 +387,15 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, quiet):
                     history.t_reached = t
                     if accept is not None:
                         accept(t)
-                    bar.update(dt)
+                    saved.data = problem.state.vec
+                    report.step(t, dt, record.iterations)
                     log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
                     if record.iterations <= 4:
                         dt = min(2 * dt, options.max_step)
                     continue
                 problem.state.vec.data = saved
                 restore(t)
+                report.cut(t, dt, record.reason)
                 log.info("step to t = %.4g failed (%s); cutting the step", t + dt,
                          record.reason)
                 dt /= 2
@@ -393,7 +404,12 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, quiet):
                         f"growth could not be applied beyond t = {t:.6g}: the step fell below "
                         f"min_step = {options.min_step:g} ({record.reason})",
                         history=history, t_converged=t)
+        except KeyboardInterrupt:
+            problem.state.vec.data = saved
+            restore(t)
+            raise Interrupted(f"interrupted at t = {t:.6g}", history=history,
+                              t_converged=t) from None
         finally:
-            bar.close()
+            report.close()
     history.converged = True
     return history

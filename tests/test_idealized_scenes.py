@@ -16,56 +16,53 @@ def test_radial_reference_is_stress_free_for_uniform_growth():
 
 
 @pytest.fixture(scope="module")
-def hemisphere_symmetry(tmp_path_factory):
+def hemisphere_symmetry():
     """The linear profile in symmetry mode at default settings."""
-    return HemisphereScene(flat_face="symmetry", outputs="none").run(
-        tmp_path_factory.mktemp("hemi"))
+    return HemisphereScene(flat_face="symmetry").run()
 
 
 def test_hemisphere_symmetry_matches_radial_solution(hemisphere_symmetry):
     """sigma_rr, sigma_thetatheta, sigma_phiphi against the 1-D solution within 1e-3 of the
     largest stress at the defaults."""
-    m = hemisphere_symmetry["metrics"]
+    m = hemisphere_symmetry.metrics
     for key in ("radial_sigma_rr_error", "radial_sigma_thetatheta_error",
                 "radial_sigma_phiphi_error"):
         assert m[key] < 1e-3, (key, m[key])
 
 
-def test_hemisphere_agreement_improves_under_refinement(hemisphere_symmetry, tmp_path):
-    coarse = HemisphereScene(flat_face="symmetry", order=3, centre_maxh=0.1,
-                             outputs="none").run(tmp_path)
+def test_hemisphere_agreement_improves_under_refinement(hemisphere_symmetry):
+    coarse = HemisphereScene(flat_face="symmetry", order=3, centre_maxh=0.1).run()
     for key in ("radial_sigma_rr_error", "radial_sigma_thetatheta_error"):
-        assert hemisphere_symmetry["metrics"][key] < 0.5 * coarse["metrics"][key]
+        assert hemisphere_symmetry.metrics[key] < 0.5 * coarse.metrics[key]
 
 
 def test_hemisphere_burgers_vector_directions(hemisphere_symmetry):
     """b vanishes on radial planes, is circumferential on the meridional plane and meridional
     on the circumferential plane (section 3.2), up to the projection error."""
-    m = hemisphere_symmetry["metrics"]
+    m = hemisphere_symmetry.metrics
     assert m["b_radial_rel"] < 5e-3
     assert m["b_meridional_off_circumferential"] < 5e-3
     assert m["b_circumferential_off_meridional"] < 5e-3
-    line = hemisphere_symmetry["profiles"]["line"]
+    line = hemisphere_symmetry.profile("line")
     assert np.max(line["|b_meridional|"]) > 0.05
 
 
-def test_hemisphere_profiles_order_the_burgers_vector(tmp_path):
+def test_hemisphere_profiles_order_the_burgers_vector():
     """Fig. 2g: near the core |b| is largest for the concave profile, smallest for the convex
     one; near the surface the order reverses."""
     b = {}
     for profile in ("concave", "convex"):
-        r = HemisphereScene(profile=profile, order=2, maxh=0.4, centre_maxh=0.1, g_order=4,
-                            outputs="none").run(tmp_path / profile)
-        b[profile] = np.asarray(r["profiles"]["line"]["|b_meridional|"])
+        r = HemisphereScene(profile=profile, order=2, maxh=0.4, centre_maxh=0.1,
+                            g_order=4).run()
+        b[profile] = np.asarray(r.profile("line")["|b_meridional|"])
     assert b["concave"][20] > 2 * b["convex"][20]
     assert b["convex"][-5] > 2 * b["concave"][-5]
 
 
 @pytest.fixture(scope="module")
-def discs(tmp_path_factory):
-    out = tmp_path_factory.mktemp("disc")
-    settings = dict(order=2, maxh=0.25, outputs="none")
-    return {label: DiscScene(**kwargs, **settings).run(out / label) for label, kwargs in {
+def discs():
+    settings = dict(order=2, maxh=0.25)
+    return {label: DiscScene(**kwargs, **settings).run() for label, kwargs in {
         "neo-hookean": dict(material="neo-hookean"),
         "radial": dict(fibers="radial"),
         "circumferential": dict(fibers="circumferential")}.items()}
@@ -73,17 +70,17 @@ def discs(tmp_path_factory):
 
 def test_disc_G_does_not_depend_on_the_material(discs):
     """G depends on Fg alone (eq. 10)."""
-    values = [(r["metrics"]["G_error_L2_rel"], r["metrics"]["burgers_max"])
+    values = [(r.metrics["G_error_L2_rel"], r.metrics["burgers_max"])
               for r in discs.values()]
     for v in values[1:]:
         assert v == pytest.approx(values[0], rel=1e-12)
-    energies = [r["metrics"]["strain_energy"] for r in discs.values()]
+    energies = [r.metrics["strain_energy"] for r in discs.values()]
     assert len({round(e, 12) for e in energies}) == 3
 
 
 def test_disc_burgers_vector_matches_eq22(discs):
     """b on the plane e3 lies in the plane, orthogonal to grad theta, as eq. (22)."""
-    m = discs["radial"]["metrics"]
+    m = discs["radial"].metrics
     assert m["b_out_of_plane"] < 1e-12
     assert m["b_along_grad_theta"] < 0.05
     assert m["b_eq22_error"] < 0.05
@@ -91,23 +88,21 @@ def test_disc_burgers_vector_matches_eq22(discs):
 
 def test_disc_radial_stress_vanishes_at_the_rim_and_fibers_differ(discs):
     for r in discs.values():
-        assert r["metrics"]["sigma_r_rim_rel"] < 0.1  # 5e-4 at the scene defaults
-    radial, circ = discs["radial"]["metrics"], discs["circumferential"]["metrics"]
+        assert r.metrics["sigma_r_rim_rel"] < 0.1  # 5e-4 at the scene defaults
+    radial, circ = discs["radial"].metrics, discs["circumferential"].metrics
     # Section 3.3: radial fibers carry the radial tension, so stresses and energy are higher
     assert radial["strain_energy"] > circ["strain_energy"]
     assert radial["max_principal_stress"] > circ["max_principal_stress"]
 
 
 @pytest.fixture(scope="module")
-def cylinders(tmp_path_factory):
-    out = tmp_path_factory.mktemp("cyl")
-    return [CylinderScene(order=p, maxh=h, outputs="none").run(out / f"p{p}")
-            for p, h in ((2, 0.4), (3, 0.25))]
+def cylinders():
+    return [CylinderScene(order=p, maxh=h).run() for p, h in ((2, 0.4), (3, 0.25))]
 
 
 def test_cylinder_energy_vanishes_and_Fe_becomes_a_rotation(cylinders):
     """Section 3.4: the exact solution is stress-free, Fe a rotation about e3 by -a X1."""
-    coarse, fine = (r["metrics"] for r in cylinders)
+    coarse, fine = (r.metrics for r in cylinders)
     assert fine["strain_energy"] < 0.05 * coarse["strain_energy"]
     assert fine["Fe_rotation_deviation"] < 0.5 * coarse["Fe_rotation_deviation"]
     assert fine["Fe_rotation_deviation"] < 1e-2
@@ -118,8 +113,8 @@ def test_cylinder_burgers_vector_eq27(cylinders):
     """|b| on e3 = |grad theta| / theta (beta = 90 deg): 1/4 at the bottom (X2 = 0), falling as
     1/theta to 1/5 at the top."""
     r = cylinders[1]
-    assert r["metrics"]["b_eq27_error"] < 1e-6
-    line = r["profiles"]["line"]
+    assert r.metrics["b_eq27_error"] < 1e-6
+    line = r.profile("line")
     X2 = np.asarray(line["X2"])
     # the end points are nudged 1e-4 of their distance inward to find their element
     np.testing.assert_allclose(line["|b_e3|"], 0.25 / (1 + X2 / 4), rtol=2e-4)
@@ -132,9 +127,9 @@ def test_cylinder_burgers_vector_eq27(cylinders):
     ("hemisphere", {"profile": "convex"}), ("hemisphere", {"flat_face": "symmetry"}),
     ("disc", {}), ("disc", {"fibers": "circumferential"}), ("cylinder", {})])
 def test_default_settings_need_at_most_five_newton_iterations_per_load_step(name, settings,
-                                                                             tmp_path):
+                                                                             ):
     """The solver target of the idealized scenes at their defaults (about 4 minutes for all)."""
-    results = get_scene(name)(outputs="none", **settings).run(tmp_path)
-    steps = [s for s in results["solver"]["steps"] if s["converged"]]
-    assert results["solver"]["converged"] and steps
-    assert max(s["iterations"] for s in steps) <= 5, [s["iterations"] for s in steps]
+    results = get_scene(name)(**settings).run()
+    steps = [s for s in results.solver["growth"].steps if s.converged]
+    assert results.converged and steps
+    assert max(s.iterations for s in steps) <= 5, [s.iterations for s in steps]

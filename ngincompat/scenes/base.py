@@ -1,30 +1,24 @@
-"""What every scene shares: typed parameters settable by name, and their validation.
+"""What every scene shares: typed parameters settable by name, their validation, and the
+entry to the pipeline.
 
 A scene is a frozen dataclass. Its fields are its parameters, each with a default, a help text
 and a unit in the field's metadata; ``Scene.from_settings`` builds one from ``KEY=VALUE``
 strings (the command line's ``--set``), converting each value to the field's type and naming
-the key and the allowed values in every error.
+the key and the allowed values in every error. ``scene.build()`` returns its case (see
+:mod:`ngincompat.pipeline`); ``scene.run(out=None)`` runs the whole pipeline and returns the
+:class:`~ngincompat.results.Results`, writing files only when ``out`` is given.
 """
 
-import contextlib
 import dataclasses
-import time as _time
+import sys
 from dataclasses import dataclass, field
 from typing import ClassVar
 
+from .. import io, pipeline
 from ..errors import ParameterError, require
-
-OUTPUTS = {"vtk", "figures"}
-
-
-@contextlib.contextmanager
-def timed(timings, phase):
-    """Add the wall time of the block to ``timings[phase]``."""
-    start = _time.perf_counter()
-    try:
-        yield
-    finally:
-        timings[phase] = timings.get(phase, 0.0) + _time.perf_counter() - start
+from ..output import OUTPUTS
+from ..progress import SILENT, Progress
+from ..results import MeshInfo, Results
 
 
 def param(default, help, unit=""):
@@ -39,13 +33,19 @@ class Scene:
     name: ClassVar[str] = ""
     summary: ClassVar[str] = ""
     units: ClassVar[dict] = {"length": "mm", "stress": "MPa", "energy": "N mm"}
+    #: Every metric the scene can report (a run reports those its settings produce); sweeps
+    #: check the metrics they ask for against it before running anything.
+    metrics: ClassVar[tuple[str, ...]] = ()
+    #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
+    variant: ClassVar[tuple[str, ...]] = ()
 
     order: int = param(4, "polynomial order of the displacement")
     maxh: float = param(0.25, "mesh size", "length")
     steps: int = param(1, "initial number of load steps (adaptive: cut on failure)")
     g_order: int = param(6, "order of the H1 space that Fg is projected into for Curl Fg")
     outputs: str = param("vtk,figures", "files besides results.json: comma list of "
-                                        "vtk, figures; or none")
+                                        "vtk, figures, growth (mesh.vol + growth.npz); "
+                                        "or none")
     mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
                                   "incompatibility of the growth field only")
 
@@ -57,7 +57,7 @@ class Scene:
                 "an integer >= 1")
         require(isinstance(self.g_order, int) and 1 <= self.g_order <= 12, "g_order",
                 self.g_order, "an integer in [1, 12]")
-        unknown = self.output_set() - OUTPUTS
+        unknown = self.output_set() - set(OUTPUTS)
         require(not unknown, "outputs", self.outputs,
                 f"a comma list of {', '.join(sorted(OUTPUTS))}, or none")
 
@@ -66,6 +66,34 @@ class Scene:
         if self.outputs.strip() in ("", "none"):
             return set()
         return {item.strip() for item in self.outputs.split(",")}
+
+    def build(self):
+        """The scene's case (see :mod:`ngincompat.pipeline`)."""
+        raise TypeError(f"{type(self).__name__} must define build()")
+
+    def run(self, out=None, *, overwrite: bool = False, progress: Progress = SILENT,
+            label: str | None = None) -> Results:
+        """Build, solve and measure the scene; write the folder ``out`` if given.
+
+        See :func:`ngincompat.pipeline.run` (errors, interruption, what is written)."""
+        return pipeline.run(self, out, overwrite=overwrite, progress=progress, label=label)
+
+    def title(self) -> str:
+        """The scene's name with its variant, for figure titles: "disc (fibers=radial)"."""
+        parts = [f"{k}={getattr(self, k)}" for k in self.variant]
+        return f"{self.name} ({', '.join(parts)})" if parts else self.name
+
+    def resumes(self, out) -> bool:
+        """Whether this run continues one already in the folder ``out`` (no by default)."""
+        return False
+
+    def record(self, mesh, order=None, **kwargs) -> Results:
+        """An empty :class:`Results` of this scene on ``mesh`` (an ngsolve.Mesh)."""
+        info = MeshInfo(ne=mesh.ne, nv=mesh.nv, order=self.order if order is None else order,
+                        maxh=self.maxh)
+        return Results(scene=self.name, params=self.settings(), units=dict(self.units),
+                       mesh=info, versions=io.versions(), argv=list(sys.argv), domain=mesh,
+                       **kwargs)
 
     @classmethod
     def parameters(cls):

@@ -10,7 +10,6 @@ from .. import fields
 from ..errors import require
 from ..growth import IsotropicGrowth
 from ..incompatibility import lattice_normals
-from ..materials import NeoHookean
 from . import prescribed
 from .base import param
 
@@ -31,6 +30,7 @@ class CubeScene(prescribed.PrescribedScene):
 
     name = "cube"
     summary = "section 3.1: isotropic growth theta = 1 + X1 t / 4 of a 1 mm cube"
+    variant = ("model", "formulation")
 
     side: float = param(1.0, "edge length of the cube", "length")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length")
@@ -55,7 +55,8 @@ class CubeScene(prescribed.PrescribedScene):
         e = [fields.constant(k).cf for k in ("e1", "e2", "e3")]
         mid = self.side / 2
         return prescribed.PrescribedCase(
-            mesh=mesh, growth=growth, material=NeoHookean.from_nu(self.mu, self.nu), time=time,
+            scene=self,
+            mesh=mesh, growth=growth, material=self.make_material(), time=time,
             planes={"n1": n[0], "n2": n[1], "n3": n[2]},
             line=((0.0, mid, mid), (self.side, mid, mid), "X1"),
             components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)},

@@ -37,6 +37,7 @@ class CustomScene(prescribed.PrescribedScene):
 
     name = "custom"
     summary = "your own geometry, growth kind, theta(X, t) and material"
+    variant = ("geometry", "growth", "material")
 
     geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(BUILDERS)))
     growth: str = param("isotropic", "growth kind: " + ", ".join(KINDS))
@@ -82,6 +83,7 @@ class CustomScene(prescribed.PrescribedScene):
         e = [fields.constant(a).cf for a in ("e1", "e2", "e3")]
         material = self.make_material()
         return prescribed.PrescribedCase(
+            scene=self,
             mesh=mesh, growth=growth, material=material, time=time,
             planes={f"n{i + 1}": n for i, n in enumerate(normals)},
             line=(tuple(start), tuple(end), self.line),

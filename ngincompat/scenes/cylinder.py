@@ -11,7 +11,6 @@ from .. import fields, postprocess
 from .. import incompatibility as inc
 from ..growth import FiberGrowth
 from ..kinematics import deformation_gradient, elastic_part
-from ..materials import NeoHookean
 from . import prescribed
 from .base import param
 
@@ -30,6 +29,8 @@ class CylinderScene(prescribed.PrescribedScene):
 
     name = "cylinder"
     summary = "section 3.4: fiber growth of a cylinder, relieved by a stress-free rotation"
+    metrics = prescribed.PrescribedScene.metrics + (
+        "b_eq27_error", "Fe_rotation_deviation", "rotation_rate", "rotation_rate_expected",)
 
     order: int = param(3, "polynomial order of the displacement")
     maxh: float = param(0.25, "mesh size", "length")
@@ -74,7 +75,8 @@ class CylinderScene(prescribed.PrescribedScene):
             return metrics
 
         return prescribed.PrescribedCase(
-            mesh=mesh, growth=growth, material=NeoHookean.from_nu(self.mu, self.nu),
+            scene=self,
+            mesh=mesh, growth=growth, material=self.make_material(),
             time=time, planes={"e3": e[2]},
             line=((self.length / 2, 0.0, radius), (self.length / 2, 2 * radius, radius), "X2"),
             components={"S11": ("S", e[0], e[0])},

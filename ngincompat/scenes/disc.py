@@ -36,6 +36,9 @@ class DiscScene(prescribed.PrescribedScene):
 
     name = "disc"
     summary = "section 3.3: area growth of a disc, GOH with radial or circumferential fibers"
+    variant = ("fibers", "material")
+    metrics = prescribed.PrescribedScene.metrics + (
+        "b_eq22_error", "b_out_of_plane", "b_along_grad_theta", "sigma_r_rim_rel",)
 
     order: int = param(3, "polynomial order of the displacement")
     maxh: float = param(0.2, "mesh size", "length")
@@ -92,6 +95,7 @@ class DiscScene(prescribed.PrescribedScene):
             return metrics
 
         return prescribed.PrescribedCase(
+            scene=self,
             mesh=mesh, growth=growth, material=material, time=time,
             planes={"e3": N0.cf},
             line=((0.0, 0.0, mid), (self.R0, 0.0, mid), "R"),

@@ -10,7 +10,6 @@ from geometries import hemisphere
 from .. import postprocess
 from ..errors import require
 from ..growth import IsotropicGrowth
-from ..materials import NeoHookean
 from ..radial import solve_radial
 from . import prescribed
 from .base import param
@@ -38,6 +37,10 @@ class HemisphereScene(prescribed.PrescribedScene):
 
     name = "hemisphere"
     summary = "section 3.2: radial isotropic growth of a half ball (linear/concave/convex)"
+    variant = ("profile", "flat_face")
+    metrics = prescribed.PrescribedScene.metrics + (
+        "b_radial_rel", "b_meridional_off_circumferential", "b_circumferential_off_meridional",
+        "radial_sigma_rr_error", "radial_sigma_thetatheta_error", "radial_sigma_phiphi_error",)
 
     order: int = param(4, "polynomial order of the displacement")
     maxh: float = param(0.3, "mesh size", "length")
@@ -68,7 +71,7 @@ class HemisphereScene(prescribed.PrescribedScene):
         f_cf, f_np = PROFILES[self.profile]
         growth = IsotropicGrowth(1 + f_cf(R / self.R0) * time / 4)
         basis = spherical_basis()
-        material = NeoHookean.from_nu(self.mu, self.nu)
+        material = self.make_material()
         ray = np.ones(3) / np.sqrt(3)
 
         def verify(problem, fields):
@@ -79,6 +82,7 @@ class HemisphereScene(prescribed.PrescribedScene):
                 metrics.update(radial_errors(reference, fields, mesh, ray, self.R0))
             return metrics
         return prescribed.PrescribedCase(
+            scene=self,
             mesh=mesh, growth=growth, material=material, time=time,
             planes={"radial": basis["r"], "meridional": basis["phi"],
                     "circumferential": basis["theta"]},

@@ -1,38 +1,38 @@
-"""The pipeline of a scene whose growth field is prescribed (eq. 47): theta = theta(X, t).
+"""The case of a scene whose growth field is prescribed (eq. 47): theta = theta(X, t).
 
-    growth field -> mechanics (solve) -> incompatibility (G, b) -> stresses -> outputs
+    growth field -> mechanics (one stage, "growth") -> incompatibility (G, b) -> stresses
 
 G depends on Fg alone (eq. 10): it is computed by the projected path (Fg interpolated into a
 high-order H1 matrix space, then Curl), compared with the closed form of section 2.3 where one
 exists, and with G from the elastic deformation (eq. 12) of the solved body.
 """
 
-import logging
-import time as _time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
 
 from .. import incompatibility as inc
-from .. import io, plots, postprocess
-from ..errors import ConvergenceError, require
+from .. import postprocess
 from ..growth import check_positive
 from ..kinematics import deformation_gradient, elastic_part
-from ..problem import GrowthMechanics
-from ..solver import NewtonOptions, solve_growth
-from .base import Scene, param, timed
-
-log = logging.getLogger(__name__)
+from ..materials import NeoHookean
+from ..pipeline import solve_stages, timed
+from ..problem import GrowthMechanics, check_formulation
+from ..results import Figure
+from ..solver import NewtonOptions
+from ..stages import PrescribedGrowthStage
+from .base import Scene, param
 
 
 @dataclass(eq=False)
 class PrescribedCase:
-    """Everything a prescribed-growth scene hands to :func:`run`.
+    """What a prescribed-growth scene builds: the case of :mod:`ngincompat.pipeline`.
 
     Attributes
     ----------
+    scene : PrescribedScene
+        The parameters it was built from.
     mesh : ngsolve.Mesh
     growth : growth model whose theta depends on ``time``
     material : material
@@ -60,6 +60,7 @@ class PrescribedCase:
         over the body (strain energy, norm of G) are reported for the whole body.
     """
 
+    scene: object
     mesh: ngs.Mesh
     growth: object
     material: object
@@ -73,6 +74,30 @@ class PrescribedCase:
     verify: object = None
     mirror: int = 1
 
+    def mechanics(self):
+        """The scene's mechanics problem (:class:`~ngincompat.problem.GrowthMechanics`), at
+        the growth time the case's ``time`` holds."""
+        scene = self.scene
+        return GrowthMechanics(self.mesh, self.growth, self.material, order=scene.order,
+                               fibers=self.fibers, dirichlet=self.dirichlet,
+                               symmetry=self.symmetry, formulation=scene.formulation)
+
+    def solve(self, solution, progress, workdir=None):
+        """See :func:`_solve`."""
+        _solve(self, solution, progress)
+
+    def measure(self, solution, progress):
+        """See :func:`_measure`."""
+        return _measure(self, solution, progress)
+
+    def interrupted(self, solution):
+        """The record of an interrupted run: parameters, histories, no metrics."""
+        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
+                                    solver=dict(solution.histories))
+        if solution.state is not None:
+            results.mesh.ndof = solution.state.ndof
+        return results
+
 
 @dataclass(frozen=True)
 class PrescribedScene(Scene):
@@ -83,92 +108,67 @@ class PrescribedScene(Scene):
     reuse_tangent: bool = param(False, "keep the factorised tangent while Newton contracts "
                                 "tenfold per iteration (cheaper at high order)")
 
+    #: Metrics of every prescribed-growth scene; subclasses add their verification metrics.
+    metrics = ("strain_energy", "max_principal_stress", "burgers_max", "G_error_L2_rel",
+               "G_norm_L2", "G_elastic_vs_growth_L2_rel")
+
     def __post_init__(self):
         super().__post_init__()
-        require(self.formulation in ("displacement", "mixed"), "formulation",
-                self.formulation, "displacement or mixed")
+        # every parameter is checked before anything is computed
+        check_formulation(self.make_material(), self.formulation, self.order)
 
-    def build(self):
-        """Return the scene's :class:`PrescribedCase` (mesh included)."""
-        raise TypeError(f"{type(self).__name__} must define build()")
-
-    def run(self, out, quiet=True):
-        """Build, solve, measure and write the scene into the folder ``out``."""
-        start = _time.perf_counter()
-        case = self.build()
-        return run(self, case, out, quiet=quiet, mesh_seconds=_time.perf_counter() - start)
+    def make_material(self):
+        """The scene's material (neo-Hookean from mu and nu unless a scene says otherwise)."""
+        return NeoHookean.from_nu(self.mu, self.nu)
 
 
-def run(scene, case, out, quiet=True, mesh_seconds=0.0):
-    """Solve, measure and write a prescribed-growth scene; returns the results dict.
-
-    On a :class:`ConvergenceError` the results of the last converged state are written (with
-    ``solver.converged = false`` and the error) before the error is raised again. Everything
-    runs under NGSolve's TaskManager (all cores: element loops, projections, integrals).
+def _solve(case, solution, progress):
+    """Check theta > 0, build the mechanics (unless the scene asks for incompatibility only)
+    and apply the growth in one stage, "growth". Everything runs under NGSolve's TaskManager.
     """
+    scene, time = case.scene, case.time
     with ngs.TaskManager():
-        return _run(scene, case, Path(out), quiet, mesh_seconds)
+        with timed(solution.timings, "validate"):
+            check_positive(case.growth.theta, case.mesh, time)
+        if not scene.mechanics:
+            # G depends on Fg alone (eq. 10): no mechanics problem is built
+            time.Set(1.0)
+            return
+        with progress.phase("setting up the mechanics"), timed(solution.timings, "setup"):
+            problem = case.mechanics()
+        solution.state = problem
+        time.Set(0.0)
+        options = NewtonOptions(steps=scene.steps, reuse_tangent=scene.reuse_tangent)
+        solve_stages([PrescribedGrowthStage("growth", problem, time, options)], progress,
+                     solution)
 
 
-def _run(scene, case, out, quiet, mesh_seconds):
-    timings = {"mesh": mesh_seconds}
-    mesh, growth, time = case.mesh, case.growth, case.time
-    with timed(timings, "validate"):
-        check_positive(growth.theta, mesh, time)
-    results = {"scene": scene.name, "params": scene.settings(), "units": scene.units,
-               **io.provenance(),
-               "mesh": {"ne": mesh.ne, "nv": mesh.nv, "order": scene.order,
-                        "maxh": scene.maxh}}
-    problem, error = None, None
-    if scene.mechanics:
-        with timed(timings, "setup"):
-            problem = GrowthMechanics(mesh, growth, case.material, order=scene.order,
-                                      fibers=case.fibers, dirichlet=case.dirichlet,
-                                      symmetry=case.symmetry, formulation=scene.formulation)
-        with timed(timings, "solve"):
-            time.Set(0.0)
-            try:
-                options = NewtonOptions(steps=scene.steps, reuse_tangent=scene.reuse_tangent)
-                history = solve_growth(problem, time, options, quiet=quiet)
-            except ConvergenceError as err:
-                history, error = err.history, err
-        results["mesh"]["ndof"] = problem.ndof
-        results["solver"] = history.as_dict()
-        if error is not None:
-            results["error"] = str(error)
-    else:
-        # G depends on Fg alone (eq. 10): no mechanics problem is built
-        time.Set(1.0)
+def _measure(case, solution, progress):
+    """G and b by the projected path, stresses and the scene's checks, profiles, figures.
 
-    with timed(timings, "incompatibility"):
-        fields, metrics = _incompatibility(scene, case, problem)
-    with timed(timings, "postprocess"):
-        fields["theta"] = growth.theta
-        if problem is not None:
-            metrics.update(_mechanics(case, problem, fields))
-        if case.verify is not None:
-            metrics.update(case.verify(problem, fields))
-        start, end, coord = case.line
-        sampled = [k for k in ("theta", "Psi", "curlFg_sq", *case.components,
-                               *(f"|b_{label}|" for label in case.planes)) if k in fields]
-        s, values = postprocess.sample_line(mesh, {k: fields[k] for k in sampled}, start, end)
-        profile = {coord: np.asarray(start)[_axis(start, end)] + s, **values}
-        results["profiles"] = {"line": profile}
-    results["metrics"] = metrics
-
-    with timed(timings, "output"):
-        wanted = scene.output_set()
-        results["files"] = ["results.json"]
-        if "vtk" in wanted:
-            vtk_fields = {k: v for k, v in fields.items() if k != "G"}
-            io.write_vtk(out / "fields.vtu", mesh, vtk_fields, subdivision=2)
-            results["files"].append("fields.vtu")
-        if "figures" in wanted:
-            results["files"] += _figures(scene.name, out, profile, coord, case)
-    results["timings"] = timings
-    io.write_json(out / "results.json", results)
-    if error is not None:
-        raise error
+    A run that did not converge is measured in its last converged state."""
+    scene, mesh, growth = case.scene, case.mesh, case.growth
+    problem = solution.state
+    results = case.interrupted(solution)
+    timings = results.timings
+    with ngs.TaskManager():
+        with progress.phase("incompatibility"), timed(timings, "incompatibility"):
+            fields, metrics = _incompatibility(scene, case, problem)
+        with progress.phase("stresses and profiles"), timed(timings, "postprocess"):
+            fields["theta"] = growth.theta
+            if problem is not None:
+                metrics.update(_mechanics(case, problem, fields))
+            if case.verify is not None:
+                metrics.update(case.verify(problem, fields))
+            start, end, coord = case.line
+            sampled = [k for k in ("theta", "Psi", "curlFg_sq", *case.components,
+                                   *(f"|b_{label}|" for label in case.planes)) if k in fields]
+            s, values = postprocess.sample_line(mesh, {k: fields[k] for k in sampled},
+                                                start, end)
+    results.metrics = metrics
+    results.fields = fields
+    results.profiles = {"line": {coord: np.asarray(start)[_axis(start, end)] + s, **values}}
+    results.figures = _figures(scene, coord, case, problem is not None)
     return results
 
 
@@ -184,28 +184,29 @@ def _mechanics(case, problem, fields):
                                                         case.mesh)}
 
 
-def _figures(name, out, profile, coord, case):
-    """The profile figures of a scene; returns the file names written."""
-    x = profile[coord]
-    xlabel = f"{coord} [mm]"
-    curl = (r"Curl $F^g$ : Curl $F^g$ [1/mm$^2$]", profile["curlFg_sq"])
-    if "Psi" in profile:
-        plots.profile_pair(out / "profile.png", x, (r"$\Psi$ [MPa]", profile["Psi"]), curl,
-                           xlabel=xlabel, title=f"{name}: energy and incompatibility")
+def _figures(scene, coord, case, mechanics):
+    """The profile figures of a scene, in its units, titled with its variant."""
+    L, stress = scene.units["length"], scene.units["stress"]
+    title = scene.title()
+    xlabel = f"{coord} [{L}]"
+    curl = {"Curl Fg : Curl Fg": "curlFg_sq"}
+    curl_label = f"Curl $F^g$ : Curl $F^g$ [1/{L}$^2$]"
+    if mechanics:
+        figures = [Figure("profile.png", coord, xlabel, {r"$\Psi$": "Psi"},
+                          rf"$\Psi$ [{stress}]", f"{title}: energy and incompatibility",
+                          right=curl, right_label=curl_label)]
     else:
-        plots.profiles(out / "profile.png", x, {curl[0]: curl[1]}, xlabel=xlabel,
-                       ylabel=curl[0], title=f"{name}: incompatibility")
-    files = ["profile.png"]
+        figures = [Figure("profile.png", coord, xlabel, curl, curl_label,
+                          f"{title}: incompatibility")]
     if case.planes:
-        plots.profiles(out / "burgers.png", x,
-                       {f"|b| on {label}": profile[f"|b_{label}|"] for label in case.planes},
-                       xlabel=xlabel, ylabel="|b| [1/mm]", title=f"{name}: Burgers vectors")
-        files.append("burgers.png")
-    if case.components and all(k in profile for k in case.components):
-        plots.profiles(out / "stress.png", x, {k: profile[k] for k in case.components},
-                       xlabel=xlabel, ylabel="stress [MPa]", title=f"{name}: residual stress")
-        files.append("stress.png")
-    return files
+        figures.append(Figure("burgers.png", coord, xlabel,
+                              {f"|b| on {label}": f"|b_{label}|" for label in case.planes},
+                              f"|b| [1/{L}]", f"{title}: Burgers vectors"))
+    if case.components and mechanics:
+        figures.append(Figure("stress.png", coord, xlabel, {k: k for k in case.components},
+                              f"stress [{stress}]", f"{title}: residual stress",
+                              floor=1e-3 * case.material.mu))
+    return figures
 
 
 def _incompatibility(scene, case, problem):

@@ -27,9 +27,7 @@ Parameters and their sources:
   percent in a week, the range the paper reports.
 """
 
-import logging
-import time as _time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import ngsolve as ngs
@@ -37,20 +35,21 @@ import numpy as np
 
 from geometries import FOOTPRINTS, skin_patch
 
-from .. import fields, io, plots, postprocess
+from .. import fields, postprocess
 from .. import incompatibility as inc
-from ..errors import ConvergenceError, require
+from ..errors import require
 from ..growth import AreaGrowth
 from ..growth_laws import HillLaw
 from ..materials import NeoHookean
+from ..pipeline import Solution, solve_stages, timed
 from ..problem import CoupledGrowth, GrowthMechanics
-from ..solver import NewtonOptions, solve_coupled, solve_growth
-from .base import Scene, param, timed
-
-log = logging.getLogger(__name__)
+from ..progress import Progress
+from ..results import Figure, Results
+from ..solver import NewtonOptions
+from ..stages import CoupledStage, PrescribedGrowthStage, restore_checkpoint
+from .base import Scene, param
 
 CHECKPOINT = "checkpoint.npz"
-
 
 @dataclass(frozen=True)
 class SkinExpansionScene(Scene):
@@ -58,6 +57,12 @@ class SkinExpansionScene(Scene):
 
     name = "skin"
     summary = "section 3.6: skin expansion, inflation to 50 cc, 7 days of area growth"
+    variant = ("footprint",)
+    metrics = ("volume_inflated", "volume_error_rel", "pressure_inflated",
+               "pressure_end_of_hold", "theta_max", "theta_mean_footprint", "theta_apex",
+               "burgers_max", "burgers_apex", "burgers_max_radius",
+               "max_principal_stress_clamped", "strain_energy_clamped",
+               "max_principal_stress_released", "strain_energy_released")
     units = {"length": "cm", "stress": "MPa", "energy": "MPa cm^3 (J)", "volume": "cm^3",
              "time": "day"}
 
@@ -95,132 +100,157 @@ class SkinExpansionScene(Scene):
     def law(self):
         return HillLaw(self.k, self.K, self.n, self.theta_crit, self.theta_max)
 
-    def run(self, out, quiet=True):
+    def resumes(self, out) -> bool:
+        return self.resume
+
+    def build(self):
+        """The patch, the coupled problem and the stages of section 3.6."""
+        mesh = skin_patch(footprint=self.footprint, footprint_size=self.footprint_size,
+                          maxh=self.maxh, curve_order=1)
+        return SkinCase(self, mesh)
+
+
+#: Boundary conditions while the patch is held: the periphery clamped, the base sliding.
+CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
+
+
+@dataclass(eq=False)
+class SkinCase:
+    """The skin scene's case: the coupled problem and the stages it walks.
+
+    Stages: ``inflation`` (volume 0 -> V, growth frozen), ``hold`` (V held, Hill-law area
+    growth for ``hold_days``, checkpointed), ``deflation_clamped`` and
+    ``deflation_released`` (the grown field applied to the unloaded patch in load steps
+    from u = 0, clamped, then free: the path the prescribed-growth solver is built for;
+    starting from the inflated dome instead, Newton could not find the released state of
+    the rectangular expander).
+    """
+
+    scene: SkinExpansionScene
+    mesh: ngs.Mesh
+    noted: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        scene, mesh = self.scene, self.mesh
+        self.material = NeoHookean.from_nu(scene.mu, scene.nu)
+        self.N0 = fields.constant("e3")
+        self.problem = CoupledGrowth(mesh, "area", self.N0, scene.law(), self.material,
+                                     order=scene.order, growth_order=scene.growth_order,
+                                     volume="footprint", **CLAMP)
+        self.ramp = ngs.Parameter(0.0)
+        self.relaxed = {}
+
+    def stages(self, workdir, t_hold):
+        """The load history from the hold time ``t_hold`` on (None: from the start)."""
+        scene, problem = self.scene, self.problem
+        checkpoint = None if workdir is None else Path(workdir) / CHECKPOINT
+        stages = []
+        if t_hold is None:
+            stages.append(CoupledStage("inflation", problem, t_end=1.0,
+                                       dt=1.0 / scene.inflation_steps, grow=False,
+                                       volume=(0.0, scene.volume)))
+        stages.append(CoupledStage("hold", problem, t_end=scene.hold_days, dt=scene.dt,
+                                   t_start=t_hold or 0.0, volume=(scene.volume, scene.volume),
+                                   options=NewtonOptions(max_iter=20, max_step=scene.dt),
+                                   checkpoint=checkpoint, unit="days"))
+        ramped = AreaGrowth(1 + (problem.theta - 1) * self.ramp, self.N0)
+        for stage, bcs in (("clamped", CLAMP), ("released", {})):
+            relaxed = GrowthMechanics(self.mesh, ramped, self.material, order=scene.order,
+                                      **bcs)
+            self.relaxed[stage] = relaxed
+            stages.append(PrescribedGrowthStage(f"deflation_{stage}", relaxed, self.ramp,
+                                                NewtonOptions(max_iter=30)))
+        return stages
+
+    def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
+        t_hold = None
+        if self.scene.resume and workdir is not None:
+            t_hold = restore_checkpoint(self.problem, Path(workdir) / CHECKPOINT)
+            if t_hold is not None:
+                progress.line(f"resuming the hold at t = {t_hold:g} days")
+                self._note_inflated()
+        solution.state = self.problem
         with ngs.TaskManager():
-            return _run(self, Path(out), quiet)
+            solve_stages(self.stages(workdir, t_hold), progress, solution,
+                         after=self._note)
+        if not solution.converged and workdir is not None \
+                and (Path(workdir) / CHECKPOINT).is_file():
+            solution.error += (f" (the last converged state of the hold is in {CHECKPOINT}; "
+                               "run again with --set resume=true)")
 
+    def _note(self, stage):
+        if stage.name == "inflation":
+            self._note_inflated()
+        elif stage.name == "hold":
+            self.noted["pressure_end_of_hold"] = self.problem.pressure()
 
-def _run(scene, out, quiet):
-    timings = {}
-    start = _time.perf_counter()
-    mesh = skin_patch(footprint=scene.footprint, footprint_size=scene.footprint_size,
-                      maxh=scene.maxh, curve_order=1)
-    timings["mesh"] = _time.perf_counter() - start
-    material = NeoHookean.from_nu(scene.mu, scene.nu)
-    N0 = fields.constant("e3")
-    clamp = dict(dirichlet="periphery", symmetry={"bottom": "z"})
-    problem = CoupledGrowth(mesh, "area", N0, scene.law(), material, order=scene.order,
-                            growth_order=scene.growth_order, volume="footprint", **clamp)
-    results = {"scene": scene.name, "params": scene.settings(), "units": scene.units,
-               **io.provenance(),
-               "mesh": {"ne": mesh.ne, "nv": mesh.nv, "ndof": problem.ndof,
-                        "order": scene.order, "maxh": scene.maxh},
-               "solver": {}, "metrics": {}}
-    metrics = results["metrics"]
-    checkpoint = out / CHECKPOINT
-    t_hold = _restore(problem, checkpoint) if scene.resume else None
+    def _note_inflated(self):
+        volume = self.problem.volume()
+        self.noted.update(volume_inflated=volume, pressure_inflated=self.problem.pressure(),
+                          volume_error_rel=abs(volume - self.scene.volume) / self.scene.volume)
 
-    if t_hold is None:
-        with timed(timings, "inflation"):
-            def inflate(t):
-                problem.dt.Set(0.0)
-                problem.volume_target.Set(scene.volume * t)
-            history = solve_coupled(problem, 1.0, 1.0 / scene.inflation_steps,
-                                    schedule=inflate, quiet=quiet)
-        results["solver"]["inflation"] = history.as_dict()
-        t_hold = 0.0
-    metrics["volume_inflated"] = problem.volume()
-    metrics["volume_error_rel"] = abs(metrics["volume_inflated"] - scene.volume) / scene.volume
-    metrics["pressure_inflated"] = problem.pressure()
-    _save(problem, checkpoint, t_hold)
+    def interrupted(self, solution: Solution) -> Results:
+        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
+                                    solver=dict(solution.histories))
+        results.mesh.ndof = self.problem.ndof
+        results.metrics = dict(self.noted)
+        results.files = [CHECKPOINT]
+        return results
 
-    def hold(t):
-        problem.volume_target.Set(scene.volume)
-
-    error = None
-    with timed(timings, "hold"):
-        try:
-            history = solve_coupled(problem, scene.hold_days, scene.dt, t_start=t_hold,
-                                    options=NewtonOptions(max_iter=20, max_step=scene.dt),
-                                    schedule=hold, quiet=quiet,
-                                    on_step=lambda t: _save(problem, checkpoint, t))
-        except ConvergenceError as err:
-            history, error = err.history, err
-    results["solver"]["hold"] = history.as_dict()
-    if error is not None:
-        results["error"] = (f"{error} (the last converged state is in {CHECKPOINT}; run "
-                            "again with --set resume=true)")
-        io.write_json(out / "results.json", results)
-        raise error
-    metrics["pressure_end_of_hold"] = problem.pressure()
-
-    theta = problem.theta
-    footprint = mesh.Boundaries("footprint")
-    area = ngs.Integrate(1, mesh, ngs.BND, definedon=footprint)
-    metrics["theta_max"] = postprocess.maximum(theta, mesh)
-    # an L2 field has no boundary trace: its continuous interpolant gives the footprint mean
-    theta_h1 = ngs.GridFunction(ngs.H1(mesh, order=scene.growth_order))
-    theta_h1.Set(theta)
-    metrics["theta_mean_footprint"] = ngs.Integrate(theta_h1, mesh, ngs.BND,
-                                                    definedon=footprint) / area
-    growth = AreaGrowth(theta, N0)
-    with timed(timings, "incompatibility"):
-        curl_Fg, _ = inc.curl_projected(growth.Fg, mesh, scene.g_order)
-        G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
-        b = inc.burgers_vector(G, N0.cf)
-        metrics["burgers_max"] = postprocess.maximum(ngs.Norm(b), mesh)
-
-    # The residual states are found by applying the grown field theta to the unloaded patch
-    # (clamped, then free) in load steps from u = 0, the path the prescribed-growth solver is
-    # built for; starting from the inflated dome instead, Newton could not find the released
-    # state of the rectangular expander.
-    ramp = ngs.Parameter(0.0)
-    ramped = AreaGrowth(1 + (theta - 1) * ramp, N0)
-    stresses, final = {}, {}
-    for stage, kwargs in (("clamped", clamp), ("released", {})):
-        with timed(timings, f"deflation_{stage}"):
-            relaxed = GrowthMechanics(mesh, ramped, material, order=scene.order, **kwargs)
-            ramp.Set(0.0)
-            history = solve_growth(relaxed, ramp, NewtonOptions(max_iter=30), quiet=quiet)
-            results["solver"][f"deflation_{stage}"] = history.as_dict()
+    def measure(self, solution: Solution, progress: Progress) -> Results:
+        """Growth, incompatibility and residual stress of the grown patch."""
+        results = self.interrupted(solution)
+        if "hold" not in solution.histories or not solution.histories["hold"].converged:
+            return results          # the hold did not end: its checkpoint is the result
+        scene, mesh, theta = self.scene, self.mesh, self.problem.theta
+        metrics, timings = results.metrics, results.timings
+        footprint = mesh.Boundaries("footprint")
+        area = ngs.Integrate(1, mesh, ngs.BND, definedon=footprint)
+        metrics["theta_max"] = postprocess.maximum(theta, mesh)
+        # an L2 field has no boundary trace: its continuous interpolant gives the footprint mean
+        theta_h1 = ngs.GridFunction(ngs.H1(mesh, order=scene.growth_order))
+        theta_h1.Set(theta)
+        metrics["theta_mean_footprint"] = ngs.Integrate(theta_h1, mesh, ngs.BND,
+                                                        definedon=footprint) / area
+        growth = AreaGrowth(theta, self.N0)
+        with progress.phase("incompatibility"), timed(timings, "incompatibility"):
+            curl_Fg, _ = inc.curl_projected(growth.Fg, mesh, scene.g_order)
+            G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
+            b = inc.burgers_vector(G, self.N0.cf)
+            metrics["burgers_max"] = postprocess.maximum(ngs.Norm(b), mesh)
+        flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_inflated": self.problem.u}
+        for stage, relaxed in self.relaxed.items():
+            if f"deflation_{stage}" not in solution.histories:
+                continue
             sigma = postprocess.stresses(relaxed.energy_density, relaxed.u)["sigma"]
-            stresses[stage] = postprocess.principal_values(sigma)[2]
-            metrics[f"max_principal_stress_{stage}"] = postprocess.maximum(stresses[stage],
-                                                                           mesh)
+            flds[f"sigma_max_{stage}"] = postprocess.principal_values(sigma)[2]
+            flds[f"u_{stage}"] = relaxed.u
+            metrics[f"max_principal_stress_{stage}"] = postprocess.maximum(
+                flds[f"sigma_max_{stage}"], mesh)
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
-            final[stage] = relaxed.u
-    metrics.update(_where(mesh, theta, ngs.Norm(b)))
+        metrics.update(_where(mesh, theta, ngs.Norm(b)))
+        line = ((-4.99, 0.0, 0.0), (4.99, 0.0, 0.0))
+        sampled = [k for k in ("theta", "|b|", "sigma_max_clamped", "sigma_max_released")
+                   if k in flds]
+        s, values = postprocess.sample_line(mesh, {k: flds[k] for k in sampled}, *line)
+        results.profiles = {"line": {"X1": line[0][0] + s, **values}}
+        results.fields = flds
+        results.figures = _figures(scene)
+        return results
 
-    line = ((-4.99, 0.0, 0.0), (4.99, 0.0, 0.0))
-    s, values = postprocess.sample_line(
-        mesh, {"theta": theta, "|b|": ngs.Norm(b), "sigma_max_clamped": stresses["clamped"],
-               "sigma_max_released": stresses["released"]}, *line)
-    results["profiles"] = {"line": {"X1": line[0][0] + s, **values}}
-    with timed(timings, "output"):
-        results["files"] = ["results.json"]
-        wanted = scene.output_set()
-        if "vtk" in wanted:
-            io.write_vtk(out / "fields.vtu", mesh,
-                         {"theta": theta, "b": b, "|b|": ngs.Norm(b),
-                          "u_inflated": problem.u, "u_clamped": final["clamped"],
-                          "u_released": final["released"],
-                          "sigma_max_clamped": stresses["clamped"],
-                          "sigma_max_released": stresses["released"]}, subdivision=1)
-            results["files"].append("fields.vtu")
-        if "figures" in wanted:
-            p = results["profiles"]["line"]
-            plots.profile_pair(out / "profile.png", p["X1"], ("area growth theta", p["theta"]),
-                               ("|b| on e3 [1/cm]", p["|b|"]), xlabel="X1 [cm]",
-                               title=f"skin, {scene.footprint} expander, bottom face")
-            plots.profiles(out / "stress.png", p["X1"],
-                           {"clamped": p["sigma_max_clamped"],
-                            "released": p["sigma_max_released"]},
-                           xlabel="X1 [cm]", ylabel="max principal stress [MPa]",
-                           title="residual stress after deflation")
-            results["files"] += ["profile.png", "stress.png"]
-    results["timings"] = timings
-    io.write_json(out / "results.json", results)
-    return results
+
+def _figures(scene):
+    L, stress = scene.units["length"], scene.units["stress"]
+    title = scene.title()
+    return [
+        Figure("profile.png", "X1", f"X1 [{L}]", {"area growth theta": "theta"},
+               "area growth theta [-]", f"{title}: bottom face",
+               right={"|b| on e3": "|b|"}, right_label=f"|b| on e3 [1/{L}]"),
+        Figure("stress.png", "X1", f"X1 [{L}]",
+               {"clamped": "sigma_max_clamped", "released": "sigma_max_released"},
+               f"max principal Cauchy stress [{stress}]",
+               f"{title}: residual stress after deflation", floor=1e-3 * scene.mu),
+    ]
 
 
 def _where(mesh, theta, b_norm):
@@ -233,46 +263,3 @@ def _where(mesh, theta, b_norm):
     apex = mesh(1e-6, 1e-6, 1e-9)
     return {"theta_apex": float(theta(apex)), "burgers_apex": float(b_norm(apex)),
             "burgers_max_radius": float(np.hypot(*bottom[i, :2]))}
-
-
-def _save(problem, path, t):
-    """Write the state of the hold atomically (the last converged step)."""
-    with io.atomic_path(path) as tmp:
-        with open(tmp, "wb") as f:
-            np.savez(f, t=t, state=problem.state.vec.FV().NumPy(),
-                     theta_old=problem.theta_old.vec.FV().NumPy())
-
-
-def _restore(problem, path):
-    """Load a checkpoint into the problem; returns its time, or None if there is none."""
-    if not path.is_file():
-        return None
-    data = np.load(path)
-    if data["state"].shape != problem.state.vec.FV().NumPy().shape:
-        raise ConvergenceError(f"{path} does not fit this mesh and order: cannot resume")
-    problem.state.vec.FV().NumPy()[:] = data["state"]
-    problem.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
-    log.info("resuming the hold at t = %g days", float(data["t"]))
-    return float(data["t"])
-
-
-def summary(out, footprints=FOOTPRINTS, quiet=True, **settings):
-    """Run every expander into ``out/<footprint>``; returns the summary rows.
-
-    ``settings`` are scene parameters by name (strings are converted as on the command line).
-    """
-    rows = []
-    for footprint in footprints:
-        start = _time.perf_counter()
-        scene = SkinExpansionScene.from_settings({**settings, "footprint": footprint})
-        r = scene.run(Path(out) / footprint, quiet=quiet)
-        m = r["metrics"]
-        rows.append({"footprint": footprint, "ndof": r["mesh"]["ndof"],
-                     "seconds": round(_time.perf_counter() - start, 1),
-                     **{k: m[k] for k in ("volume_inflated", "pressure_inflated", "theta_max",
-                                          "theta_mean_footprint", "theta_apex",
-                                          "burgers_max", "burgers_apex", "burgers_max_radius",
-                                          "max_principal_stress_clamped",
-                                          "max_principal_stress_released")}})
-    io.write_json(Path(out) / "summary.json", {"rows": rows, **io.provenance()})
-    return rows

@@ -1,0 +1,60 @@
+"""``ngincompat expansion``: the skin-expansion scene (section 3.6) for every expander, with
+one summary table.
+
+Each expander runs into its own folder ``out/<footprint>``; the summary (``summary.md``,
+``.csv``, ``.json``) has one row per expander with the volume and pressure after inflation,
+growth (largest, mean over the footprint, at the apex), incompatibility (largest |b|, at the
+apex, the distance of the largest from the centre) and the largest residual stress after
+deflation (clamped, then released). An expander whose run fails is a row with its status;
+the others still run.
+"""
+
+import time
+
+from geometries import FOOTPRINTS
+
+from . import output, tables
+from .errors import ConvergenceError
+from .progress import SILENT
+from .scenes.skin import SkinExpansionScene
+
+COLUMNS = ("footprint", "status", "ndof", "seconds", "volume_inflated", "pressure_inflated",
+           "theta_max", "theta_mean_footprint", "theta_apex", "burgers_max", "burgers_apex",
+           "burgers_max_radius", "max_principal_stress_clamped",
+           "max_principal_stress_released")
+UNITS = {"seconds": "s", "volume_inflated": "cm^3", "pressure_inflated": "MPa",
+         "theta_max": "-", "theta_mean_footprint": "-", "theta_apex": "-",
+         "burgers_max": "1/cm", "burgers_apex": "1/cm", "burgers_max_radius": "cm",
+         "max_principal_stress_clamped": "MPa", "max_principal_stress_released": "MPa"}
+
+
+def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, **settings):
+    """Run every expander (into ``out/<footprint>`` when ``out`` is given); returns the rows.
+
+    ``settings`` are skin-scene parameters by name (strings are converted as on the command
+    line); they are checked for every expander before anything runs.
+    """
+    scenes = {f: SkinExpansionScene.from_settings({**settings, "footprint": f})
+              for f in footprints}
+    if out is not None:
+        out = output.prepare(out, overwrite=overwrite)
+    rows = []
+    for footprint, scene in scenes.items():
+        start = time.perf_counter()
+        try:
+            r = scene.run(None if out is None else out / footprint, overwrite=overwrite,
+                          progress=progress, label=f"skin {footprint}")
+        except ConvergenceError as err:
+            r = err.results
+        rows.append({"footprint": footprint, "status": r.status, "ndof": r.mesh.ndof,
+                     "seconds": round(time.perf_counter() - start, 1),
+                     **{k: r.metrics.get(k) for k in COLUMNS[4:]}})
+    if out is not None:
+        files = [*scenes, "summary.md", "summary.csv", "summary.json"]
+        tables.write(out, "summary", rows, list(COLUMNS), UNITS, files=files)
+    return rows
+
+
+def summary_markdown(rows):
+    """The summary table in markdown, with units."""
+    return tables.markdown(rows, list(COLUMNS), UNITS)

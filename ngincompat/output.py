@@ -1,0 +1,149 @@
+"""A run's folder: checked before any computation, written from a :class:`Results` only.
+
+:func:`prepare` runs first: the folder must be a folder (or creatable), writable, and not hold
+another run unless ``overwrite`` is given, which removes the files the old run wrote (listed
+in its results.json or summary.json) and nothing else. :func:`write` writes results.json, the
+VTK fields, the figures and the growth field as data, each atomically, so an interrupted run
+never leaves a half-written file; :func:`read` reads results.json back into a
+:class:`Results` (without the NGSolve fields).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+from . import io, plots
+from .errors import ParameterError
+from .results import Results
+
+#: Files that mark a folder as holding a run (a scene's, or a summary of several).
+MARKERS = ("results.json", "summary.json")
+#: Optional files of a run, as named in a scene's ``outputs`` parameter.
+OUTPUTS = ("vtk", "figures", "growth")
+
+
+def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
+    """Check that ``out`` can take a run's files, before anything is computed.
+
+    Parameters
+    ----------
+    out : path-like
+        The output folder; created if missing.
+    overwrite : bool
+        Replace a run already in the folder: the files it lists are removed now.
+    resume : bool
+        The run continues the one in the folder (its checkpoint is kept).
+
+    Raises
+    ------
+    ParameterError
+        ``out`` is a file or lies under one, cannot be created or written, or holds another
+        run and neither ``overwrite`` nor ``resume`` is given.
+    """
+    out = Path(out)
+    for parent in [out, *out.parents]:
+        if parent.exists() and not parent.is_dir():
+            where = "is a file" if parent == out else f"lies under the file {parent}"
+            raise ParameterError(f"--out {out} {where}: give a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise ParameterError(f"--out {out} cannot be created: {err.strerror}") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise ParameterError(f"--out {out} is not writable")
+    marker = next((out / m for m in MARKERS if (out / m).is_file()), None)
+    if marker is None or resume:
+        return out
+    if not overwrite:
+        raise ParameterError(f"--out {out} holds another run ({marker.name}): choose another "
+                             "folder, or pass --overwrite to replace it")
+    _remove_run(out)
+    return out
+
+
+def _remove_run(out: Path) -> None:
+    """Remove what the run in ``out`` wrote: the files its records list, the records, and the
+    folders of the runs a summary lists."""
+    for name in MARKERS:
+        path = out / name
+        if not path.is_file():
+            continue
+        try:
+            record = io.read_json(path)
+        except (OSError, ValueError):
+            record = {}
+        for entry in record.get("files", []):
+            target = (out / entry).resolve()
+            if out.resolve() not in target.parents:
+                continue            # never outside the folder
+            if target.is_dir():
+                _remove_run(target)
+                _remove_if_empty(target)
+            else:
+                target.unlink(missing_ok=True)
+        path.unlink(missing_ok=True)
+
+
+def _remove_if_empty(folder: Path) -> None:
+    try:
+        folder.rmdir()
+    except OSError:
+        pass
+
+
+def wanted(results: Results) -> set[str]:
+    """The optional files the scene's ``outputs`` parameter asks for."""
+    text = str(results.params.get("outputs", "none")).strip()
+    if text in ("", "none"):
+        return set()
+    return {item.strip() for item in text.split(",")}
+
+
+def write(results: Results, out, outputs: set[str] | None = None) -> Results:
+    """Write a run into the folder ``out``: results.json always; ``fields.vtu`` (scalar and
+    vector fields), the figures and ``mesh.vol`` + ``growth.npz`` (the growth field as data,
+    for a later run's ``--set mesh=... --set theta_file=...``) as the scene's ``outputs``
+    ask. ``results.files`` lists what was written; results.json is written last."""
+    start = time.perf_counter()
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    outputs = wanted(results) if outputs is None else outputs
+    files = []
+    if results.fields and results.domain is not None:
+        if "vtk" in outputs:
+            vtk = {k: v for k, v in results.fields.items() if v.dim <= 3}
+            io.write_vtk(out / "fields.vtu", results.domain, vtk,
+                         subdivision=2 if results.mesh.order >= 3 else 1)
+            files.append("fields.vtu")
+        if "growth" in outputs and "theta" in results.fields:
+            from .inputs import save_growth
+            with io.atomic_path(out / "mesh.vol") as tmp:
+                results.domain.ngmesh.Save(str(tmp))
+            save_growth(out / "growth.npz", results.domain, results.fields["theta"],
+                        order=max(results.mesh.order, 2))
+            files += ["mesh.vol", "growth.npz"]
+    if "figures" in outputs:
+        for figure in results.figures:
+            if all(k in results.profiles.get(figure.profile, {})
+                   for k in (figure.x, *figure.curves.values(), *figure.right.values())):
+                plots.draw(results, figure, out / figure.file)
+                files.append(figure.file)
+    results.files = ["results.json", *files, *[f for f in results.files
+                                               if f not in files and f != "results.json"]]
+    results.timings["output"] = time.perf_counter() - start
+    io.write_json(out / "results.json", results.to_dict())
+    return results
+
+
+def read(out) -> Results:
+    """The :class:`Results` in ``out/results.json`` (profiles as arrays; no fields)."""
+    path = Path(out)
+    path = path / "results.json" if path.is_dir() else path
+    try:
+        return Results.from_dict(io.read_json(path))
+    except FileNotFoundError:
+        raise ParameterError(f"{path} does not exist: no results to read") from None
+    except (ValueError, KeyError, TypeError) as err:
+        raise ParameterError(f"{path} is not a results file of ngincompat ({err})") from None

@@ -1,0 +1,128 @@
+"""Progress of long work: which case, which stage, which load step, and every cut step.
+
+On a terminal a stage that marches in load or time shows a named bar (tqdm) and the other
+stages a line each; when the output is not a terminal (a log file, a pipe, a batch system)
+every event is one plain line, flushed at once, so a log shows where a run is. Step cuts are
+reported as they happen in both cases. ``Progress(quiet=True)`` reports nothing.
+
+Library code reports through a :class:`Progress` it is handed (never ``print``); the command
+line makes one on standard error.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+import time
+from typing import TextIO
+
+from tqdm.auto import tqdm
+
+
+class Progress:
+    """Reports cases, stages and steps to a text stream.
+
+    Parameters
+    ----------
+    quiet : bool
+        Report nothing.
+    stream : text stream, optional
+        Where to write (default: standard error at the time of writing).
+    bars : bool, optional
+        Draw tqdm bars for marching stages; default: when ``stream`` is a terminal.
+    """
+
+    def __init__(self, quiet: bool = False, stream: TextIO | None = None,
+                 bars: bool | None = None):
+        self.quiet = quiet
+        self._stream = stream
+        self._bars = bars
+        self.case_name = ""
+
+    @property
+    def stream(self) -> TextIO:
+        return self._stream if self._stream is not None else sys.stderr
+
+    @property
+    def bars(self) -> bool:
+        if self._bars is not None:
+            return self._bars
+        isatty = getattr(self.stream, "isatty", None)
+        return bool(isatty and isatty())
+
+    def line(self, message: str) -> None:
+        """One plain line, prefixed with the current case."""
+        if self.quiet:
+            return
+        prefix = f"[{self.case_name}] " if self.case_name else ""
+        text = f"{prefix}{message}"
+        if self.bars:
+            tqdm.write(text, file=self.stream)
+        else:
+            print(text, file=self.stream, flush=True)
+
+    @contextlib.contextmanager
+    def case(self, name: str):
+        """Everything reported inside belongs to the case ``name``."""
+        outer, self.case_name = self.case_name, name
+        start = time.perf_counter()
+        self.line("started")
+        try:
+            yield self
+        finally:
+            self.line(f"finished in {time.perf_counter() - start:.1f} s")
+            self.case_name = outer
+
+    @contextlib.contextmanager
+    def phase(self, name: str):
+        """A stage without steps (meshing, projection, output): one line when it starts."""
+        self.line(f"{name} ...")
+        yield
+
+    def march(self, stage: str, t_start: float, t_end: float, unit: str = "") -> StageProgress:
+        """A stage that marches a load or time parameter from ``t_start`` to ``t_end``."""
+        return StageProgress(self, stage, t_start, t_end, unit)
+
+
+class StageProgress:
+    """Progress of one marching stage; made by :meth:`Progress.march`."""
+
+    def __init__(self, progress: Progress, stage: str, t_start: float, t_end: float,
+                 unit: str):
+        self.progress, self.stage, self.unit = progress, stage, unit
+        self.t_end = t_end
+        self._bar = None
+        if not progress.quiet and progress.bars:
+            case = f"{progress.case_name}: " if progress.case_name else ""
+            self._bar = tqdm(total=t_end - t_start, desc=f"{case}{stage}", file=progress.stream,
+                             bar_format="{l_bar}{bar}| {postfix}", leave=False)
+        else:
+            progress.line(f"{stage}: from {t_start:g} to {t_end:g}{self._unit}")
+
+    @property
+    def _unit(self) -> str:
+        return f" {self.unit}" if self.unit else ""
+
+    def step(self, t: float, dt: float, iterations: int) -> None:
+        """A converged step to ``t`` of size ``dt`` in ``iterations`` Newton iterations."""
+        if self._bar is not None:
+            self._bar.update(dt)
+            self._bar.set_postfix_str(f"t={t:.4g}/{self.t_end:g}{self._unit}, "
+                                      f"{iterations} Newton")
+        else:
+            self.progress.line(f"{self.stage}: t = {t:.4g}/{self.t_end:g}{self._unit} "
+                               f"({iterations} Newton iterations)")
+
+    def cut(self, t: float, dt: float, reason: str) -> None:
+        """The step from ``t`` of size ``dt`` failed and is retried at half the size."""
+        self.progress.line(f"{self.stage}: step from t = {t:.4g} by {dt:.3g} failed "
+                           f"({reason}); retrying with {dt / 2:.3g}")
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+
+#: A Progress that reports nothing: the default of library functions.
+SILENT = Progress(quiet=True)

@@ -1,0 +1,121 @@
+"""Stages of a load history, as data: what a case's solve walks through in order.
+
+* :class:`PrescribedGrowthStage`: prescribed growth Fg(X, t) applied from t = 0 to ``t_end``
+  in adaptive load steps (:func:`~ngincompat.solver.solve_growth`);
+* :class:`CoupledStage`: mechanically coupled growth marched in time
+  (:func:`~ngincompat.solver.solve_coupled`), with growth on or frozen and the enclosed volume
+  driven linearly between two targets (inflation, hold), checkpointed after every step when
+  given a checkpoint file.
+
+Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
+:class:`~ngincompat.pipeline.Stage` protocol).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import io
+from .errors import ParameterError
+from .progress import Progress
+from .solver import NewtonOptions, SolverHistory, solve_coupled, solve_growth
+
+
+@dataclass(eq=False)
+class PrescribedGrowthStage:
+    """Prescribed growth: ``time`` (the Parameter that Fg depends on) from ``t_start`` to
+    ``t_end``."""
+
+    name: str
+    problem: object
+    time: object
+    options: NewtonOptions = field(default_factory=NewtonOptions)
+    t_start: float = 0.0
+    t_end: float = 1.0
+
+    def run(self, progress: Progress) -> SolverHistory:
+        self.time.Set(self.t_start)
+        return solve_growth(self.problem, self.time, self.options, self.t_end,
+                            progress=progress, stage=self.name)
+
+
+@dataclass(eq=False)
+class CoupledStage:
+    """Coupled growth (:class:`~ngincompat.problem.CoupledGrowth`) from ``t_start`` to
+    ``t_end`` in steps of ``dt`` (halved where Newton needs it).
+
+    Attributes
+    ----------
+    grow : bool
+        Growth evolves (implicit Euler with the step as dt); False freezes it (dt = 0), as
+        during a quasi-static inflation.
+    volume : tuple of float, optional
+        Target of the constrained volume at ``t_start`` and ``t_end``, linear in between.
+    checkpoint : Path, optional
+        File that receives the state after every converged step (atomically).
+    unit : str
+        Unit of the marching parameter, for the progress report.
+    """
+
+    name: str
+    problem: object
+    t_end: float
+    dt: float
+    t_start: float = 0.0
+    grow: bool = True
+    volume: tuple[float, float] | None = None
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
+    checkpoint: Path | None = None
+    unit: str = ""
+
+    def load(self, t: float) -> None:
+        """Set the loads of time ``t``: the volume target and, if frozen, dt = 0."""
+        if not self.grow:
+            self.problem.dt.Set(0.0)
+        if self.volume is not None:
+            v0, v1 = self.volume
+            span = self.t_end - self.t_start
+            s = 1.0 if span <= 0 else (t - self.t_start) / span
+            self.problem.volume_target.Set(v0 + (v1 - v0) * s)
+
+    def save(self, t: float) -> None:
+        """Write the state at time ``t`` to the checkpoint, if there is one."""
+        if self.checkpoint is not None:
+            save_checkpoint(self.problem, self.checkpoint, t)
+
+    def run(self, progress: Progress) -> SolverHistory:
+        self.load(self.t_start)
+        self.save(self.t_start)
+        return solve_coupled(self.problem, self.t_end, self.dt, self.options,
+                             t_start=self.t_start, schedule=self.load, on_step=self.save,
+                             progress=progress, stage=self.name, unit=self.unit)
+
+
+def save_checkpoint(problem, path: Path, t: float) -> None:
+    """Write the state of a coupled problem (unknowns and previous growth) atomically."""
+    with io.atomic_path(path) as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, t=t, state=problem.state.vec.FV().NumPy(),
+                     theta_old=problem.theta_old.vec.FV().NumPy())
+
+
+def restore_checkpoint(problem, path: Path) -> float | None:
+    """Load a checkpoint into the problem; returns its time, or None if there is none.
+
+    Raises
+    ------
+    ParameterError
+        The checkpoint was written for another mesh or order.
+    """
+    if not path.is_file():
+        return None
+    data = np.load(path)
+    if data["state"].shape != problem.state.vec.FV().NumPy().shape:
+        raise ParameterError(f"{path} does not fit this mesh and order: cannot resume (run "
+                             "with the settings of the interrupted run, or without resume)")
+    problem.state.vec.FV().NumPy()[:] = data["state"]
+    problem.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
+    return float(data["t"])
