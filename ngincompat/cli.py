@@ -113,7 +113,7 @@ def _status_code(rows):
 def _cmd_paper(args):
     from . import paper
     rows = paper.run_all(args.out, progress=Progress(quiet=args.quiet),
-                         overwrite=args.overwrite)
+                         overwrite=args.overwrite, quick=args.quick)
     print(paper.summary_markdown(rows))
     print(f"summary written to {args.out}/summary.md (.csv, .json) with figures")
     return _status_code(rows)
@@ -121,8 +121,9 @@ def _cmd_paper(args):
 
 def _cmd_expansion(args):
     from . import expansion
-    rows = expansion.run_all(args.out, progress=Progress(quiet=args.quiet),
-                             overwrite=args.overwrite, **_settings(args.set))
+    rows = expansion.run_all(args.out, footprints=args.footprints,
+                             progress=Progress(quiet=args.quiet), overwrite=args.overwrite,
+                             **_settings(args.set))
     print(expansion.summary_markdown(rows))
     print(f"summary written to {args.out}/summary.md (.csv, .json)")
     return _status_code(rows)
@@ -141,6 +142,7 @@ def _cmd_sweep(args):
 
 
 def build_parser():
+    from geometries import FOOTPRINTS
     parser = argparse.ArgumentParser(
         prog="ngincompat",
         description="Growth of soft tissue and the geometric incompatibility it leaves.")
@@ -171,6 +173,9 @@ def build_parser():
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run already in --out (its files are removed first)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
+    p.add_argument("--quick", action="store_true",
+                   help="coarse settings: the whole job in about a minute, as a smoke test "
+                        "(the numbers are not the paper's)")
     p.set_defaults(func=_cmd_paper)
 
     p = sub.add_parser("expansion", help="the skin-expansion scene for all four expanders")
@@ -180,6 +185,9 @@ def build_parser():
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run already in --out (its files are removed first)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
+    p.add_argument("--footprints", nargs="+", choices=FOOTPRINTS, default=list(FOOTPRINTS),
+                   metavar="NAME", help="the expanders to run (default: all of "
+                   + ", ".join(FOOTPRINTS) + ")")
     p.set_defaults(func=_cmd_expansion)
 
     from . import bench

@@ -21,17 +21,28 @@ CHECKS = ("G_error_L2_rel", "radial_sigma_rr_error", "radial_sigma_thetatheta_er
           "Fe_rotation_deviation")
 
 
-def cases():
-    """(label, scene) of every run."""
+#: Coarse settings per scene for ``quick``: every case runs in seconds; the numbers are a
+#: smoke test of the whole job, not the paper's.
+QUICK = {"cube": dict(maxh=0.5, order=2, g_order=3),
+         "hemisphere": dict(maxh=0.5, centre_maxh=0.25, order=2, g_order=3),
+         "disc": dict(maxh=0.4, order=2, g_order=3),
+         "cylinder": dict(maxh=0.5, order=2, g_order=3)}
+
+
+def cases(quick=False):
+    """(label, scene) of every run; ``quick``: on the coarse settings of :data:`QUICK`."""
+    def coarse(cls):
+        return QUICK[cls.name] if quick else {}
     return [
-        ("cube", CubeScene()),
-        ("hemisphere-linear", HemisphereScene(profile="linear")),
-        ("hemisphere-concave", HemisphereScene(profile="concave")),
-        ("hemisphere-convex", HemisphereScene(profile="convex")),
-        ("hemisphere-linear-symmetry", HemisphereScene(profile="linear", flat_face="symmetry")),
-        ("disc-radial", DiscScene(fibers="radial")),
-        ("disc-circumferential", DiscScene(fibers="circumferential")),
-        ("cylinder", CylinderScene()),
+        ("cube", CubeScene(**coarse(CubeScene))),
+        ("hemisphere-linear", HemisphereScene(profile="linear", **coarse(HemisphereScene))),
+        ("hemisphere-concave", HemisphereScene(profile="concave", **coarse(HemisphereScene))),
+        ("hemisphere-convex", HemisphereScene(profile="convex", **coarse(HemisphereScene))),
+        ("hemisphere-linear-symmetry", HemisphereScene(profile="linear", flat_face="symmetry",
+                                                       **coarse(HemisphereScene))),
+        ("disc-radial", DiscScene(fibers="radial", **coarse(DiscScene))),
+        ("disc-circumferential", DiscScene(fibers="circumferential", **coarse(DiscScene))),
+        ("cylinder", CylinderScene(**coarse(CylinderScene))),
     ]
 
 
@@ -58,14 +69,16 @@ def row(label, results, seconds):
     }
 
 
-def run_all(out=None, progress=SILENT, overwrite=False, cases=cases):
+def run_all(out=None, progress=SILENT, overwrite=False, quick=False):
     """Run every case (into ``out/<label>`` when ``out`` is given); returns the summary rows.
 
-    A case that does not converge is a row with its status; the others still run."""
+    A case that does not converge is a row with its status; the others still run.
+    ``quick`` runs every case on coarse settings (:data:`QUICK`)."""
     if out is not None:
         out = output.prepare(out, overwrite=overwrite)
     rows, results = [], {}
-    for label, scene in cases():
+    runs = cases(quick)
+    for label, scene in runs:
         start = time.perf_counter()
         try:
             r = scene.run(None if out is None else out / label, overwrite=overwrite,
@@ -75,7 +88,7 @@ def run_all(out=None, progress=SILENT, overwrite=False, cases=cases):
         results[label] = r
         rows.append(row(label, r, time.perf_counter() - start))
     if out is not None:
-        files = [label for label, _ in cases()]
+        files = [label for label, _ in runs]
         if all(results[k].status == DONE for k in FIGURE_CASES if k in results):
             files += _comparison_figures(out, results)
         files += ["summary.md", "summary.csv", "summary.json"]

@@ -3,9 +3,11 @@
 Every figure is made without pyplot, so importing this module never changes matplotlib's
 backend (notebooks keep their inline figures), and written atomically. Curves on one axis
 differ in colour, line style and marker, so curves that coincide (S22 and S33 of the cube)
-stay visible; axes never use an offset, and an axis whose curves vary by less than a
-``floor`` (round-off around a constant, as in a stress-free body) is drawn with at least that
-range, so round-off is not magnified into apparent oscillation.
+stay visible; axes never use an offset, and every axis spans at least ``RELATIVE_FLOOR`` of
+its largest absolute value and at least the figure's own ``floor`` (a scene sets it from its
+stress scale), so round-off around a constant (Curl Fg : Curl Fg = 1/16 in the cylinder) or
+the discretisation error of a stress-free body is drawn flat, not magnified into apparent
+oscillation.
 """
 
 from itertools import cycle
@@ -15,13 +17,16 @@ from matplotlib.figure import Figure
 
 from .io import atomic_path
 
+#: Smallest range of an axis relative to its largest absolute value.
+RELATIVE_FLOOR = 1e-4
+
 #: (line style, marker) per curve, in order: coinciding curves stay distinguishable.
 STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)), "v"),
           ((0, (1, 1)), "D"))
 
 
 def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_label="",
-                   floor=0.0):
+                   floor=0.0, right_floor=0.0):
     """A matplotlib Figure of curves against one coordinate.
 
     Parameters
@@ -35,8 +40,8 @@ def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_labe
     title : str, optional
     right : dict, optional
         Legend label -> values on a second axis (labelled ``right_label``).
-    floor : float
-        Smallest range of the left axis.
+    floor, right_floor : float
+        Smallest range of the left and the right axis.
     """
     fig = Figure(figsize=(5.4, 3.8), dpi=120)
     ax = fig.subplots()
@@ -49,7 +54,7 @@ def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_labe
         twin = ax.twinx()
         lines += _plot(twin, x, right, styles, colours=["tab:red", "tab:purple", "tab:brown"])
         twin.set_ylabel(right_label)
-        twin.ticklabel_format(axis="y", useOffset=False)
+        _floor(twin, right.values(), right_floor)
     if len(lines) > 1:
         ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
     if title:
@@ -72,10 +77,15 @@ def _plot(ax, x, curves, styles, colours):
 
 
 def _floor(ax, values, floor):
-    """Widen the y range of ``ax`` to at least ``floor`` around the data's middle."""
+    """Widen the y range of ``ax`` to at least ``floor`` and ``RELATIVE_FLOOR`` of the largest
+    absolute value, around the data's middle."""
+    values = list(values)
     data = np.concatenate([np.ravel(v) for v in values]) if values else np.zeros(0)
     data = data[np.isfinite(data)]
-    if floor <= 0 or data.size == 0:
+    if data.size == 0:
+        return
+    floor = max(floor, RELATIVE_FLOOR * float(np.max(np.abs(data))))
+    if floor <= 0:
         return
     lo, hi = float(data.min()), float(data.max())
     if hi - lo < floor:
@@ -94,7 +104,8 @@ def figure(results, spec):
     return profile_figure(p[spec.x], {label: p[k] for label, k in spec.curves.items()},
                           spec.xlabel, spec.ylabel, spec.title,
                           right={label: p[k] for label, k in spec.right.items()},
-                          right_label=spec.right_label, floor=spec.floor)
+                          right_label=spec.right_label, floor=spec.floor,
+                          right_floor=spec.right_floor)
 
 
 def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):

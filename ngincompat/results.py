@@ -56,9 +56,11 @@ class Figure:
         Legend label -> profile key, on a second (right) axis.
     right_label : str
         Label of the right axis, with units.
-    floor : float
-        Smallest range of the left axis: curves that vary by less (round-off around a
-        constant) are shown flat, not magnified into noise.
+    floor, right_floor : float
+        Smallest range of the left and right axis (besides 1e-4 of the largest value, which
+        :mod:`ngincompat.plots` always keeps): curves that vary by less (round-off around a
+        constant, discretisation error of a stress-free body) are shown flat, not magnified
+        into noise.
     profile : str
         Which profile of the results.
     """
@@ -72,10 +74,11 @@ class Figure:
     right: dict[str, str] = field(default_factory=dict)
     right_label: str = ""
     floor: float = 0.0
+    right_floor: float = 0.0
     profile: str = "line"
 
 
-@dataclass
+@dataclass(eq=False)
 class Results:
     """Everything a run produced.
 

@@ -191,10 +191,12 @@ def _figures(scene, coord, case, mechanics):
     xlabel = f"{coord} [{L}]"
     curl = {"Curl Fg : Curl Fg": "curlFg_sq"}
     curl_label = f"Curl $F^g$ : Curl $F^g$ [1/{L}$^2$]"
+    mu = case.material.mu
     if mechanics:
+        # floors from the stress scale mu: 1e-3 mu for stresses, 1e-6 mu for energy densities
         figures = [Figure("profile.png", coord, xlabel, {r"$\Psi$": "Psi"},
                           rf"$\Psi$ [{stress}]", f"{title}: energy and incompatibility",
-                          right=curl, right_label=curl_label)]
+                          right=curl, right_label=curl_label, floor=1e-6 * mu)]
     else:
         figures = [Figure("profile.png", coord, xlabel, curl, curl_label,
                           f"{title}: incompatibility")]
@@ -205,7 +207,7 @@ def _figures(scene, coord, case, mechanics):
     if case.components and mechanics:
         figures.append(Figure("stress.png", coord, xlabel, {k: k for k in case.components},
                               f"stress [{stress}]", f"{title}: residual stress",
-                              floor=1e-3 * case.material.mu))
+                              floor=1e-3 * mu))
     return figures
 
 

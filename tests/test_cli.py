@@ -1,0 +1,88 @@
+"""The command line: exit codes, one-line errors, folders that never mix two runs."""
+
+import json
+
+import pytest
+
+from ngincompat.cli import main
+from ngincompat.solver import NewtonSolver
+
+CUBE = ["run", "cube", "--order", "1", "--maxh", "1"]
+#: The skin scene in seconds: one linear element across, half a day of growth.
+SKIN_COARSE = ["--set", "maxh=3", "--order", "1", "--set", "growth_order=0", "--set",
+               "g_order=2", "--set", "inflation_steps=2", "--set", "hold_days=0.5",
+               "--set", "dt=0.5"]
+
+
+def test_not_converged_exits_3_with_the_last_converged_state_written(tmp_path, monkeypatch,
+                                                                     capsys):
+    def never(self, record):
+        record.reason = "simulated failure"
+        return False
+
+    monkeypatch.setattr(NewtonSolver, "minimise", never)
+    assert main([*CUBE, "--out", str(tmp_path), "-q"]) == 3
+    captured = capsys.readouterr()
+    assert "Traceback" not in captured.err
+    assert captured.err.strip().splitlines()[-1].startswith("ngincompat: not converged:")
+    results = json.loads((tmp_path / "results.json").read_text())
+    assert results["status"] == "not converged" and "simulated failure" in results["error"]
+    # measured in the last converged state, t = 0: no growth, no stress
+    assert results["metrics"]["strain_energy"] == pytest.approx(0.0, abs=1e-20)
+    assert results["solver"]["growth"]["t_reached"] == 0.0
+    assert "cube: not converged" in captured.out
+
+
+def test_interrupt_exits_130_with_one_line_and_marked_results(tmp_path, monkeypatch, capsys):
+    def interrupt(self, record):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(NewtonSolver, "minimise", interrupt)
+    assert main([*CUBE, "--out", str(tmp_path), "-q"]) == 130
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert err.startswith("ngincompat: interrupted")
+    results = json.loads((tmp_path / "results.json").read_text())
+    assert results["status"] == "interrupted" and results["metrics"] == {}
+
+
+def test_a_folder_with_a_run_is_refused_in_one_line_then_overwritten(tmp_path, capsys):
+    assert main([*CUBE, "--out", str(tmp_path), "-q"]) == 0
+    capsys.readouterr()
+    assert main([*CUBE, "--out", str(tmp_path), "-q", "--outputs", "mechanics"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "holds another run" in err and "--overwrite" in err
+    assert main([*CUBE, "--out", str(tmp_path), "-q", "--outputs", "mechanics",
+                 "--overwrite"]) == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["results.json"]
+
+
+def test_a_file_as_out_is_refused_before_computing(tmp_path, capsys, monkeypatch):
+    from ngincompat.scenes import CubeScene
+
+    def forbidden(self):
+        raise AssertionError("built")
+
+    monkeypatch.setattr(CubeScene, "build", forbidden)
+    target = tmp_path / "o"
+    target.write_text("keep me")
+    assert main([*CUBE, "--out", str(target / "sub")]) == 2
+    assert "lies under the file" in capsys.readouterr().err
+    assert target.read_text() == "keep me"
+
+
+def test_run_prints_its_summary_with_units(tmp_path, capsys):
+    assert main([*CUBE, "--out", str(tmp_path), "-q"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("cube: done; ndof ")
+    assert "strain_energy" in out and "units: length mm, stress MPa" in out
+
+
+def test_skin_runs_through_the_command_line(tmp_path, capsys):
+    """A run with several stages prints its summary (it ended in a KeyError before)."""
+    code = main(["run", "skin", "--set", "footprint=square", "--out", str(tmp_path), "-q",
+                 *SKIN_COARSE, "--set", "outputs=none"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "skin: done" in out and "inflation" in out and "hold" in out
+    assert "volume_inflated" in out

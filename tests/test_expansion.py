@@ -1,0 +1,24 @@
+"""``ngincompat expansion``: every expander, one summary (coarse)."""
+
+import json
+
+from ngincompat.cli import main
+from test_cli import SKIN_COARSE
+
+
+def test_two_expanders_and_their_summary(tmp_path):
+    assert main(["expansion", "--out", str(tmp_path), "-q", "--footprints", "circle",
+                 "square", *SKIN_COARSE]) == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert [r["footprint"] for r in summary["rows"]] == ["circle", "square"]
+    for row in summary["rows"]:
+        assert row["status"] == "done"
+        assert abs(row["volume_inflated"] - 50) < 0.05
+        assert row["theta_max"] >= 1.0
+    assert "volume_inflated [cm^3]" in (tmp_path / "summary.md").read_text()
+
+
+def test_a_bad_setting_is_refused_before_any_expander_runs(tmp_path, capsys):
+    assert main(["expansion", "--out", str(tmp_path), "--set", "volume=-1"]) == 2
+    assert "volume = -1" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
