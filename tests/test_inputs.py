@@ -18,7 +18,8 @@ def write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0), version="2.2 0 8"):
 
     Structured cells split into 6 tetrahedra each (a conforming Kuhn split), two volume
     regions ``soft`` (x < a/2) and ``stiff`` and three boundary surfaces ``fixed`` (x = 0),
-    ``loaded`` (x = a) and ``sides``. Returns the number of tetrahedra.
+    ``loaded`` (x = a) and ``sides``. Returns the number of tetrahedra and the node
+    coordinates in file order.
     """
     nx, ny, nz = n
     a, b, c = size
@@ -73,7 +74,7 @@ def write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0), version="2.2 0 8"):
         lines.append(f"{number} {etype} 2 {tag} {tag} " + " ".join(map(str, vertices)))
     lines.append("$EndElements")
     path.write_text("\n".join(lines) + "\n")
-    return len(tets)
+    return len(tets), np.array(list(xyz.values()))
 
 
 @pytest.fixture(scope="module")
@@ -111,9 +112,11 @@ def test_describe_mesh(cube_vol):
 
 def test_gmsh_box_regions_and_boundaries(tmp_path):
     path = tmp_path / "box.msh"
-    ntets = write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0))
+    ntets, nodes = write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0))
     mesh = inputs.load_mesh(path)
     assert mesh.ne == ntets == 48 and mesh.nv == 27
+    # vertices in the order of $Nodes: the order of per-vertex user data
+    np.testing.assert_array_equal([v.point for v in mesh.vertices], nodes)
     assert set(mesh.GetMaterials()) == {"soft", "stiff"}
     assert set(mesh.GetBoundaries()) == {"fixed", "loaded", "sides"}
     assert ngs.Integrate(1, mesh) == pytest.approx(2.0, rel=1e-12)
@@ -197,6 +200,18 @@ def test_growth_on_another_mesh_is_refused(tmp_path, cube_vol, unit_cube_hex):
     moved = ngs.Mesh(moved.ngmesh)
     with pytest.raises(ParameterError, match=r"growth\.npz: was written on a mesh with vertex"):
         inputs.load_growth(tmp_path / "growth.npz", moved)
+
+
+def test_growth_with_other_dofs_is_refused(tmp_path, cube_vol):
+    """The stored field values per element catch dofs that no longer mean the same field."""
+    mesh = inputs.load_mesh(cube_vol[0])
+    path = inputs.save_growth(tmp_path / "growth.npz", mesh, 1 + 0.1 * ngs.x * ngs.y, order=3)
+    with np.load(path) as data:
+        arrays = dict(data)
+    arrays["dofs"][mesh.nv:] = arrays["dofs"][mesh.nv:][::-1]    # higher-order dofs shuffled
+    np.savez(path, **arrays)
+    with pytest.raises(ParameterError, match=r"growth\.npz: its dofs do not give back"):
+        inputs.load_growth(path, mesh)
 
 
 @pytest.mark.parametrize("name,header", [("theta.csv", "theta\n"), ("theta.txt", "# theta\n")])
