@@ -16,6 +16,7 @@ from pathlib import Path
 
 from . import io, plots
 from .errors import ParameterError
+from .inputs import save_growth, save_mesh
 from .results import Results
 
 #: Files that mark a folder as holding a run (a scene's, or a summary of several).
@@ -118,9 +119,7 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
                          subdivision=2 if results.mesh.order >= 3 else 1)
             files.append("fields.vtu")
         if "growth" in outputs and "theta" in results.fields:
-            from .inputs import save_growth
-            with io.atomic_path(out / "mesh.vol") as tmp:
-                results.domain.ngmesh.Save(str(tmp))
+            save_mesh(out / "mesh.vol", results.domain)
             save_growth(out / "growth.npz", results.domain, results.fields["theta"],
                         order=max(results.mesh.order, 2))
             files += ["mesh.vol", "growth.npz"]

@@ -191,3 +191,44 @@ def test_mixed_formulation_from_the_command_line(cube_run, tmp_path):
     e_mixed, e_displacement = mixed["metrics"]["strain_energy"], full["metrics"]["strain_energy"]
     assert abs(e_mixed - reference) < abs(e_displacement - reference)
     assert abs(e_mixed - reference) / reference < 0.02
+
+
+def test_custom_scene_on_a_vol_file_with_growth_data_from_a_previous_run(tmp_path):
+    """A run writes its mesh and growth field (outputs=growth); a custom run on that mesh file
+    with the growth as data reproduces it: theta = 1 + X1 t / 4 is linear, so its order-2
+    interpolant is exact and the ramp 1 + t (theta_data - 1) is the cube's own time path."""
+    first = CubeScene(order=2, maxh=0.5, outputs="growth").run(tmp_path / "first")
+    again = CustomScene(mesh=str(tmp_path / "first" / "mesh.vol"),
+                        theta_file=str(tmp_path / "first" / "growth.npz"), order=2,
+                        outputs="none").run()
+    assert "G_error_L2_rel" not in again.metrics     # no closed form for data
+    for key in ("strain_energy", "burgers_max", "G_norm_L2", "max_principal_stress"):
+        assert again.metrics[key] == pytest.approx(first.metrics[key], rel=1e-8), key
+
+
+def test_custom_scene_on_a_gmsh_file(tmp_path):
+    from test_inputs import write_box_msh
+    path = tmp_path / "box.msh"
+    write_box_msh(path, n=(2, 1, 1), size=(2.0, 1.0, 1.0))
+    results = CustomScene(mesh=str(path), theta="1 + 0.1*X1*t", order=2,
+                          outputs="none").run()
+    assert results.mesh.ne > 0 and results.converged
+    assert results.metrics["G_error_L2_rel"] < 1e-6
+    # eq. (16): |b| on n2 is |grad theta| / (3 theta^(4/3)), largest where theta = 1
+    assert results.metrics["burgers_max"] == pytest.approx(0.1 / 3, rel=1e-5)
+
+
+@pytest.mark.parametrize("settings, message", [
+    ({"mesh": "missing.vol"}, "mesh = 'missing.vol' is out of range: allowed an existing file"),
+    ({"theta_file": "missing.npz"}, "theta_file = 'missing.npz'"),
+])
+def test_custom_scene_refuses_missing_files(settings, message):
+    with pytest.raises(ParameterError, match=message):
+        CustomScene(**settings)
+
+
+def test_custom_scene_refuses_a_mesh_file_together_with_a_geometry(tmp_path):
+    path = tmp_path / "m.vol"
+    path.write_text("x")
+    with pytest.raises(ParameterError, match="geometry = 'disc'"):
+        CustomScene(mesh=str(path), geometry="disc")

@@ -1,12 +1,22 @@
-"""A scene for the user's own growth field, from the command line, without writing code.
+"""A scene for the user's own geometry and growth field, from the command line, without
+writing code.
 
 Example::
 
     ngincompat run custom --out o --set growth=isotropic --set theta="1 + 0.25*X1*t"
     ngincompat run custom --out o --set growth=fiber --set direction=e1 --set theta="1+X2*t/4"
+    ngincompat run custom --out o2 --set mesh=my.msh --set theta="1 + 0.1*X3*t"
+    ngincompat run custom --out o3 --set mesh=o/mesh.vol --set theta_file=o/growth.npz
+
+A mesh file (Netgen ``.vol``/``.vol.gz`` or Gmsh ``.msh`` format 2, :mod:`ngincompat.inputs`)
+replaces the geometry builder; a growth file (``growth.npz`` of an earlier run with
+``outputs=growth``, or one value per vertex in ``.npz``/``.csv``/``.txt``) replaces the
+expression, ramped linearly in t: theta(X, t) = 1 + t (theta_data(X) - 1).
 """
 
+import dataclasses
 from dataclasses import dataclass
+from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
@@ -18,6 +28,7 @@ from ..errors import require
 from ..expressions import parse_expression
 from ..growth import KINDS, make_growth
 from ..incompatibility import lattice_normals
+from ..inputs import GROWTH_EXTENSIONS, MESH_EXTENSIONS, load_growth, load_mesh, ramped_growth
 from ..materials import make_material
 from . import prescribed
 from .base import param
@@ -52,6 +63,9 @@ class CustomScene(prescribed.PrescribedScene):
     kappa: float = param(0.0, "GOH fiber dispersion in [0, 1/3]")
     fiber: str = param("e1", "GOH fiber direction a0 (as direction)")
     line: str = param("X1", "axis of the profile line: X1, X2 or X3")
+    mesh: str = param("", "mesh file (.vol, .vol.gz, .msh) instead of the geometry builder")
+    theta_file: str = param("", "growth field as data (.npz of a run's outputs=growth, or one "
+                                "value per vertex in .npz/.csv/.txt) instead of theta")
 
     def __post_init__(self):
         super().__post_init__()
@@ -65,14 +79,26 @@ class CustomScene(prescribed.PrescribedScene):
         parse_expression(self.theta, name="theta")
         fields.from_name(self.direction)
         fields.from_name(self.fiber)
+        default = {f.name: f.default for f in dataclasses.fields(self)}
+        if self.mesh:
+            _check_file("mesh", self.mesh, MESH_EXTENSIONS)
+            require(self.geometry == default["geometry"], "geometry", self.geometry,
+                    "left unset when a mesh file is given (mesh = file)")
+        if self.theta_file:
+            _check_file("theta_file", self.theta_file, GROWTH_EXTENSIONS)
+            require(self.theta == default["theta"], "theta", self.theta,
+                    "left unset when the growth is given as data (theta_file = file)")
 
     def make_material(self):
         return make_material(self.material, self.mu, self.nu, self.k1, self.k2, self.kappa)
 
     def build(self):
-        mesh = BUILDERS[self.geometry](maxh=self.maxh)
+        mesh = load_mesh(self.mesh) if self.mesh else BUILDERS[self.geometry](maxh=self.maxh)
         time = ngs.Parameter(0.0)
-        theta = parse_expression(self.theta, time, name="theta")
+        if self.theta_file:
+            theta = ramped_growth(load_growth(self.theta_file, mesh), time)
+        else:
+            theta = parse_expression(self.theta, time, name="theta")
         growth = make_growth(self.growth, theta, fields.from_name(self.direction))
         normals = lattice_normals(growth.Fg)
         lo, hi = _bounding_box(mesh)
@@ -88,7 +114,15 @@ class CustomScene(prescribed.PrescribedScene):
             planes={f"n{i + 1}": n for i, n in enumerate(normals)},
             line=(tuple(start), tuple(end), self.line),
             fibers=(fields.from_name(self.fiber),) if material.needs_fibers else (),
-            components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)})
+            components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)},
+            analytic=not self.theta_file)
+
+
+def _check_file(name, path, extensions):
+    """A file parameter names an existing file of an allowed kind (read later, in build)."""
+    require(Path(path).is_file(), name, path, "an existing file")
+    require(str(path).lower().endswith(extensions), name, path,
+            "a file ending in " + ", ".join(extensions))
 
 
 def _bounding_box(mesh):
