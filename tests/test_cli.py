@@ -3,15 +3,13 @@
 import json
 
 import pytest
+from conftest import SKIN_COARSE
 
 from ngincompat.cli import main
 from ngincompat.solver import NewtonSolver
 
 CUBE = ["run", "cube", "--order", "1", "--maxh", "1"]
-#: The skin scene in seconds: one linear element across, half a day of growth.
-SKIN_COARSE = ["--set", "maxh=3", "--order", "1", "--set", "growth_order=0", "--set",
-               "g_order=2", "--set", "inflation_steps=2", "--set", "hold_days=0.5",
-               "--set", "dt=0.5"]
+
 
 
 def test_not_converged_exits_3_with_the_last_converged_state_written(tmp_path, monkeypatch,

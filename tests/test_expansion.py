@@ -2,8 +2,9 @@
 
 import json
 
+from conftest import SKIN_COARSE
+
 from ngincompat.cli import main
-from test_cli import SKIN_COARSE
 
 
 def test_two_expanders_and_their_summary(tmp_path):
