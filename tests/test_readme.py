@@ -1,0 +1,123 @@
+"""Every command the README shows runs, on coarse settings, as a user would follow it.
+
+The README's ``bash`` blocks are read line by line (a trailing ``\\`` continues a line); every
+``ngincompat`` command in them, also after ``&&`` or a ``.venv/bin/`` prefix, is run in order
+in one scratch folder (so a command can use what an earlier one wrote, as in the README),
+through the command line's ``main``, with coarse settings appended by the rules below. Each
+must exit 0 without a traceback and print its summary line. A command whose subcommand (or
+scene, or benchmark) has no rule here fails the test: a new README example cannot go
+untested. The README's Python blocks are executed too.
+"""
+
+import re
+import shlex
+from pathlib import Path
+
+import pytest
+from conftest import SKIN_COARSE
+
+from ngincompat.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+
+#: Coarse settings appended to ``ngincompat run SCENE``, by scene.
+RUN = {
+    "cube": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
+    "hemisphere": ["--order", "2", "--maxh", "0.5", "--set", "centre_maxh=0.25",
+                   "--set", "g_order=3"],
+    "disc": ["--order", "2", "--maxh", "0.4", "--set", "g_order=3"],
+    "cylinder": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
+    "custom": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
+    "skin": SKIN_COARSE,
+}
+#: Coarse settings of ``ngincompat bench CASE``, by case.
+BENCH = {
+    "cube": ["--maxh", "1", "--orders", "1", "2"],
+    "accuracy": ["--quick"],
+    "stability": ["--quick"],
+    "scaling": ["--quick", "--solvers", "sparsecholesky"],
+}
+#: What each subcommand prints when it is done.
+SUMMARY = {
+    "list": "cube",
+    "run": "results written to",
+    "paper": "summary written to",
+    "expansion": "summary written to",
+    "bench": "|",
+    "sweep": "written to",
+}
+
+
+def readme_commands(text):
+    """The ngincompat command lines of the README's bash blocks, in order."""
+    commands = []
+    for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
+        joined = re.sub(r"\\\n\s*", " ", block)
+        for line in joined.splitlines():
+            words = shlex.split(line, comments=True)
+            starts = [0] + [i + 1 for i, w in enumerate(words) if w == "&&"]
+            ends = [i for i, w in enumerate(words) if w == "&&"] + [len(words)]
+            for start, end in zip(starts, ends, strict=True):
+                if end > start and Path(words[start]).name == "ngincompat":
+                    commands.append(words[start + 1:end])
+    return commands
+
+
+def coarse(argv):
+    """``argv`` with the coarse settings of its rule appended (KeyError: no rule)."""
+    command = argv[0]
+    if command == "run":
+        return [*argv, *RUN[argv[1]], "-q"]
+    if command == "paper":
+        return [*argv, "--quick", "-q"]
+    if command == "expansion":
+        return [*argv, "--footprints", "circle", *SKIN_COARSE, "-q"]
+    if command == "bench":
+        return [*argv, *BENCH[argv[1]]]
+    if command == "sweep":
+        return [*argv, "--max-cases", "2", "-q"] if argv[1] == "run" else argv
+    if command == "list":
+        return argv
+    raise KeyError(command)
+
+
+COMMANDS = readme_commands(README.read_text())
+
+
+def test_the_readme_shows_commands_of_every_kind():
+    kinds = {argv[0] for argv in COMMANDS}
+    assert {"list", "run", "paper", "expansion", "bench", "sweep"} <= kinds
+    assert {argv[1] for argv in COMMANDS if argv[0] == "run"} == set(RUN)
+
+
+def test_every_readme_command_has_a_coarse_rule():
+    for argv in COMMANDS:
+        coarse(argv)   # raises KeyError naming what has no rule
+
+
+@pytest.fixture(scope="module")
+def scratch(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("readme")
+    (folder / "examples").symlink_to(ROOT / "examples")
+    return folder
+
+
+@pytest.mark.parametrize("index", range(len(COMMANDS)),
+                         ids=[" ".join(argv[:3]) for argv in COMMANDS])
+def test_readme_command_runs(index, scratch, monkeypatch, capsys):
+    argv = coarse(COMMANDS[index])
+    monkeypatch.chdir(scratch)
+    code = main(argv)
+    captured = capsys.readouterr()
+    assert code == 0, (argv, captured.err[-2000:])
+    assert "Traceback" not in captured.err
+    assert SUMMARY[argv[0]] in captured.out, captured.out[-2000:]
+
+
+def test_readme_python_blocks_run(monkeypatch, tmp_path):
+    monkeypatch.chdir(tmp_path)
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), {})
