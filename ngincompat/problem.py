@@ -22,6 +22,7 @@ from . import kinematics
 from .errors import require
 from .growth import make_growth
 from .growth_laws import euler_residual, total_stretch
+from .materials import MixedMaterial
 
 #: NGSolve's local heap as set on import (ngincompat/__init__.py); only ever raised here.
 _heap_size = 200 * 1000 * 1000
@@ -70,7 +71,8 @@ class GrowthMechanics:
         enforced only against the pressure space, which removes the volumetric locking of
         nearly incompressible materials (lam >> mu); p is element-local and condensed. The
         problem is a saddle point, so the line search tests the residual instead of the energy.
-        Needs a material with such a bulk term (neo-Hookean, g = ln Je) and order >= 2.
+        Needs a :class:`~ngincompat.materials.MixedMaterial`, one with such a bulk term
+        (neo-Hookean, g = ln Je), and order >= 2.
     """
 
     def __init__(self, mesh, growth, material, order=2, fibers=(), dirichlet="", symmetry=None,
@@ -80,7 +82,7 @@ class GrowthMechanics:
                 "displacement or mixed")
         mixed = formulation == "mixed"
         if mixed:
-            require(hasattr(material, "bulk_split"), "formulation", formulation,
+            require(isinstance(material, MixedMaterial), "formulation", formulation,
                     f"displacement for the {material.name} material (mixed needs neo-hookean)")
             require(order >= 2, "order", order, ">= 2 for the mixed formulation")
         ensure_heap(order)
