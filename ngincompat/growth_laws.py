@@ -1,8 +1,9 @@
 """Growth laws for mechanically coupled growth (section 2.6, eq. 44-48).
 
-A law gives the growth rate d theta / dt from the current growth theta and the elastic
-stretch measure theta_e = theta_total / theta, where theta_total is the total stretch that
-matches the growth kind (:func:`total_stretch`). The update is implicit Euler (eq. 48),
+A law (:class:`GrowthLaw`) gives the growth rate d theta / dt from the current growth theta and
+the elastic stretch measure theta_e = theta_total / theta, where theta_total is the total
+stretch that matches the growth kind (``stretch(F)`` of a
+:class:`~ngincompat.growth.GrowthModel`). The update is implicit Euler (eq. 48),
 
     R^g = theta_{n+1} - theta_n - dt * rate(theta_{n+1}, theta_e(F, theta_{n+1})) = 0,
 
@@ -11,10 +12,20 @@ growth part c^g of eq. (49) exactly (it is the symbolic derivative of the same r
 """
 
 from dataclasses import dataclass
+from typing import Protocol
 
 import ngsolve as ngs
 
-from .errors import ParameterError, require
+from .errors import require
+
+CF = ngs.CoefficientFunction
+
+
+class GrowthLaw(Protocol):
+    """What the coupled problem uses of a growth law."""
+
+    def rate(self, theta: CF, theta_e: CF) -> CF:
+        """d theta / dt at growth theta and elastic stretch theta_e (section 2.6)."""
 
 
 def _macaulay(a):
@@ -27,20 +38,6 @@ def _positive_power(a, n):
     if n == 0:
         return ngs.IfPos(a, 1.0, 0.0)
     return ngs.IfPos(a, a ** n, 0.0)
-
-
-def total_stretch(kind, F, direction=None):
-    """The total stretch measure that drives growth of a kind (section 2.6).
-
-    isotropic: volume J = det F; area: area stretch J |F^-T N0| (Nanson); fiber: |F f0|.
-    """
-    if kind == "isotropic":
-        return ngs.Det(F)
-    if kind == "area":
-        return ngs.Det(F) * ngs.Norm(ngs.Inv(F).trans * direction)
-    if kind == "fiber":
-        return ngs.Norm(F * direction)
-    raise ParameterError(f"growth = {kind!r} is unknown: allowed isotropic, area, fiber")
 
 
 @dataclass(frozen=True)
@@ -72,7 +69,7 @@ class StrainDrivenLaw:
         require(self.gamma >= 0, "gamma", self.gamma, ">= 0")
         require(self.theta_crit > 0, "theta_crit", self.theta_crit, "> 0")
 
-    def rate(self, theta, theta_e):
+    def rate(self, theta: CF, theta_e: CF) -> CF:
         room = _positive_power((self.theta_max - theta) / (self.theta_max - 1), self.gamma)
         return (1.0 / self.tau) * room * _macaulay(theta_e - self.theta_crit)
 
@@ -114,12 +111,13 @@ class HillLaw:
         require(self.theta_crit > 0, "theta_crit", self.theta_crit, "> 0")
         require(self.theta_max > 1, "theta_max", self.theta_max, "> 1")
 
-    def rate(self, theta, theta_e):
+    def rate(self, theta: CF, theta_e: CF) -> CF:
         sn = _positive_power(theta_e - self.theta_crit, self.n)
         room = _macaulay((self.theta_max - theta) / (self.theta_max - 1))
         return self.k * sn / (self.K ** self.n + sn) * room
 
 
-def euler_residual(law, theta, theta_old, dt, theta_total):
+def euler_residual(law: GrowthLaw, theta: CF, theta_old: CF, dt: CF | float,
+                   theta_total: CF) -> CF:
     """R^g of eq. (48) with theta_e = theta_total / theta."""
     return theta - theta_old - dt * law.rate(theta, theta_total / theta)

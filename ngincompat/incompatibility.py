@@ -18,7 +18,12 @@ which is what ``ngsolve.Grad`` gives for a matrix-valued GridFunction, and
     (Curl A)_ij = eps_irs dA_js / dX_r      (eq. 7).
 """
 
+from typing import TYPE_CHECKING
+
 import ngsolve as ngs
+
+if TYPE_CHECKING:
+    from .growth import GrowthModel
 
 _COORDS = (ngs.x, ngs.y, ngs.z)
 
@@ -191,21 +196,11 @@ def burgers_fiber_magnitude(theta, grad_theta, f0):
     return ngs.Norm(ngs.Cross(grad_theta, f0)) / theta
 
 
-def closed_form_G(growth):
-    """The closed-form G of a growth model with analytic theta, or None where none exists.
-
-    Isotropic growth (eq. 16) always has one; area (eq. 20) and fiber growth (eq. 25) only for a
-    constant direction field. The growth gradient is taken symbolically.
-    """
-    theta = growth.theta
-    grad_theta = grad_scalar(theta)
-    if growth.kind == "isotropic":
-        return G_isotropic_closed_form(theta, grad_theta)
-    if growth.kind == "area" and growth.normal.is_constant:
-        return G_area_closed_form(theta, grad_theta, growth.normal.cf)
-    if growth.kind == "fiber" and growth.fiber.is_constant:
-        return G_fiber_closed_form(theta, grad_theta, growth.fiber.cf)
-    return None
+def closed_form_G(growth: "GrowthModel") -> ngs.CoefficientFunction | None:
+    """The closed-form G of a growth model, ``growth.closed_form_G()``, or None where none
+    exists (isotropic growth eq. 16; area eq. 20 and fiber growth eq. 25 for a constant
+    direction). See :class:`~ngincompat.growth.GrowthModel`."""
+    return growth.closed_form_G()
 
 
 def relative_l2_error(A, A_ref, mesh, order=10):

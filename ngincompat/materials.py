@@ -1,19 +1,115 @@
 """Hyperelastic materials: compressible neo-Hookean (eq. 36) and Gasser-Ogden-Holzapfel (eq. 39).
 
-A material is a frozen dataclass of its parameters, validated on construction. ``energy(Fe,
-fibers)`` is the strain energy density Psi per unit volume of the intermediate (grown)
-configuration; the mechanics problem integrates ``Jg * Psi(Fe)`` over the reference body.
-Units are those of the parameters (the paper's idealized scenes use MPa and mm).
+A material is anything with the shape of :class:`Material`: ``energy(Fe, fibers)`` is the
+strain energy density Psi per unit volume of the intermediate (grown) configuration; the
+mechanics problem integrates ``Jg * Psi(Fe)`` over the reference body. A material whose energy
+has a bulk term lam/2 g(Je)^2 that it can split off (:class:`MixedMaterial`) also works in the
+mixed formulation. Units are those of the parameters (the paper's idealized scenes use MPa and
+mm).
+
+The materials here are frozen dataclasses of their parameters, validated on construction.
+Each subclasses :class:`MaterialKind` and names itself in the class attribute ``name``;
+defining the class registers it, so :func:`make_material` finds it by that name from the
+uniform parameters (mu, nu, k1, k2, kappa) of its classmethod ``from_parameters``.
 """
 
+from collections.abc import KeysView, Sequence
 from dataclasses import dataclass
+from typing import ClassVar, Protocol, Self, runtime_checkable
 
 import ngsolve as ngs
 
 from .errors import ParameterError, require
 
+CF = ngs.CoefficientFunction
 
-def lame_lambda(mu, nu):
+
+@runtime_checkable
+class Material(Protocol):
+    """What the mechanics problem uses of a material."""
+
+    @property
+    def name(self) -> str:
+        """A label for results and error messages."""
+
+    @property
+    def needs_fibers(self) -> bool:
+        """Whether ``energy`` needs fiber directions (then the problem requires some)."""
+
+    def energy(self, Fe: CF, fibers: Sequence[CF] = ()) -> CF:
+        """Psi(Fe) per unit intermediate volume; ``fibers`` are unit fiber directions in the
+        intermediate configuration (eq. 39)."""
+
+
+@runtime_checkable
+class MixedMaterial(Material, Protocol):
+    """A material whose energy is Psi = rest + lam/2 g(Je)^2, usable in the mixed
+    formulation (:class:`~ngincompat.problem.GrowthMechanics`)."""
+
+    @property
+    def lam(self) -> float:
+        """The bulk parameter of the term lam/2 g^2."""
+
+    def bulk_split(self, Fe: CF) -> tuple[CF, CF]:
+        """(Psi - lam/2 g^2, g): the energy without its bulk term and the volume measure g."""
+
+
+#: The registered materials, name -> class, in the order of their definition.
+_MATERIALS: dict[str, type["MaterialKind"]] = {}
+
+#: The names of the registered materials: a live view, so materials defined later appear too.
+MATERIALS: KeysView[str] = _MATERIALS.keys()
+
+
+class MaterialKind:
+    """Base of the materials built by name, registered when defined.
+
+    A subclass that sets the class attribute ``name`` is registered under it; it must
+    provide ``energy(Fe, fibers)`` (see :class:`Material`) and the classmethod
+    ``from_parameters(mu, nu, k1=0.0, k2=1.0, kappa=0.0)`` that builds it from the shear
+    modulus, Poisson's ratio and the fiber parameters (ignoring those it has no use for).
+
+    Attributes
+    ----------
+    name : str
+        The registry name (class attribute).
+    needs_fibers : bool
+        Whether the energy needs fiber directions (class attribute, default False).
+    """
+
+    name: ClassVar[str]
+    needs_fibers: ClassVar[bool] = False
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        name = cls.__dict__.get("name")
+        if name is None:
+            return
+        missing = [m for m in ("energy", "from_parameters") if not hasattr(cls, m)]
+        if missing:
+            raise TypeError(f"material {name!r} ({cls.__qualname__}) lacks {', '.join(missing)}")
+        if name in _MATERIALS:
+            raise TypeError(f"material {name!r} is already registered by "
+                            f"{_MATERIALS[name].__qualname__}")
+        _MATERIALS[name] = cls
+
+
+def material_kind(name: str) -> type[MaterialKind]:
+    """The registered material called ``name``.
+
+    Raises
+    ------
+    ParameterError
+        If no material of that name is registered; the message lists those that are.
+    """
+    try:
+        return _MATERIALS[name]
+    except KeyError:
+        raise ParameterError(
+            f"material = {name!r} is unknown: allowed {', '.join(_MATERIALS)}") from None
+
+
+def lame_lambda(mu: float, nu: float) -> float:
     """Lame's first parameter from the shear modulus and Poisson's ratio, 2 mu nu / (1 - 2 nu)."""
     require(-1.0 < nu < 0.5, "nu", nu, "in (-1, 0.5)")
     return 2.0 * mu * nu / (1.0 - 2.0 * nu)
@@ -25,7 +121,7 @@ def _check_lame(mu, lam):
 
 
 @dataclass(frozen=True)
-class NeoHookean:
+class NeoHookean(MaterialKind):
     """Compressible neo-Hookean material, eq. (36).
 
     Parameters
@@ -50,21 +146,29 @@ class NeoHookean:
         _check_lame(self.mu, self.lam)
 
     @classmethod
-    def from_nu(cls, mu, nu):
+    def from_nu(cls, mu: float, nu: float) -> Self:
         """From the shear modulus and Poisson's ratio nu in (-1, 0.5)."""
         require(mu > 0, "mu", mu, "> 0 (shear modulus)")
         return cls(mu, lame_lambda(mu, nu))
 
     @classmethod
-    def paper_idealized(cls):
+    def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
+                        kappa: float = 0.0) -> Self:
+        """The registry's uniform constructor: :meth:`from_nu`; the fiber parameters k1, k2
+        and kappa are ignored."""
+        return cls.from_nu(mu, nu)
+
+    @classmethod
+    def paper_idealized(cls) -> Self:
         """mu = 0.55 MPa, nu = 0.4: the cube, hemisphere and cylinder of sections 3.1-3.4."""
         return cls.from_nu(0.55, 0.4)
 
-    def energy(self, Fe, fibers=()):
+    def energy(self, Fe: CF, fibers: Sequence[CF] = ()) -> CF:
+        """Psi of eq. (36); needs no fibers."""
         rest, lnJ = self.bulk_split(Fe)
         return rest + self.lam / 2 * lnJ * lnJ
 
-    def bulk_split(self, Fe):
+    def bulk_split(self, Fe: CF) -> tuple[CF, CF]:
         """(Psi - lam/2 g^2, g) with g = ln Je: the energy without its bulk term and the
         volume measure whose square the bulk term penalises (used by the mixed formulation)."""
         lnJ = ngs.log(ngs.Det(Fe))
@@ -72,7 +176,7 @@ class NeoHookean:
 
 
 @dataclass(frozen=True)
-class GOH:
+class GOH(MaterialKind):
     """Gasser-Ogden-Holzapfel material with dispersed fiber families, eq. (39).
 
     Parameters
@@ -113,13 +217,20 @@ class GOH:
         require(0.0 <= self.kappa <= 1.0 / 3.0, "kappa", self.kappa, "in [0, 1/3]")
 
     @classmethod
-    def from_nu(cls, mu, nu, k1, k2, kappa):
+    def from_nu(cls, mu: float, nu: float, k1: float, k2: float, kappa: float) -> Self:
         """With lam from Poisson's ratio of the ground matrix, nu in (0, 0.5)."""
         require(0.0 < nu < 0.5, "nu", nu, "in (0, 0.5) for GOH")
         require(mu > 0, "mu", mu, "> 0 (shear modulus)")
         return cls(mu, lame_lambda(mu, nu), k1, k2, kappa)
 
-    def energy(self, Fe, fibers=()):
+    @classmethod
+    def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
+                        kappa: float = 0.0) -> Self:
+        """The registry's uniform constructor: :meth:`from_nu`."""
+        return cls.from_nu(mu, nu, k1, k2, kappa)
+
+    def energy(self, Fe: CF, fibers: Sequence[CF] = ()) -> CF:
+        """Psi of eq. (39) with one term per fiber direction in ``fibers``."""
         C = Fe.trans * Fe
         J = ngs.Det(Fe)
         Jm23 = J ** (-2.0 / 3.0)
@@ -134,14 +245,14 @@ class GOH:
         return psi
 
 
-MATERIALS = ("neo-hookean", "goh")
+def make_material(name: str, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
+                  kappa: float = 0.0) -> MaterialKind:
+    """A registered material by name (:data:`MATERIALS`) from mu, Poisson's ratio nu and, for
+    GOH, the fiber parameters (ignored by the neo-Hookean material).
 
-
-def make_material(name, mu, nu, k1=0.0, k2=1.0, kappa=0.0):
-    """A material by name from mu, Poisson's ratio nu and, for GOH, the fiber parameters
-    (ignored by the neo-Hookean material)."""
-    if name == "goh":
-        return GOH.from_nu(mu, nu, k1, k2, kappa)
-    if name == "neo-hookean":
-        return NeoHookean.from_nu(mu, nu)
-    raise ParameterError(f"material = {name!r} is unknown: allowed {', '.join(MATERIALS)}")
+    Raises
+    ------
+    ParameterError
+        For an unknown name (listing the registered ones) or parameters out of range.
+    """
+    return material_kind(name).from_parameters(mu, nu, k1, k2, kappa)

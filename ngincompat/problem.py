@@ -15,13 +15,18 @@ self-equilibrated body, so it gives the same solution as Lagrange multipliers on
 modes while keeping the tangent symmetric positive definite near equilibrium).
 """
 
+from collections.abc import Mapping, Sequence
+from typing import Literal
+
 import ngsolve as ngs
 import numpy as np
 
 from . import kinematics
 from .errors import require
-from .growth import make_growth
-from .growth_laws import euler_residual, total_stretch
+from .fields import DirectionField
+from .growth import GrowthKind, GrowthModel, growth_kind
+from .growth_laws import GrowthLaw, euler_residual
+from .materials import Material, MixedMaterial
 
 #: NGSolve's local heap as set on import (ngincompat/__init__.py); only ever raised here.
 _heap_size = 200 * 1000 * 1000
@@ -50,8 +55,9 @@ def check_formulation(material, formulation, order):
     require(formulation in ("displacement", "mixed"), "formulation", formulation,
             "displacement or mixed")
     if formulation == "mixed":
-        require(hasattr(material, "bulk_split"), "formulation", formulation,
-                f"displacement for the {material.name} material (mixed needs neo-hookean)")
+        require(isinstance(material, MixedMaterial), "formulation", formulation,
+                f"displacement for the {material.name} material (mixed needs a bulk split "
+                "of the energy, as neo-hookean has)")
         require(order >= 2, "order", order, ">= 2 for the mixed formulation")
 
 
@@ -61,8 +67,10 @@ class GrowthMechanics:
     Parameters
     ----------
     mesh : ngsolve.Mesh
-    growth : growth model (see :mod:`ngincompat.growth`)
-    material : material (see :mod:`ngincompat.materials`)
+    growth : GrowthModel
+        See :mod:`ngincompat.growth`.
+    material : Material
+        See :mod:`ngincompat.materials`.
     order : int
         Polynomial order of the displacement, >= 1.
     fibers : sequence of DirectionField
@@ -82,11 +90,14 @@ class GrowthMechanics:
         enforced only against the pressure space, which removes the volumetric locking of
         nearly incompressible materials (lam >> mu); p is element-local and condensed. The
         problem is a saddle point, so the line search tests the residual instead of the energy.
-        Needs a material with such a bulk term (neo-Hookean, g = ln Je) and order >= 2.
+        Needs a :class:`~ngincompat.materials.MixedMaterial`, one with such a bulk term
+        (neo-Hookean, g = ln Je), and order >= 2.
     """
 
-    def __init__(self, mesh, growth, material, order=2, fibers=(), dirichlet="", symmetry=None,
-                 condense=True, formulation="displacement"):
+    def __init__(self, mesh: ngs.Mesh, growth: GrowthModel, material: Material, order: int = 2,
+                 fibers: Sequence[DirectionField] = (), dirichlet: str = "",
+                 symmetry: Mapping[str, str] | None = None, condense: bool = True,
+                 formulation: Literal["displacement", "mixed"] = "displacement"):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         check_formulation(material, formulation, order)
         mixed = formulation == "mixed"
@@ -325,10 +336,16 @@ class CoupledGrowth:
     Parameters
     ----------
     mesh : ngsolve.Mesh
-    kind : {"isotropic", "area", "fiber"}
-        Growth kind; ``direction`` is N0 (area) or f0 (fiber).
-    law : growth law (:mod:`ngincompat.growth_laws`)
-    material : material (:mod:`ngincompat.materials`)
+    kind : str or GrowthKind subclass
+        Growth kind, a registered name (:data:`ngincompat.growth.KINDS`: "isotropic", "area",
+        "fiber", ...) or the class itself; theta drives it through ``from_theta`` and growth
+        laws through its ``stretch(F)``.
+    direction : DirectionField or None
+        N0 (area) or f0 (fiber growth); None for a kind without a direction.
+    law : GrowthLaw
+        See :mod:`ngincompat.growth_laws`.
+    material : Material
+        See :mod:`ngincompat.materials`.
     order : int
         Displacement order; ``growth_order`` that of theta (default order - 1).
     dirichlet, symmetry : as for :class:`GrowthMechanics`
@@ -341,13 +358,19 @@ class CoupledGrowth:
     has_energy = False
     inverse = "umfpack"
 
-    def __init__(self, mesh, kind, direction, law, material, order=2, growth_order=None,
-                 fibers=(), dirichlet="", symmetry=None, volume=None, condense=True):
+    def __init__(self, mesh: ngs.Mesh, kind: str | type[GrowthKind],
+                 direction: DirectionField | None, law: GrowthLaw, material: Material,
+                 order: int = 2, growth_order: int | None = None,
+                 fibers: Sequence[DirectionField] = (), dirichlet: str = "",
+                 symmetry: Mapping[str, str] | None = None, volume: str | None = None,
+                 condense: bool = True):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         ensure_heap(order)
         growth_order = max(order - 1, 0) if growth_order is None else growth_order
         symmetry = dict(symmetry or {})
-        self.mesh, self.kind, self.direction, self.law = mesh, kind, direction, law
+        self.growth_class = kind if isinstance(kind, type) else growth_kind(kind)
+        self.kind = self.growth_class.kind
+        self.mesh, self.direction, self.law = mesh, direction, law
         self.material, self.order, self.condense = material, order, condense
         self.fibers = tuple(fibers)
         V = displacement_space(mesh, order, dirichlet, symmetry)
@@ -373,7 +396,7 @@ class CoupledGrowth:
         F = kinematics.deformation_gradient(u)
         W = self._energy_density(F, th)
         self.form = ngs.BilinearForm(self.fes, condense=condense)
-        stretch = total_stretch(kind, F, None if direction is None else direction.cf)
+        stretch = self._growth(th).stretch(F)
         growth_residual = euler_residual(law, th, self.theta_old, self.dt, stretch)
         self.form += (W.Diff(u, v) + growth_residual * eta).Compile() * ngs.dx
         if volume:
@@ -387,8 +410,12 @@ class CoupledGrowth:
     def ndof(self):
         return self.fes.ndof
 
+    def _growth(self, theta):
+        """The growth model of the problem's kind and direction for the indicator theta."""
+        return self.growth_class.from_theta(theta, self.direction)
+
     def _energy_density(self, F, theta):
-        growth = make_growth(self.kind, theta, self.direction)
+        growth = self._growth(theta)
         Fe = kinematics.elastic_part(F, growth.Fg)
         pushed = []
         for f in self.fibers:

@@ -19,7 +19,9 @@ lengths and the energy.
 import logging
 import math
 import time as _time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
+from typing import Protocol
 
 import ngsolve as ngs
 import numpy as np
@@ -28,6 +30,42 @@ from .errors import ConvergenceError, Interrupted, require
 from .progress import SILENT, Progress
 
 log = logging.getLogger(__name__)
+
+
+class NewtonProblem(Protocol):
+    """What :class:`NewtonSolver` uses of a problem, as
+    :class:`~ngincompat.problem.GrowthMechanics` and :class:`~ngincompat.problem.CoupledGrowth`
+    provide it (:func:`solve_growth` and :func:`solve_coupled` use more of each).
+
+    Attributes
+    ----------
+    form : ngsolve.BilinearForm
+        The nonlinear form whose ``Apply`` is the residual and whose linearisation the tangent;
+        with ``has_energy``, ``Energy`` is the energy it derives from.
+    state : ngsolve.GridFunction
+        All unknowns; Newton updates its vector in place.
+    fes : ngsolve.FESpace
+        The space of ``state``.
+    freedofs : ngsolve.BitArray
+        The dofs the tangent is inverted on (with static condensation: the coupling ones).
+    pinned : sequence of int
+        Dofs held fixed in addition to the Dirichlet ones (rigid-body pins).
+    condense : bool
+        Whether ``form`` condenses element-interior dofs.
+    inverse : str
+        The sparse direct solver to use unless the options name one.
+    has_energy : bool
+        Whether ``form`` derives from an energy (the line search then tests it).
+    """
+
+    form: ngs.BilinearForm
+    state: ngs.GridFunction
+    fes: ngs.FESpace
+    freedofs: ngs.BitArray
+    pinned: Sequence[int]
+    condense: bool
+    inverse: str
+    has_energy: bool
 
 
 @dataclass(frozen=True)
@@ -139,11 +177,9 @@ class SolverHistory:
 
 
 class NewtonSolver:
-    """Newton's method with a line search, for a problem exposing ``form``, ``state`` (the
-    GridFunction of all unknowns), ``fes``, ``freedofs``, ``pinned``, ``condense``,
-    ``inverse`` and ``has_energy`` (whether ``form`` derives from an energy)."""
+    """Newton's method with a line search, for a :class:`NewtonProblem`."""
 
-    def __init__(self, problem, options=NewtonOptions()):
+    def __init__(self, problem: NewtonProblem, options: NewtonOptions = NewtonOptions()):
         self.problem = problem
         self.options = options
         vec = problem.state.vec

@@ -9,6 +9,7 @@ from scipy.optimize import brentq
 from geometries import cube, skin_patch
 from ngincompat import fields
 from ngincompat.errors import ParameterError
+from ngincompat.growth import IsotropicGrowth
 from ngincompat.growth_laws import HillLaw, StrainDrivenLaw
 from ngincompat.materials import NeoHookean
 from ngincompat.problem import CoupledGrowth
@@ -77,6 +78,19 @@ def test_no_growth_below_the_critical_stretch():
 def test_growth_laws_reject_bad_parameters(law, name):
     with pytest.raises(ParameterError, match=f"^{name} = "):
         law()
+
+
+def test_coupled_growth_names_the_registered_kinds():
+    """An unknown kind is refused with the registry's kinds; a kind given as its class works
+    like its name; a kind that needs a direction refuses to go without."""
+    mesh = cube(maxh=1.0)
+    material = NeoHookean.from_nu(1.0, 0.3)
+    with pytest.raises(ParameterError, match="growth = 'volume' is unknown: allowed isotropic, "
+                                             "area, fiber"):
+        CoupledGrowth(mesh, "volume", None, LAW, material)
+    with pytest.raises(ParameterError, match=r"area growth needs a direction \(N0\)"):
+        CoupledGrowth(mesh, "area", None, LAW, material)
+    assert CoupledGrowth(mesh, IsotropicGrowth, None, LAW, material).kind == "isotropic"
 
 
 def test_volume_constraint_meets_its_target():

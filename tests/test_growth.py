@@ -1,20 +1,34 @@
-"""Growth tensors (eq. 13, 18, 23) and the positivity check of theta."""
+"""Growth tensors (eq. 13, 18, 23), their stretch measures and closed forms, the registry of
+growth kinds and the positivity check of theta."""
+
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import random_points, values_at
 
+from geometries import cube
 from ngincompat import fields
+from ngincompat import growth as growth_module
+from ngincompat import incompatibility as inc
 from ngincompat.errors import ParameterError
 from ngincompat.growth import (
+    KINDS,
     AreaGrowth,
     FiberGrowth,
+    GrowthKind,
+    GrowthModel,
     IsotropicGrowth,
     TensorGrowth,
     check_positive,
+    growth_kind,
     make_growth,
 )
+from ngincompat.growth_laws import StrainDrivenLaw
+from ngincompat.materials import NeoHookean
+from ngincompat.problem import CoupledGrowth, GrowthMechanics
+from ngincompat.solver import solve_coupled, solve_growth
 
 THETA = 1 + 0.5 * ngs.x + 0.2 * ngs.y
 
@@ -69,6 +83,175 @@ def test_make_growth_by_name():
         make_growth("volume", THETA)
     with pytest.raises(ParameterError, match="needs a direction"):
         make_growth("fiber", THETA)
+
+
+def test_registry_holds_the_three_kinds_and_names_them_in_errors():
+    assert list(KINDS)[:3] == ["isotropic", "area", "fiber"]
+    assert growth_kind("area") is AreaGrowth
+    assert all(isinstance(make_growth(k, THETA, fields.constant("e2")), GrowthModel)
+               for k in ("isotropic", "area", "fiber"))
+    assert isinstance(TensorGrowth(ngs.Id(3)), GrowthModel)
+    with pytest.raises(ParameterError, match="allowed isotropic, area, fiber"):
+        growth_kind("volume")
+    with pytest.raises(ParameterError, match=r"^area growth needs a direction \(N0\)$"):
+        AreaGrowth.from_theta(THETA)
+    with pytest.raises(ParameterError, match=r"^fiber growth needs a direction \(f0\)$"):
+        FiberGrowth.from_theta(THETA)
+    iso = IsotropicGrowth.from_theta(THETA, fields.constant("e1"))
+    assert type(iso) is IsotropicGrowth and iso.theta is THETA
+    fiber = FiberGrowth.from_theta(THETA, fields.constant("e1"))
+    assert fiber.fiber.name == "e1"
+
+
+#: A manufactured deformation gradient, far from the identity and with det F > 0 in the cube.
+F_MANUFACTURED = ngs.CF((1.2 + 0.1 * ngs.y, 0.3 * ngs.z, 0.1,
+                         -0.2 * ngs.x, 0.9, 0.25 * ngs.y,
+                         0.05, 0.1 * ngs.x * ngs.z, 1.1 + 0.2 * ngs.x), dims=(3, 3))
+OBLIQUE = (0.3, -0.5, 1.0)
+
+
+@pytest.mark.parametrize("growth, measure", [
+    (IsotropicGrowth(THETA), "volume"),
+    (TensorGrowth(ngs.CF((1.2, 0.1, 0, 0, 0.9, 0, 0.3, 0, 1.1), dims=(3, 3))), "volume"),
+    (AreaGrowth(THETA, fields.constant(OBLIQUE)), "area"),
+    (AreaGrowth(THETA, fields.radial(center=(0.5, 0.5, -1.0))), "area"),
+    (FiberGrowth(THETA, fields.constant(OBLIQUE)), "fiber"),
+    (FiberGrowth(THETA, fields.circumferential(center=(0.5, 0.5, 0.0))), "fiber"),
+], ids=["isotropic", "tensor", "area-oblique", "area-radial", "fiber-oblique", "fiber-circ"])
+def test_stretch_is_the_total_stretch_of_section_2_6(growth, measure, unit_cube_hex):
+    """stretch(F) at points against det F, det F |F^-T N0| (Nanson) and |F f0| in numpy."""
+    pts = random_points(12, seed=3)
+    F = values_at(F_MANUFACTURED, unit_cube_hex, pts).reshape(-1, 3, 3)
+    J = np.linalg.det(F)
+    if measure == "volume":
+        expected = J
+    else:
+        d = values_at(growth.normal.cf if measure == "area" else growth.fiber.cf,
+                      unit_cube_hex, pts)
+        if measure == "area":
+            FinvT_d = np.linalg.solve(np.swapaxes(F, 1, 2), d[..., None])[..., 0]
+            expected = J * np.linalg.norm(FinvT_d, axis=1)
+        else:
+            expected = np.linalg.norm(np.einsum("nij,nj->ni", F, d), axis=1)
+        assert np.max(np.abs(expected - J)) > 0.05      # not the volume stretch
+    assert np.ptp(expected) > 0.02                       # varies in space
+    np.testing.assert_allclose(values_at(growth.stretch(F_MANUFACTURED), unit_cube_hex, pts)[:, 0],
+                               expected, rtol=1e-13)
+
+
+@pytest.mark.parametrize("growth, formula, direction", [
+    (IsotropicGrowth(THETA), inc.G_isotropic_closed_form, None),
+    (AreaGrowth(THETA, fields.constant(OBLIQUE)), inc.G_area_closed_form, OBLIQUE),
+    (AreaGrowth(THETA, fields.constant("e3")), inc.G_area_closed_form, (0, 0, 1.0)),
+    (FiberGrowth(THETA, fields.constant(OBLIQUE)), inc.G_fiber_closed_form, OBLIQUE),
+    (FiberGrowth(THETA, fields.constant("e1")), inc.G_fiber_closed_form, (1.0, 0, 0)),
+], ids=["isotropic", "area-oblique", "area-e3", "fiber-oblique", "fiber-e1"])
+def test_closed_form_G_is_the_formula_of_the_kind(growth, formula, direction, unit_cube_hex):
+    """Eq. (16), (20), (25) with the unit direction and the symbolic gradient of theta; the
+    incompatibility module's closed_form_G gives the same."""
+    args = (THETA, inc.grad_scalar(THETA))
+    if direction is not None:
+        args += (ngs.CF(tuple(np.asarray(direction) / np.linalg.norm(direction))),)
+    pts = random_points(8, seed=4)
+    expected = values_at(formula(*args), unit_cube_hex, pts)
+    assert np.max(np.abs(expected)) > 1e-2
+    np.testing.assert_allclose(values_at(growth.closed_form_G(), unit_cube_hex, pts), expected,
+                               rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(values_at(inc.closed_form_G(growth), unit_cube_hex, pts),
+                               expected, rtol=1e-13, atol=1e-15)
+
+
+def test_no_closed_form_G_without_a_constant_direction():
+    assert AreaGrowth(THETA, fields.radial()).closed_form_G() is None
+    assert FiberGrowth(THETA, fields.circumferential()).closed_form_G() is None
+    assert TensorGrowth(ngs.Id(3)).closed_form_G() is None
+    assert inc.closed_form_G(AreaGrowth(THETA, fields.radial())) is None
+
+
+@pytest.fixture
+def restore_kinds():
+    """Removes the growth kinds a test registers, so the registry is the same afterwards."""
+    saved = dict(growth_module._KINDS)
+    yield
+    growth_module._KINDS.clear()
+    growth_module._KINDS.update(saved)
+
+
+def _axial_kind():
+    """A growth kind defined outside the package: growth along e1 alone, Fg = diag(theta, 1, 1),
+    which is fiber growth with f0 = e1 written without a direction field."""
+
+    @dataclass(frozen=True, eq=False)
+    class AxialGrowth(GrowthKind):
+        theta: ngs.CoefficientFunction
+        kind = "axial-e1"
+
+        @property
+        def Fg(self):
+            return ngs.CF((self.theta, 0, 0, 0, 1, 0, 0, 0, 1), dims=(3, 3))
+
+        def stretch(self, F):
+            return ngs.Norm(F[:, 0])
+
+    return AxialGrowth
+
+
+def test_a_new_kind_is_one_class_found_by_name(restore_kinds, unit_cube_hex):
+    AxialGrowth = _axial_kind()
+    assert "axial-e1" in KINDS
+    growth = make_growth("axial-e1", THETA)
+    assert type(growth) is AxialGrowth and isinstance(growth, GrowthModel)
+    assert growth.closed_form_G() is None
+    pts = random_points(5)
+    np.testing.assert_allclose(values_at(growth.Jg, unit_cube_hex, pts),
+                               values_at(ngs.Det(growth.Fg), unit_cube_hex, pts), rtol=1e-14)
+    with pytest.raises(ParameterError, match="allowed isotropic, area, fiber, axial-e1"):
+        make_growth("axial", THETA)
+
+
+def test_registry_rejects_a_taken_name_and_an_incomplete_kind(restore_kinds):
+    with pytest.raises(TypeError, match="'isotropic' is already registered by IsotropicGrowth"):
+        class Again(IsotropicGrowth):
+            kind = "isotropic"
+    with pytest.raises(TypeError, match="lacks stretch"):
+        class NoStretch(GrowthKind):
+            kind = "no-stretch"
+            Fg = ngs.Id(3)
+    assert "no-stretch" not in KINDS
+    assert growth_kind("isotropic") is IsotropicGrowth
+
+
+def test_a_new_kind_works_in_growth_mechanics(restore_kinds):
+    """The axial kind and fiber growth along e1 are the same Fg: the same energy (theta
+    varies across the fibers, so the growth is incompatible and the energy is not zero)."""
+    _axial_kind()
+    energies = []
+    for kind, direction in (("axial-e1", None), ("fiber", fields.constant("e1"))):
+        time = ngs.Parameter(0.0)
+        growth = make_growth(kind, 1 + 0.3 * ngs.y * time, direction)
+        problem = GrowthMechanics(cube(maxh=0.5), growth, NeoHookean.paper_idealized(), order=2)
+        assert solve_growth(problem, time).converged
+        energies.append(problem.strain_energy())
+    assert energies[1] > 1e-7
+    assert energies[0] == pytest.approx(energies[1], rel=1e-10)
+
+
+def test_a_new_kind_works_in_coupled_growth_by_name(restore_kinds):
+    """Coupled growth of the axial kind (by name, no direction) follows fiber growth along e1
+    (given as its class) step for step: the kind's stretch drives its growth law."""
+    _axial_kind()
+    thetas = []
+    for kind, direction in (("axial-e1", None), (FiberGrowth, fields.constant("e1"))):
+        problem = CoupledGrowth(cube(maxh=1.0), kind, direction,
+                                StrainDrivenLaw(tau=1.0, theta_max=1.5),
+                                NeoHookean.from_nu(1.0, 0.3), order=2,
+                                symmetry={"left": "x", "right": "x"})
+        problem.u.Set(ngs.CF((0.2 * ngs.x, 0, 0)))
+        assert solve_coupled(problem, t_end=1.0, dt=0.5).converged
+        thetas.append(problem.theta.vec.FV().NumPy().copy())
+    assert problem.kind == "fiber"
+    assert ngs.Integrate(problem.theta, problem.mesh) > 1.05
+    np.testing.assert_allclose(thetas[0], thetas[1], rtol=0, atol=1e-12)
 
 
 def test_non_positive_theta_is_an_error_that_names_where(unit_cube_hex):

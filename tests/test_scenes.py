@@ -95,7 +95,7 @@ def test_custom_goh_area_growth(tmp_path):
     (["run", "custom", "--out", "o", "--set", "direction=up"], "direction 'up'"),
     (["run", "cube", "--out", "o", "--set", "model=half"], "model = 'half'"),
     (["run", "cube", "--out", "o", "--set", "formulation=hybrid"], "formulation = 'hybrid'"),
-    (["run", "disc", "--out", "o", "--set", "formulation=mixed"], "mixed needs neo-hookean"),
+    (["run", "disc", "--out", "o", "--set", "formulation=mixed"], "mixed needs a bulk split"),
 ])
 def test_bad_input_exits_2_with_one_line(argv, message, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)

@@ -29,7 +29,7 @@ from ..expressions import parse_expression
 from ..growth import KINDS, make_growth
 from ..incompatibility import lattice_normals
 from ..inputs import GROWTH_EXTENSIONS, MESH_EXTENSIONS, load_growth, load_mesh, ramped_growth
-from ..materials import make_material
+from ..materials import MATERIALS, make_material
 from . import prescribed
 from .base import param
 
@@ -51,11 +51,11 @@ class CustomScene(prescribed.PrescribedScene):
     variant = ("geometry", "growth", "material")
 
     geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(BUILDERS)))
-    growth: str = param("isotropic", "growth kind: " + ", ".join(KINDS))
+    growth: str = param("isotropic", "a registered growth kind: isotropic, area, fiber, ...")
     theta: str = param("1 + 0.25*X1*t", "growth indicator theta(X1, X2, X3, t), t in [0, 1]")
     direction: str = param("e3", "N0 (area) or f0 (fiber growth): e1, e2, e3, radial, "
                                  "radial_xy, circumferential")
-    material: str = param("neo-hookean", "neo-hookean or goh")
+    material: str = param("neo-hookean", "a registered material: neo-hookean, goh, ...")
     mu: float = param(0.55, "shear modulus", "stress")
     nu: float = param(0.4, "Poisson's ratio")
     k1: float = param(1.0, "GOH fiber stiffness", "stress")
@@ -72,8 +72,7 @@ class CustomScene(prescribed.PrescribedScene):
         require(self.geometry in BUILDERS, "geometry", self.geometry,
                 ", ".join(sorted(BUILDERS)))
         require(self.growth in KINDS, "growth", self.growth, ", ".join(KINDS))
-        require(self.material in ("neo-hookean", "goh"), "material", self.material,
-                "neo-hookean or goh")
+        require(self.material in MATERIALS, "material", self.material, ", ".join(MATERIALS))
         require(self.line in _AXES, "line", self.line, "X1, X2 or X3")
         self.make_material()
         parse_expression(self.theta, name="theta")

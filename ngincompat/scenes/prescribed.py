@@ -230,7 +230,7 @@ def _incompatibility(scene, case, problem):
         fields[f"|b_{label}|"] = ngs.Norm(b)
         norms.append(postprocess.maximum(ngs.Norm(b), mesh))
     metrics["burgers_max"] = max(norms) if norms else 0.0
-    exact = inc.closed_form_G(growth) if case.analytic else None
+    exact = growth.closed_form_G() if case.analytic else None
     if exact is not None:
         metrics["G_error_L2_rel"] = inc.relative_l2_error(G, exact, mesh)
     # ||G||_L2 of the closed form where there is one, else of the projected G
