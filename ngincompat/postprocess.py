@@ -55,36 +55,41 @@ def sample_line(mesh, cfs, start, end, n=101):
     s : ndarray
         The arc-length coordinate of the points, from 0.
     values : dict
-        name -> ndarray of shape (n,) for scalars or (n, k) for vector/matrix fields.
+        name -> ndarray of shape (n,) for scalars or (n, k) for vector/matrix fields; NaN at
+        points the mesh does not cover.
     """
     start, end = np.asarray(start, float), np.asarray(end, float)
     s = np.linspace(0.0, 1.0, n)
     pts = start + np.outer(s, end - start)
-    points = [mesh(*p) for p in _locatable(mesh, pts)]
+    located = _locatable(mesh, pts)
+    points = [None if q is None else mesh(*q) for q in located]
     values = {}
     for name, cf in cfs.items():
-        v = np.array([np.atleast_1d(cf(p)) for p in points], dtype=float)
+        size = int(np.prod(cf.dims))
+        v = np.array([np.full(size, np.nan) if p is None else np.atleast_1d(cf(p))
+                      for p in points], dtype=float)
         values[name] = v[:, 0] if v.shape[1] == 1 else v
     return s * np.linalg.norm(end - start), values
 
 
 def _locatable(mesh, pts):
     """Move points that lie on or just outside a curved boundary (the mesh approximates it)
-    towards the centre of the set, by at most 3 % of their distance, until the mesh finds them.
-    """
+    towards the centre of the set, by at most 3 % of their distance, until the mesh finds them;
+    None for a point still outside (a coarse straight-sided mesh of a curved body): its
+    values are NaN."""
     centre = pts.mean(axis=0)
-    out = pts.copy()
-    for i, p in enumerate(pts):
+    out = []
+    for p in pts:
         for shift in (1e-9, 1e-4, 1e-3, 1e-2, 3e-2):
             q = p + shift * (centre - p)
             try:
                 ngs.x(mesh(*q))
             except NgException:
                 continue
-            out[i] = q
+            out.append(q)
             break
         else:
-            raise ValueError(f"point {tuple(p)} is not in the mesh")
+            out.append(None)
     return out
 
 
