@@ -102,15 +102,13 @@ MEMORY_LIMIT = 16.0
 
 
 def mechanics(maxh, order):
-    """The cube scene's mechanics problem at t = 1, condensed, as the scene builds it."""
-    from .problem import GrowthMechanics
+    """The cube scene's mechanics problem (condensed) at t = 1, as the scene's case builds
+    it."""
     from .scenes import CubeScene
 
     case = CubeScene(maxh=maxh, order=order).build()
     case.time.Set(1.0)
-    return GrowthMechanics(case.mesh, case.growth, case.material, order=order,
-                           fibers=case.fibers, dirichlet=case.dirichlet,
-                           symmetry=case.symmetry, condense=True)
+    return case.mechanics()
 
 
 def first_state(problem):
