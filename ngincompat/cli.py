@@ -129,8 +129,18 @@ def _cmd_expansion(args):
 
 
 def _cmd_bench(args):
-    from . import bench
-    print("\n".join(bench.main(args)))
+    from . import bench, scaling, stability
+    if args.case == "cube":
+        lines = bench.cube_main(args.maxh, args.orders, out=args.out)
+    elif args.case == "accuracy":
+        lines = bench.accuracy_main(out=args.out)
+    elif args.case == "stability":
+        lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
+    else:
+        lines = scaling.main(args.maxh, args.orders, quick=args.quick, solvers=args.solvers,
+                             timeout=args.timeout, memory_limit=args.memory_limit,
+                             out=args.out)
+    print("\n".join(lines))
     return EXIT_OK
 
 
@@ -138,6 +148,50 @@ def _cmd_sweep(args):
     from . import sweep
     print("\n".join(sweep.main(args)))
     return EXIT_OK
+
+
+def _add_bench(sub):
+    """``bench cube | accuracy | stability | scaling`` and their options."""
+    from .scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
+    bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
+                                         "stress-test matrix, cost per Newton step")
+    cases = bench.add_subparsers(dest="case", required=True)
+
+    def case(name, help):
+        p = cases.add_parser(name, help=help)
+        p.add_argument("--out", help="folder for the tables and the runs' results")
+        p.set_defaults(func=_cmd_bench)
+        return p
+
+    p = case("cube", "run time against error of the cube (energy against the converged "
+                     "energy)")
+    p.add_argument("--maxh", type=float, nargs="+", default=[0.5, 0.25],
+                   help="mesh sizes (default: 0.5 0.25)")
+    p.add_argument("--orders", type=int, nargs="+", default=[2, 3, 4, 5],
+                   help="polynomial orders (default: 2 3 4 5)")
+    case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
+                     "cylinder, with a plot and the cheapest setting per target")
+    p = case("stability", "the numerical stress-test matrix and the locking study (see "
+                          "ngincompat.stability)")
+    p.add_argument("--quick", action="store_true",
+                   help="only a small corner of the matrix and locking orders 1-3")
+    p.add_argument("--threads", type=int, default=1,
+                   help="NGSolve threads (default 1: the cells are small, and times on a "
+                        "shared machine stay comparable)")
+    p = case("scaling", "one Newton step of the cube against ndof and linear solver (see "
+                        "ngincompat.scaling)")
+    p.add_argument("--quick", action="store_true", help="only the two smallest sizes")
+    p.add_argument("--maxh", type=float, nargs="+",
+                   help="mesh sizes (default: the grid ngincompat.scaling.GRID)")
+    p.add_argument("--orders", type=int, nargs="+",
+                   help="polynomial orders (default: those of the grid; with --maxh: 2)")
+    p.add_argument("--solvers", nargs="+", choices=SOLVERS, metavar="SOLVER",
+                   help=f"linear solvers among {', '.join(SOLVERS)} (default: all)")
+    p.add_argument("--timeout", type=float, default=TIMEOUT,
+                   help=f"wall-time limit of one case's process [s] (default {TIMEOUT:g})")
+    p.add_argument("--memory-limit", type=float, default=MEMORY_LIMIT,
+                   help="resident-set limit of one case's process [GiB] "
+                        f"(default {MEMORY_LIMIT:g})")
 
 
 def build_parser():
@@ -182,10 +236,7 @@ def build_parser():
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
     p.set_defaults(func=_cmd_expansion)
 
-    from . import bench
-    p = sub.add_parser("bench", help="benchmarks: run time against error")
-    bench.add_arguments(p)
-    p.set_defaults(func=_cmd_bench)
+    _add_bench(sub)
 
     from . import sweep
     p = sub.add_parser("sweep", help="parameter sweeps: run a sweep file, plot its table")
