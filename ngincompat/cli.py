@@ -25,12 +25,12 @@ from .progress import Progress
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_INTERRUPTED = 0, 2, 3, 4, 130
 
 
-def _settings(pairs):
+def _settings(pairs, option="--set"):
     out = {}
     for pair in pairs or ():
         key, sep, value = pair.partition("=")
         if not sep or not key.strip():
-            raise ParameterError(f"--set {pair!r} must have the form KEY=VALUE")
+            raise ParameterError(f"{option} {pair!r} must have the form KEY=VALUE")
         out[key.strip()] = value.strip()
     return out
 
@@ -144,9 +144,22 @@ def _cmd_bench(args):
     return EXIT_OK
 
 
-def _cmd_sweep(args):
+def _cmd_sweep_run(args):
     from . import sweep
-    print("\n".join(sweep.main(args)))
+    report = sweep.run_sweep(sweep.load_sweep(args.file), args.out, workers=args.workers,
+                             threads=args.threads, scheduler=args.scheduler,
+                             resume=args.resume, max_cases=args.max_cases,
+                             progress=Progress(quiet=args.quiet))
+    print("\n".join(report.summary()))
+    return EXIT_OK
+
+
+def _cmd_sweep_plot(args):
+    from . import sweep
+    path = sweep.plot_sweep(args.sweep_dir, args.metric, args.x, args.out, hue=args.hue,
+                            where=_settings(args.where, "--where"), logx=args.logx,
+                            logy=args.logy)
+    print(f"plot written to {path}")
     return EXIT_OK
 
 
@@ -194,6 +207,42 @@ def _add_bench(sub):
                         f"(default {MEMORY_LIMIT:g})")
 
 
+def _add_sweep(sub):
+    """``sweep run`` and ``sweep plot``."""
+    sweep = sub.add_parser("sweep", help="parameter sweeps: run a sweep file, plot its table")
+    commands = sweep.add_subparsers(dest="sweep_command", required=True)
+    p = commands.add_parser("run", help="run the cases of a sweep file (TOML)")
+    p.add_argument("file", help="the sweep file")
+    p.add_argument("--out", required=True, help="sweep folder: cases, sweep.csv, sweep.json")
+    p.add_argument("--workers", type=int,
+                   help="local worker processes (default: min(2, cases)); with --scheduler: "
+                        "cases submitted at a time (default: the cluster's threads)")
+    p.add_argument("--threads", type=int,
+                   help="NGSolve threads per case (default: cores / workers; 1 with "
+                        "--scheduler)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on this Dask scheduler (e.g. tcp://host:8786) instead of locally")
+    p.add_argument("--resume", action="store_true",
+                   help="reuse the finished cases of a folder that holds a different sweep "
+                        "(an unchanged sweep always resumes)")
+    p.add_argument("--max-cases", type=int, metavar="N",
+                   help="run at most N cases now, the rest on the next run")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
+    p.set_defaults(func=_cmd_sweep_run)
+
+    p = commands.add_parser("plot", help="a metric against a parameter, one curve per hue")
+    p.add_argument("sweep_dir", help="the --out folder of a sweep run")
+    p.add_argument("--metric", required=True, help="column on the y axis")
+    p.add_argument("--x", required=True, help="parameter on the x axis")
+    p.add_argument("--hue", help="parameter with one curve per value")
+    p.add_argument("--where", action="append", default=[], metavar="KEY=VALUE",
+                   help="keep the rows with KEY = VALUE (repeatable)")
+    p.add_argument("--logx", action="store_true", help="logarithmic x axis")
+    p.add_argument("--logy", action="store_true", help="logarithmic y axis")
+    p.add_argument("--out", required=True, help="PNG file")
+    p.set_defaults(func=_cmd_sweep_plot)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(
         prog="ngincompat",
@@ -237,11 +286,7 @@ def build_parser():
     p.set_defaults(func=_cmd_expansion)
 
     _add_bench(sub)
-
-    from . import sweep
-    p = sub.add_parser("sweep", help="parameter sweeps: run a sweep file, plot its table")
-    sweep.add_arguments(p)
-    p.set_defaults(func=_cmd_sweep)
+    _add_sweep(sub)
     return parser
 
 
