@@ -151,7 +151,7 @@ def _cmd_sweep_run(args):
                              resume=args.resume, max_cases=args.max_cases,
                              progress=Progress(quiet=args.quiet))
     print("\n".join(report.summary()))
-    return EXIT_OK
+    return EXIT_FAILED_CASES if report.failed else EXIT_OK
 
 
 def _cmd_sweep_plot(args):

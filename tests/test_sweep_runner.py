@@ -198,6 +198,24 @@ def test_a_case_that_does_not_converge_keeps_its_last_converged_metrics(tmp_path
     assert not (tmp_path / "case" / "error.txt").exists()
 
 
+def test_failed_cases_make_the_command_line_exit_4(tmp_path, capfd):
+    """The table is complete (the good case done, the bad one a row with its error)."""
+    path = _write(tmp_path / "sweep.toml", 'scene = "cube"\nmetrics = ["strain_energy"]\n'
+                  '[fixed]\nmaxh = 1.0\norder = 1\noutputs = "none"\n[vary]\nnu = [0.3, 0.7]')
+    out = tmp_path / "out"
+    assert main(["sweep", "run", str(path), "--out", str(out), "--workers", "1"]) == 4
+    captured = capfd.readouterr()
+    assert "2 cases: 1 done, 1 failed" in captured.out
+    assert "| case | status | nu | strain_energy [N mm] | seconds [s] |" in captured.out
+    assert "case 1: ParameterError: nu = 0.7" in captured.out
+    # progress on stderr: the sweep's lines, and the case's stages from its worker
+    assert "case_001_" in captured.err and "(nu=0.7): failed (ParameterError" in captured.err
+    assert "] growth: t = 1/1" in captured.err
+    rows = read_table(out).rows
+    assert [r["status"] for r in rows] == ["done", "failed"]
+    assert rows[0]["strain_energy"] > 0
+
+
 def test_scheduler_without_dask_is_a_parameter_error(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "dask", None)
     sweep = parse_sweep({"scene": "cube", "vary": {"nu": [0.3]}})

@@ -32,6 +32,7 @@ def _write(path, text):
     ('scene = "cube"\nmetrics = []', "metrics"),
     ('scene = "cube"\nmetrics = ["strain_energy", "nu"]\n[vary]\nnu = [0.3]', "metrics"),
     ('scene = "cube"\nmetrics = ["strain_energy", "strain_energy"]', "twice"),
+    ('scene = "cube"\nmetrics = ["strain_enrgy"]', "strain_enrgy"),
     ('scene = "cube"\n[vary\nnu = [0.3]', "not valid TOML"),
 ])
 def test_bad_sweep_files_name_the_key(tmp_path, text, key):
@@ -47,6 +48,19 @@ def test_bad_sweep_file_on_the_command_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "zip.mu" in err[0]
     assert not (tmp_path / "out").exists()
+
+
+def test_a_metric_typo_is_an_error_before_any_case_runs(tmp_path, capsys):
+    """Exit 2 with one line naming the unknown metric and every metric of the scene; no case
+    folder (nor the sweep folder) is made."""
+    path = _write(tmp_path / "typo.toml", 'scene = "cube"\nmetrics = ["strain_energy", '
+                  '"G_eror_L2_rel"]\n[fixed]\nmaxh = 1.0\n[vary]\nnu = [0.3, 0.4]')
+    out = tmp_path / "out"
+    assert main(["sweep", "run", str(path), "--out", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'G_eror_L2_rel'" in err[0]
+    assert "allowed " + ", ".join(CubeScene.metrics) in err[0]
+    assert not out.exists() and list(tmp_path.glob("**/case_*")) == []
 
 
 def test_ranges_and_products():

@@ -24,9 +24,9 @@ of ``[zip]`` (outermost) with the values of ``[vary]`` in the file's order, the 
 varying fastest.
 
 The file is checked when it is read: unknown keys, unknown parameter names, empty lists,
-unequal ``[zip]`` lengths and an unknown scene are errors naming the key. The parameter
-*values* are checked by the scene, case by case (:meth:`Case.build`), so that a bad value
-makes only its case fail.
+unequal ``[zip]`` lengths, an unknown scene, and metrics the scene cannot report (its class's
+``metrics``) are errors naming the key. The parameter *values* are checked by the scene, case
+by case (:meth:`Case.build`), so that a bad value makes only its case fail.
 """
 
 import dataclasses
@@ -235,11 +235,11 @@ def parse_sweep(data, source="sweep"):
     if metrics is not None:
         if not isinstance(metrics, list) or not metrics:
             fail(f"metrics = {metrics!r} must be a non-empty list of metric names")
+        known = SCENES[scene].metrics
         for name in metrics:
-            if not isinstance(name, str) or not name:
-                fail(f"metrics: {name!r} is not a metric name")
-            if name in ("case", "status", "seconds", "error") or name in vary or name in zipped:
-                fail(f"metrics: {name!r} is also the name of a column of the table")
+            if name not in known:
+                fail(f"metrics: {name!r} is not a metric of scene {scene!r}: allowed "
+                     f"{', '.join(known)}")
         if len(set(metrics)) < len(metrics):
             fail(f"metrics = {metrics!r} names a metric twice")
         metrics = tuple(metrics)
