@@ -1,107 +1,89 @@
-"""Benchmarks: ``ngincompat bench cube`` measures run time against error;
-``ngincompat bench stability`` runs the numerical stress-test matrix; ``ngincompat bench
-scaling`` the cost of one Newton step against size and linear solver (:mod:`.scaling`).
+"""Benchmarks of accuracy against cost: ``ngincompat bench cube`` and ``ngincompat bench
+accuracy``. (``bench stability`` is :mod:`.stability`, ``bench scaling`` :mod:`.scaling`.)
 
-For every (maxh, order) the cube scene is solved and the table reports ndof, Newton iterations,
-solve time, the strain energy and its relative error against the finest run of the table, and
-the relative L2 error of G (projected path) against eq. (16). Files are not written for the
-runs (only results.json), so the times are those of the computation.
+``cube``: for every (maxh, order) the cube scene is solved and the table reports ndof, Newton
+iterations, solve time, the strain energy, its relative error against the converged energy
+:data:`CUBE_ENERGY`, and the relative L2 error of G (projected path) against eq. (16).
+
+``accuracy``: the same for the cube (also as the fast quarter model), the hemisphere in
+symmetry mode and the cylinder, each against its own reference (:func:`error`), with the
+cheapest setting that meets each target error and a plot of error against solve time.
+
+The runs write only results.json (``outputs = "none"``) and only when a folder is given, so
+the times are those of the computation. Every table is written by :func:`ngincompat.tables.write`
+(markdown, CSV, JSON) with units.
 """
 
 import itertools
-import tempfile
 from pathlib import Path
 
-from . import io, scaling
+from . import plots, tables
+from .scenes import CubeScene, get_scene
 
-
-def add_arguments(parser):
-    parser.add_argument("case", choices=["cube", "accuracy", "stability", "scaling"],
-                        help="cube: run time against error of the cube; accuracy: the same "
-                             "for cube, hemisphere (symmetry mode) and cylinder, with a plot "
-                             "and the cheapest setting per target; stability: the numerical "
-                             "stress-test matrix (see ngincompat.stability); scaling: one "
-                             "Newton step of the cube against ndof and linear solver (see "
-                             "ngincompat.scaling)")
-    parser.add_argument("--quick", action="store_true",
-                        help="stability, scaling: only a small corner of the matrix or grid")
-    parser.add_argument("--threads", type=int, default=1,
-                        help="stability: NGSolve threads (default 1)")
-    parser.add_argument("--maxh", type=float, nargs="+", default=None,
-                        help="mesh sizes (cube default: 0.5 0.25; scaling: see "
-                             "ngincompat.scaling.GRID)")
-    parser.add_argument("--orders", type=int, nargs="+", default=None,
-                        help="polynomial orders (cube default: 2 3 4 5; scaling: see "
-                             "ngincompat.scaling.GRID)")
-    parser.add_argument("--solvers", nargs="+", default=None,
-                        help="scaling: linear solvers among sparsecholesky, umfpack, bddc, "
-                             "pardiso (default: all)")
-    parser.add_argument("--timeout", type=float, default=scaling.TIMEOUT,
-                        help="scaling: wall-time limit of one case's process [s] "
-                             f"(default {scaling.TIMEOUT:g})")
-    parser.add_argument("--memory-limit", type=float, default=scaling.MEMORY_LIMIT,
-                        help="scaling: resident-set limit of one case's process [GiB] "
-                             f"(default {scaling.MEMORY_LIMIT:g})")
-    parser.add_argument("--out", default=None,
-                        help="folder for the table (bench.json, scaling.json) and the runs' "
-                             "results")
-
-
-def cube_table(maxhs, orders, out):
-    """Run the cube for every (maxh, order); returns the rows, finest run last."""
-    from .scenes import CubeScene
-    rows = []
-    for maxh, order in itertools.product(sorted(maxhs, reverse=True), sorted(orders)):
-        scene = CubeScene(maxh=maxh, order=order, outputs="none")
-        r = scene.run(Path(out) / f"cube_h{maxh:g}_p{order}")
-        rows.append({
-            "maxh": maxh, "order": order, "ndof": r["mesh"]["ndof"],
-            "newton": r["solver"]["newton_iterations"],
-            "solve_s": r["timings"]["solve"],
-            "strain_energy": r["metrics"]["strain_energy"],
-            "G_error": r["metrics"]["G_error_L2_rel"],
-        })
-    finest = max(rows, key=lambda row: row["ndof"])
-    for row in rows:
-        row["energy_error"] = abs(row["strain_energy"] - finest["strain_energy"]) / \
-            abs(finest["strain_energy"])
-    return rows
-
-
-def format_table(rows):
-    head = "| maxh | order | ndof | Newton | solve [s] | strain energy [N mm] | " \
-           "energy rel. error | G rel. L2 error |"
-    lines = [head, "|" + "---|" * 8]
-    for r in rows:
-        lines.append(f"| {r['maxh']:g} | {r['order']} | {r['ndof']} | {r['newton']} | "
-                     f"{r['solve_s']:.2f} | {r['strain_energy']:.6e} | "
-                     f"{r['energy_error']:.1e} | {r['G_error']:.1e} |")
-    return "\n".join(lines)
-
-
-def main(args):
-    """Entry of ``ngincompat bench``; returns the lines for the command line to print."""
-    if args.case == "stability":
-        from . import stability
-        return stability.main(args)
-    if args.case == "scaling":
-        return scaling.main(args)
-    if args.case == "accuracy":
-        return accuracy_main(args)
-    with tempfile.TemporaryDirectory() as scratch:
-        out = Path(args.out) if args.out else Path(scratch)
-        rows = cube_table(args.maxh or [0.5, 0.25], args.orders or [2, 3, 4, 5], out)
-        if args.out:
-            io.write_json(out / "bench.json", {"case": args.case, "rows": rows,
-                                               **io.provenance()})
-    return [format_table(rows), "(energy error against the finest run of the table)"]
-
-
-#: Converged strain energy of the cube (N mm): order 6 on 4^3 hexahedra, 2.195334e-7, which
+#: Converged strain energy of the cube [N mm]: order 6 on 4^3 hexahedra, 2.195334e-7, which
 #: agrees with the independent reference 2.19533e-7.
 CUBE_ENERGY = 2.195334e-7
 
-#: (scene, settings grid) of the accuracy study; errors as documented in :func:`_error`.
+#: Columns of ``bench cube``.
+CUBE_COLUMNS = ("maxh", "order", "ndof", "newton", "solve_s", "strain_energy", "energy_error",
+                "G_error")
+#: Units of the columns of every bench table (the scenes' units: mm, N mm).
+UNITS = {"maxh": CubeScene.units["length"], "solve_s": "s",
+         "strain_energy": CubeScene.units["energy"], "energy_error": "-", "G_error": "-",
+         "error": "-", "target": "-"}
+
+
+def _run(scene, out, label):
+    """Run ``scene`` into ``out/label`` (nowhere without ``out``); returns its Results."""
+    return scene.run(None if out is None else Path(out) / label, overwrite=True)
+
+
+def cube_table(maxhs, orders, out=None):
+    """Run the cube for every (maxh, order), coarsest mesh first.
+
+    Parameters
+    ----------
+    maxhs : sequence of float
+        Mesh sizes [mm].
+    orders : sequence of int
+        Polynomial orders.
+    out : path-like, optional
+        Folder for the runs' results.json (``cube_h<maxh>_p<order>``), replaced if present.
+
+    Returns
+    -------
+    list of dict
+        One row per run with the columns :data:`CUBE_COLUMNS`; ``energy_error`` is
+        ``|W - CUBE_ENERGY| / CUBE_ENERGY``.
+    """
+    rows = []
+    for maxh, order in itertools.product(sorted(maxhs, reverse=True), sorted(orders)):
+        r = _run(CubeScene(maxh=maxh, order=order, outputs="none"), out,
+                 f"cube_h{maxh:g}_p{order}")
+        rows.append({"maxh": maxh, "order": order, "ndof": r.mesh.ndof,
+                     "newton": r.newton_iterations, "solve_s": r.solve_seconds,
+                     "strain_energy": r.metrics["strain_energy"],
+                     "energy_error": error("cube", r),
+                     "G_error": r.metrics["G_error_L2_rel"]})
+    return rows
+
+
+def cube_main(maxhs=(0.5, 0.25), orders=(2, 3, 4, 5), out=None):
+    """``ngincompat bench cube``: run :func:`cube_table`; returns the lines to print.
+
+    With ``out`` the table is written as ``bench.md``, ``bench.csv`` and ``bench.json``.
+    """
+    rows = cube_table(maxhs, orders, out)
+    lines = [tables.markdown(rows, list(CUBE_COLUMNS), UNITS),
+             f"(energy error against the converged energy {CUBE_ENERGY:.7g} N mm)"]
+    if out is not None:
+        tables.write(out, "bench", rows, list(CUBE_COLUMNS), UNITS, case="cube",
+                     reference_energy=CUBE_ENERGY)
+        lines.append(f"table written to {Path(out) / 'bench.md'} (.csv, .json)")
+    return lines
+
+
+#: (scene, settings grid) of the accuracy study; errors as documented in :func:`error`.
 #: "cube-fast" is the cube with every lever for speed: a quarter model (two mirror planes)
 #: and the factorised tangent reused while Newton contracts tenfold per iteration.
 ACCURACY = {
@@ -113,36 +95,40 @@ ACCURACY = {
     "cylinder": ("cylinder", [dict(maxh=h, order=p) for h in (0.5, 0.25) for p in (2, 3, 4)]),
 }
 TARGETS = (1e-2, 1e-4, 1e-6)
+#: Columns of the accuracy study and of its cheapest settings.
+ACCURACY_COLUMNS = ("case", "maxh", "order", "ndof", "newton", "tangents", "solve_s", "error")
+CHEAPEST_COLUMNS = ("case", "target", "setting", "solve_s")
 
 
-def _error(scene, results):
-    """The error measure of a scene: relative energy error (cube), largest Cauchy-stress error
-    against the 1-D radial solution relative to the largest stress (hemisphere), strain energy
-    over mu |B| (a L)^2, which must vanish (cylinder)."""
-    m = results["metrics"]
+def error(scene, results):
+    """The error measure of a scene's :class:`~ngincompat.results.Results`: relative energy
+    error against :data:`CUBE_ENERGY` (cube), largest Cauchy-stress error against the 1-D
+    radial solution relative to the largest stress (hemisphere), strain energy over
+    mu |B| (a L)^2, which must vanish (cylinder)."""
+    m = results.metrics
     if scene == "cube":
         return abs(m["strain_energy"] - CUBE_ENERGY) / CUBE_ENERGY
     if scene == "hemisphere":
         return max(m["radial_sigma_rr_error"], m["radial_sigma_thetatheta_error"])
-    p = results["params"]
+    p = results.params
     return m["strain_energy"] / (p["mu"] * p["area"] * p["length"] * (p["a"] * p["length"]) ** 2)
 
 
-def accuracy_table(out, cases=None):
-    """Run every setting of the accuracy study; returns rows with error and solve time."""
-    from .scenes import get_scene
+def accuracy_table(out=None, cases=None):
+    """Run every setting of the accuracy study (of ``cases``, default all); returns rows with
+    the columns :data:`ACCURACY_COLUMNS`. With ``out`` each run writes its results.json into
+    ``out/<case>_<settings>``."""
     rows = []
     for case in ACCURACY if cases is None else cases:
         name, grid = ACCURACY[case]
         for settings in grid:
-            scene = get_scene(name)(outputs="none", **settings)
             label = "_".join(f"{k}{v}" for k, v in settings.items()
                              if k in ("maxh", "centre_maxh", "order"))
-            r = scene.run(Path(out) / f"{case}_{label}")
+            r = _run(get_scene(name)(outputs="none", **settings), out, f"{case}_{label}")
             rows.append({"case": case, "maxh": settings["maxh"], "order": settings["order"],
-                         "ndof": r["mesh"]["ndof"], "newton": r["solver"]["newton_iterations"],
-                         "tangents": r["solver"]["tangent_assemblies"],
-                         "solve_s": r["timings"]["solve"], "error": _error(name, r)})
+                         "ndof": r.mesh.ndof, "newton": r.newton_iterations,
+                         "tangents": sum(h.tangent_assemblies for h in r.solver.values()),
+                         "solve_s": r.solve_seconds, "error": error(name, r)})
     return rows
 
 
@@ -152,33 +138,38 @@ def cheapest(rows, case, target):
     return min(ok, key=lambda r: r["solve_s"]) if ok else None
 
 
-def accuracy_main(args):
-    from . import plots
-    with tempfile.TemporaryDirectory() as scratch:
-        out = Path(args.out) if args.out else Path(scratch)
-        rows = accuracy_table(out)
-        lines = ["| case | maxh | order | ndof | Newton | tangents | solve [s] | error |",
-                 "|---|---|---|---|---|---|---|---|"]
-        lines += [f"| {r['case']} | {r['maxh']:g} | {r['order']} | {r['ndof']} | "
-                  f"{r['newton']} | {r['tangents']} | {r['solve_s']:.2f} | {r['error']:.1e} |"
-                  for r in rows]
-        lines += ["", "| case | target | cheapest setting | solve [s] |", "|---|---|---|---|"]
-        for case in ACCURACY:
-            for target in TARGETS:
-                best = cheapest(rows, case, target)
-                setting = (f"maxh {best['maxh']:g}, order {best['order']}" if best
-                           else "none in the grid")
-                seconds = f"{best['solve_s']:.2f}" if best else "-"
-                lines.append(f"| {case} | {target:g} | {setting} | {seconds} |")
-        if args.out:
-            for case in ACCURACY:
-                curves = {}
-                for order in sorted({r["order"] for r in rows if r["case"] == case}):
-                    pts = sorted((r["solve_s"], r["error"]) for r in rows
-                                 if r["case"] == case and r["order"] == order)
-                    curves[f"order {order}"] = pts
-                plots.error_against_time(out / f"accuracy_{case}.png", curves,
-                                         title=f"{case}: error against solve time")
-            io.write_json(out / "accuracy.json", {"rows": rows, **io.provenance()})
-            lines.append(f"plots and table written to {out}")
+def cheapest_rows(rows):
+    """For every case and target of :data:`TARGETS`: the cheapest setting that meets it."""
+    table = []
+    for case in dict.fromkeys(r["case"] for r in rows):
+        for target in TARGETS:
+            best = cheapest(rows, case, target)
+            table.append({"case": case, "target": target,
+                          "setting": (f"maxh {best['maxh']:g}, order {best['order']}" if best
+                                      else "none in the grid"),
+                          "solve_s": best["solve_s"] if best else None})
+    return table
+
+
+def accuracy_main(out=None):
+    """``ngincompat bench accuracy``: run the study; returns the lines to print.
+
+    With ``out``: the runs' results, the tables ``accuracy`` and ``accuracy_cheapest``
+    (markdown, CSV, JSON) and one plot of error against solve time per case.
+    """
+    rows = accuracy_table(out)
+    best = cheapest_rows(rows)
+    lines = [tables.markdown(rows, list(ACCURACY_COLUMNS), UNITS), "",
+             tables.markdown(best, list(CHEAPEST_COLUMNS), UNITS)]
+    if out is not None:
+        tables.write(out, "accuracy", rows, list(ACCURACY_COLUMNS), UNITS)
+        tables.write(out, "accuracy_cheapest", best, list(CHEAPEST_COLUMNS), UNITS)
+        for case in dict.fromkeys(r["case"] for r in rows):
+            curves = {}
+            for order in sorted({r["order"] for r in rows if r["case"] == case}):
+                curves[f"order {order}"] = sorted((r["solve_s"], r["error"]) for r in rows
+                                                  if r["case"] == case and r["order"] == order)
+            plots.error_against_time(Path(out) / f"accuracy_{case}.png", curves,
+                                     title=f"{case}: error against solve time")
+        lines.append(f"plots and tables written to {out}")
     return lines

@@ -25,12 +25,12 @@ from .progress import Progress
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_INTERRUPTED = 0, 2, 3, 4, 130
 
 
-def _settings(pairs):
+def _settings(pairs, option="--set"):
     out = {}
     for pair in pairs or ():
         key, sep, value = pair.partition("=")
         if not sep or not key.strip():
-            raise ParameterError(f"--set {pair!r} must have the form KEY=VALUE")
+            raise ParameterError(f"{option} {pair!r} must have the form KEY=VALUE")
         out[key.strip()] = value.strip()
     return out
 
@@ -130,15 +130,118 @@ def _cmd_expansion(args):
 
 
 def _cmd_bench(args):
-    from . import bench
-    print("\n".join(bench.main(args)))
+    from . import bench, scaling, stability
+    if args.case == "cube":
+        lines = bench.cube_main(args.maxh, args.orders, out=args.out)
+    elif args.case == "accuracy":
+        lines = bench.accuracy_main(out=args.out)
+    elif args.case == "stability":
+        lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
+    else:
+        lines = scaling.main(args.maxh, args.orders, quick=args.quick, solvers=args.solvers,
+                             timeout=args.timeout, memory_limit=args.memory_limit,
+                             out=args.out)
+    print("\n".join(lines))
     return EXIT_OK
 
 
-def _cmd_sweep(args):
+def _cmd_sweep_run(args):
     from . import sweep
-    print("\n".join(sweep.main(args)))
+    report = sweep.run_sweep(sweep.load_sweep(args.file), args.out, workers=args.workers,
+                             threads=args.threads, scheduler=args.scheduler,
+                             resume=args.resume, max_cases=args.max_cases,
+                             progress=Progress(quiet=args.quiet))
+    print("\n".join(report.summary()))
+    return EXIT_FAILED_CASES if report.failed else EXIT_OK
+
+
+def _cmd_sweep_plot(args):
+    from . import sweep
+    path = sweep.plot_sweep(args.sweep_dir, args.metric, args.x, args.out, hue=args.hue,
+                            where=_settings(args.where, "--where"), logx=args.logx,
+                            logy=args.logy)
+    print(f"plot written to {path}")
     return EXIT_OK
+
+
+def _add_bench(sub):
+    """``bench cube | accuracy | stability | scaling`` and their options."""
+    from .scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
+    bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
+                                         "stress-test matrix, cost per Newton step")
+    cases = bench.add_subparsers(dest="case", required=True)
+
+    def case(name, help):
+        p = cases.add_parser(name, help=help)
+        p.add_argument("--out", help="folder for the tables and the runs' results")
+        p.set_defaults(func=_cmd_bench)
+        return p
+
+    p = case("cube", "run time against error of the cube (energy against the converged "
+                     "energy)")
+    p.add_argument("--maxh", type=float, nargs="+", default=[0.5, 0.25],
+                   help="mesh sizes (default: 0.5 0.25)")
+    p.add_argument("--orders", type=int, nargs="+", default=[2, 3, 4, 5],
+                   help="polynomial orders (default: 2 3 4 5)")
+    case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
+                     "cylinder, with a plot and the cheapest setting per target")
+    p = case("stability", "the numerical stress-test matrix and the locking study (see "
+                          "ngincompat.stability)")
+    p.add_argument("--quick", action="store_true",
+                   help="only a small corner of the matrix and locking orders 1-3")
+    p.add_argument("--threads", type=int, default=1,
+                   help="NGSolve threads (default 1: the cells are small, and times on a "
+                        "shared machine stay comparable)")
+    p = case("scaling", "one Newton step of the cube against ndof and linear solver (see "
+                        "ngincompat.scaling)")
+    p.add_argument("--quick", action="store_true", help="only the two smallest sizes")
+    p.add_argument("--maxh", type=float, nargs="+",
+                   help="mesh sizes (default: the grid ngincompat.scaling.GRID)")
+    p.add_argument("--orders", type=int, nargs="+",
+                   help="polynomial orders (default: those of the grid; with --maxh: 2)")
+    p.add_argument("--solvers", nargs="+", choices=SOLVERS, metavar="SOLVER",
+                   help=f"linear solvers among {', '.join(SOLVERS)} (default: all)")
+    p.add_argument("--timeout", type=float, default=TIMEOUT,
+                   help=f"wall-time limit of one case's process [s] (default {TIMEOUT:g})")
+    p.add_argument("--memory-limit", type=float, default=MEMORY_LIMIT,
+                   help="resident-set limit of one case's process [GiB] "
+                        f"(default {MEMORY_LIMIT:g})")
+
+
+def _add_sweep(sub):
+    """``sweep run`` and ``sweep plot``."""
+    sweep = sub.add_parser("sweep", help="parameter sweeps: run a sweep file, plot its table")
+    commands = sweep.add_subparsers(dest="sweep_command", required=True)
+    p = commands.add_parser("run", help="run the cases of a sweep file (TOML)")
+    p.add_argument("file", help="the sweep file")
+    p.add_argument("--out", required=True, help="sweep folder: cases, sweep.csv, sweep.json")
+    p.add_argument("--workers", type=int,
+                   help="local worker processes (default: min(2, cases)); with --scheduler: "
+                        "cases submitted at a time (default: the cluster's threads)")
+    p.add_argument("--threads", type=int,
+                   help="NGSolve threads per case (default: cores / workers; 1 with "
+                        "--scheduler)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on this Dask scheduler (e.g. tcp://host:8786) instead of locally")
+    p.add_argument("--resume", action="store_true",
+                   help="reuse the finished cases of a folder that holds a different sweep "
+                        "(an unchanged sweep always resumes)")
+    p.add_argument("--max-cases", type=int, metavar="N",
+                   help="run at most N cases now, the rest on the next run")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
+    p.set_defaults(func=_cmd_sweep_run)
+
+    p = commands.add_parser("plot", help="a metric against a parameter, one curve per hue")
+    p.add_argument("sweep_dir", help="the --out folder of a sweep run")
+    p.add_argument("--metric", required=True, help="column on the y axis")
+    p.add_argument("--x", required=True, help="parameter on the x axis")
+    p.add_argument("--hue", help="parameter with one curve per value")
+    p.add_argument("--where", action="append", default=[], metavar="KEY=VALUE",
+                   help="keep the rows with KEY = VALUE (repeatable)")
+    p.add_argument("--logx", action="store_true", help="logarithmic x axis")
+    p.add_argument("--logy", action="store_true", help="logarithmic y axis")
+    p.add_argument("--out", required=True, help="PNG file")
+    p.set_defaults(func=_cmd_sweep_plot)
 
 
 def build_parser():
@@ -190,15 +293,8 @@ def build_parser():
                    + ", ".join(FOOTPRINTS) + ")")
     p.set_defaults(func=_cmd_expansion)
 
-    from . import bench
-    p = sub.add_parser("bench", help="benchmarks: run time against error")
-    bench.add_arguments(p)
-    p.set_defaults(func=_cmd_bench)
-
-    from . import sweep
-    p = sub.add_parser("sweep", help="parameter sweeps: run a sweep file, plot its table")
-    sweep.add_arguments(p)
-    p.set_defaults(func=_cmd_sweep)
+    _add_bench(sub)
+    _add_sweep(sub)
     return parser
 
 

@@ -113,20 +113,43 @@ def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):
     save(profile_figure(s, curves, xlabel, ylabel, title, floor=floor), path)
 
 
-def error_against_time(path, curves, title=None):
-    """Error against run time on log-log axes; ``curves`` maps a label to (time, error) pairs."""
+def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False):
+    """A matplotlib Figure of curves with their own abscissae, each with markers.
+
+    Parameters
+    ----------
+    curves : dict
+        Legend label -> (x values, y values); an empty label is left out of the legend.
+    xlabel, ylabel : str
+        Axis labels with units.
+    title : str, optional
+    logx, logy : bool
+        Logarithmic axes.
+    """
     fig = Figure(figsize=(5.0, 3.6), dpi=120)
     ax = fig.subplots()
-    for (label, pts), (style, marker) in zip(curves.items(), cycle(STYLES)):
-        ax.loglog([p[0] for p in pts], [max(p[1], 1e-16) for p in pts], ls=style,
-                  marker=marker or "o", lw=2, label=label)
-    ax.set_xlabel("solve time [s]")
-    ax.set_ylabel("relative error [-]")
-    ax.legend()
+    for (label, (x, y)), (style, marker) in zip(curves.items(), cycle(STYLES)):
+        ax.plot(x, y, ls=style, marker=marker or "o", lw=2, label=label or None)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if logx:
+        ax.set_xscale("log")
+    if logy:
+        ax.set_yscale("log")
+    if any(curves):
+        ax.legend(fontsize="small")
     if title:
-        ax.set_title(title)
+        ax.set_title(title, fontsize="medium")
     fig.tight_layout()
-    save(fig, path)
+    return fig
+
+
+def error_against_time(path, curves, title=None):
+    """Error against run time on log-log axes; ``curves`` maps a label to (time, error) pairs."""
+    curves = {label: ([p[0] for p in pts], [max(p[1], 1e-16) for p in pts])
+              for label, pts in curves.items()}
+    save(curves_figure(curves, "solve time [s]", "relative error [-]", title, logx=True,
+                       logy=True), path)
 
 
 def save(fig, path):

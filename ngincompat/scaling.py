@@ -40,16 +40,17 @@ the real tangent of a solve. Per (mesh, order, solver) the row reports
   condensed system: the interior rows of K du - r vanish by construction (the element-local
   inner solve is exact) and its coupling rows are S du_c - r_c with the Schur complement S and
   the condensed right-hand side r_c, so a solver that fails silently shows here,
-* ``peak_mib``: the peak resident set size (``ru_maxrss``) of the case's own process at its end
-  (mesh, space, tangent and solver; Python and NGSolve alone take some 200 MiB), and
-  ``assembly_peak_mib`` the same right after the plain assembly.
+* ``peak_mib``: the peak resident set size (``VmHWM``, :func:`peak_mib`) of the case's own
+  process at its end (mesh, space, tangent and solver; Python and NGSolve alone take some
+  200 MiB), and ``assembly_peak_mib`` the same right after the plain assembly.
 
-Each case runs in its own process (``python -m ngincompat.scaling``) with NGSolve's task
-manager on all cores (``NGS_NUM_THREADS`` in the environment sets the number). The parent
-kills a process that runs longer than its time limit or whose resident set grows beyond its
-memory limit (polled every 0.1 s). The compatible displacement is computed once per (mesh,
-order) by a process of its own and handed to the cases as a file, so the factorisation of its
-vector Laplacian does not count in their peak memory. A case that fails, or runs out of memory
+Each case runs in its own process (``python -m ngincompat.scaling TASK.json``, see
+:func:`run_task`) with NGSolve's task manager on all cores (``NGS_NUM_THREADS`` in the
+environment sets the number). The parent kills a process that runs longer than its time
+limit or whose resident set grows beyond its memory limit (polled every 0.1 s). The
+compatible displacement is computed once per (mesh, order) by a process of its own and
+handed to the cases as a file, so the factorisation of its vector Laplacian does not count in
+their peak memory. A case that fails, or runs out of memory
 or time, becomes a row with the error (and the peak memory the kernel accounted for it); a
 solver that hit a limit is skipped on larger cases. The machine's load average at the start of
 each case is recorded (``load``): when other processes occupy the cores, the task manager's
@@ -61,7 +62,6 @@ setup of order 4 at 107811 dofs took 204 s instead of 3.6 s with ``OPENBLAS_NUM_
 machine).
 """
 
-import argparse
 import contextlib
 import itertools
 import logging
@@ -77,7 +77,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import io
+from . import io, tables
 from .errors import require
 
 log = logging.getLogger(__name__)
@@ -102,15 +102,13 @@ MEMORY_LIMIT = 16.0
 
 
 def mechanics(maxh, order):
-    """The cube scene's mechanics problem at t = 1, condensed, as the scene builds it."""
-    from .problem import GrowthMechanics
+    """The cube scene's mechanics problem (condensed) at t = 1, as the scene's case builds
+    it."""
     from .scenes import CubeScene
 
     case = CubeScene(maxh=maxh, order=order).build()
     case.time.Set(1.0)
-    return GrowthMechanics(case.mesh, case.growth, case.material, order=order,
-                           fibers=case.fibers, dirichlet=case.dirichlet,
-                           symmetry=case.symmetry, condense=True)
+    return case.mechanics()
 
 
 def first_state(problem):
@@ -211,16 +209,15 @@ def pardiso_status():
 # The case processes
 
 
-def _child(argv):
-    """Entry of a case's process: write the compatible displacement (no ``--solver``) or one
-    Newton step's row to ``--result``; exceptions become the row's error."""
-    parser = argparse.ArgumentParser(prog="python -m ngincompat.scaling")
-    parser.add_argument("--maxh", type=float, required=True)
-    parser.add_argument("--order", type=int, required=True)
-    parser.add_argument("--solver", choices=SOLVERS)
-    parser.add_argument("--state", required=True, help="compatible displacement (.npy)")
-    parser.add_argument("--result", required=True, help="the row (.json)")
-    args = parser.parse_args(argv)
+def run_task(path):
+    """Entry of a case's process (``python -m ngincompat.scaling TASK.json``).
+
+    The task file, written by :func:`run_process`, holds ``maxh``, ``order``, ``solver``
+    (None: compute the compatible displacement), ``state`` (the .npy file of the compatible
+    displacement: written without a solver, read with one) and ``result`` (the .json file
+    the row is written to). Exceptions become the row's error.
+    """
+    task = io.read_json(path)
     with contextlib.suppress(OSError):  # the first process to go if the machine runs out
         Path("/proc/self/oom_score_adj").write_text("1000")
     import ngsolve as ngs
@@ -231,24 +228,24 @@ def _child(argv):
     try:
         with ngs.TaskManager():
             row["threads"] = GetNumThreads()
-            problem = mechanics(args.maxh, args.order)
+            problem = mechanics(task["maxh"], task["order"])
             row["elements"] = problem.mesh.ne
-            if args.solver is None:
-                np.save(args.state, first_state(problem))
+            if task["solver"] is None:
+                np.save(task["state"], first_state(problem))
                 row["state_s"] = _time.perf_counter() - start
             else:
-                state = np.load(args.state)
+                state = np.load(task["state"])
                 require(state.size == problem.ndof, "state size", state.size,
                         f"ndof = {problem.ndof}")
                 problem.u.vec.FV().NumPy()[:] = state
                 row["base_peak_mib"] = peak_mib()
-                newton_step(problem, args.solver, row=row)
+                newton_step(problem, task["solver"], row=row)
     except Exception as exc:  # every failure becomes the row's error
         row["error"] = f"{type(exc).__name__}: {exc}".strip()
     row["status"] = "error" if "error" in row else "ok"
     row["process_s"] = _time.perf_counter() - start
     row["peak_mib"] = peak_mib()
-    io.write_json(args.result, row)
+    io.write_json(task["result"], row)
 
 
 def _rss_mib(pid):
@@ -303,10 +300,10 @@ def run_process(maxh, order, solver, state, timeout, memory_limit):
     """
     with tempfile.TemporaryDirectory() as scratch:
         result = Path(scratch) / "row.json"
-        cmd = [sys.executable, "-m", "ngincompat.scaling", "--maxh", repr(maxh),
-               "--order", str(order), "--state", str(state), "--result", str(result)]
-        if solver is not None:
-            cmd += ["--solver", solver]
+        task = io.write_json(Path(scratch) / "task.json",
+                             {"maxh": maxh, "order": order, "solver": solver,
+                              "state": str(state), "result": str(result)})
+        cmd = [sys.executable, "-m", "ngincompat.scaling", str(task)]
         code, limit, peak, seconds, stderr = watch(cmd, timeout, memory_limit)
         if result.exists():
             row = io.read_json(result)
@@ -406,79 +403,88 @@ def run_grid(grid, solvers=SOLVERS, timeout=TIMEOUT, memory_limit=MEMORY_LIMIT,
 # Tables
 
 
-def _num(row, key, spec):
-    value = row.get(key)
-    return "" if value is None else format(value, spec)
+#: Columns of the full table (one row per case and solver) and their units.
+COLUMNS = ("elements", "order", "ndof", "coupling", "solver", "assembly_s", "setup_s",
+           "solve_s", "total_s", "cg_iterations", "residual", "peak_mib", "note")
+UNITS = {"assembly_s": "s", "setup_s": "s", "solve_s": "s", "total_s": "s", "residual": "-",
+         "peak_mib": "MiB"}
+
+
+def _note(row):
+    """Why a row has no measurements, or its error."""
+    if row["status"] == "skipped" and row["solver"] == "pardiso":
+        return "skipped: not available (below)"
+    if row["status"] == "skipped":
+        return f"skipped: {row.get('error', '')}"
+    return row.get("error", "").replace("|", "/")
 
 
 def format_rows(rows):
     """The full markdown table: one line per case and solver."""
-    lines = ["| hexes | order | ndof | coupling | solver | assembly [s] | setup [s] | "
-             "solve [s] | total [s] | CG it. | residual | peak RSS [MiB] | note |",
-             "|" + "---|" * 13]
-    for r in rows:
-        note = r.get("error", "")
-        if r["status"] == "skipped" and r["solver"] == "pardiso":
-            note = "skipped: not available (below)"
-        elif r["status"] == "skipped":
-            note = f"skipped: {note}"
-        lines.append(
-            f"| {_num(r, 'elements', 'd')} | {r['order']} | {r['ndof']} | "
-            f"{_num(r, 'coupling', 'd')} | {r['solver']} | {_num(r, 'assembly_s', '.2f')} | "
-            f"{_num(r, 'setup_s', '.2f')} | {_num(r, 'solve_s', '.2f')} | "
-            f"{_num(r, 'total_s', '.2f')} | {_num(r, 'cg_iterations', 'd')} | "
-            f"{_num(r, 'residual', '.1e')} | {_num(r, 'peak_mib', '.0f')} | {note} |")
-    return "\n".join(lines)
+    return tables.markdown([{**r, "note": _note(r)} for r in rows], list(COLUMNS), UNITS)
 
 
 def format_summary(rows):
     """Per (mesh, order): total seconds / peak MiB of each solver, the fastest and the
     leanest one among those that succeeded."""
     solvers = [s for s in SOLVERS if any(r["solver"] == s for r in rows)]
-    lines = ["| ndof | order | " + " | ".join(solvers) + " | fastest | least memory |",
-             "|" + "---|" * (len(solvers) + 4)]
     cases = {}
     for r in rows:
         cases.setdefault((r["ndof"], r["order"]), {})[r["solver"]] = r
+    summary = []
     for (ndof, order), by_solver in cases.items():
-        cells = []
-        for s in solvers:
-            r = by_solver.get(s)
-            if r is None:
-                cells.append("")
-            elif r["status"] == "ok":
-                cells.append(f"{r['total_s']:.2f} s / {r['peak_mib']:.0f} MiB")
+        line = {"ndof": ndof, "order": order}
+        for s, r in by_solver.items():
+            if r["status"] == "ok":
+                line[s] = f"{r['total_s']:.2f} s / {r['peak_mib']:.0f} MiB"
             elif r.get("limit"):
-                cells.append({"time": "timeout", "memory": "out of memory"}[r["limit"]])
+                line[s] = {"time": "timeout", "memory": "out of memory"}[r["limit"]]
             else:
-                cells.append(r["status"])
+                line[s] = r["status"]
         ok = [r for r in by_solver.values() if r["status"] == "ok"]
-        fastest = min(ok, key=lambda r: r["total_s"])["solver"] if ok else "-"
-        leanest = min(ok, key=lambda r: r["peak_mib"])["solver"] if ok else "-"
-        lines.append(f"| {ndof} | {order} | " + " | ".join(cells) + f" | {fastest} | {leanest} |")
-    return "\n".join(lines)
+        line["fastest"] = min(ok, key=lambda r: r["total_s"])["solver"] if ok else "-"
+        line["least memory"] = min(ok, key=lambda r: r["peak_mib"])["solver"] if ok else "-"
+        summary.append(line)
+    return tables.markdown(summary, ["ndof", "order", *solvers, "fastest", "least memory"])
 
 
-def main(args):
-    """Entry of ``ngincompat bench scaling``; returns the lines to print.
+def main(maxhs=None, orders=None, quick=False, solvers=None, timeout=TIMEOUT,
+         memory_limit=MEMORY_LIMIT, out=None):
+    """Run the benchmark (``ngincompat bench scaling``); returns the lines to print.
 
-    Uses ``args.maxh``, ``args.orders``, ``args.quick``, ``args.solvers``, ``args.timeout``,
-    ``args.memory_limit`` and ``args.out`` (``OUT/scaling.json``, rewritten atomically after
-    every case so that a long run keeps what it measured).
+    Parameters
+    ----------
+    maxhs, orders : sequence, optional
+        The grid (see :func:`make_grid`).
+    quick : bool
+        The small default grid :data:`QUICK_GRID`.
+    solvers : sequence of str, optional
+        Among :data:`SOLVERS` (default: all).
+    timeout : float
+        Wall-time limit of one case's process [s].
+    memory_limit : float
+        Resident-set limit of one case's process [GiB].
+    out : path-like, optional
+        Folder of ``scaling.json``, rewritten atomically after every case so that a long run
+        keeps what it measured.
+
+    Returns
+    -------
+    list of str
     """
-    grid = make_grid(args.maxh, args.orders, args.quick)
-    solvers = args.solvers or SOLVERS
-    out = Path(args.out) / "scaling.json" if args.out else None
-    settings = {"grid": grid, "solvers": solvers, "timeout_s": args.timeout,
-                "memory_limit_gib": args.memory_limit, "cg_tol": CG_TOL}
+    grid = make_grid(maxhs, orders, quick)
+    solvers = list(solvers or SOLVERS)
+    path = Path(out) / "scaling.json" if out else None
+    settings = {"grid": grid, "solvers": solvers, "timeout_s": timeout,
+                "memory_limit_gib": memory_limit, "cg_tol": CG_TOL}
 
     def save(rows, pardiso=None, complete=False):
-        if out is not None:
-            io.write_json(out, {**settings, "complete": complete, "pardiso": pardiso,
-                                "rows": rows, **io.provenance()})
+        if path is not None:
+            io.write_json(path, {**settings, "complete": complete, "pardiso": pardiso,
+                                 "rows": rows, **io.provenance()})
 
     start = _time.perf_counter()
-    rows, pardiso = run_grid(grid, solvers, args.timeout, args.memory_limit, on_row=save)
+    rows, pardiso = run_grid(grid, solvers, timeout, memory_limit, on_row=save)
     save(rows, {"available": pardiso[0], "reason": pardiso[1]}, complete=True)
     lines = [format_rows(rows), "", format_summary(rows), ""]
     loads = [r["load"] for r in rows if "load" in r]
@@ -488,10 +494,10 @@ def main(args):
     if "pardiso" in solvers and not pardiso[0]:
         lines.append(f"pardiso skipped: {pardiso[1]}")
     lines.append(f"{len(rows)} rows in {_time.perf_counter() - start:.0f} s")
-    if out is not None:
-        lines.append(f"written to {out}")
+    if path is not None:
+        lines.append(f"written to {path}")
     return lines
 
 
 if __name__ == "__main__":
-    _child(sys.argv[1:])
+    run_task(sys.argv[1])

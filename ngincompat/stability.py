@@ -22,14 +22,12 @@ the line search), and no load step below 1e-3.
 formulation: the cube's strain energy under p-refinement on 2 x 2 x 2 hexahedra, displacement
 and mixed, next to displacement runs at nu = 0.3.
 
-Not yet a subcommand of the CLI (:func:`add_arguments` and :func:`main` are ready for it);
-from Python::
+``ngincompat bench stability [--quick] [--threads N] [--out DIR]`` runs both; from Python::
 
     from ngincompat import stability
-    lines = stability.main(stability.parse_args(["--quick", "--out", "results/stability"]))
+    lines = stability.main(quick=True, out="results/stability")
 """
 
-import argparse
 import contextlib
 import logging
 import math
@@ -44,7 +42,7 @@ import numpy as np
 
 from geometries import cube
 
-from . import io
+from . import io, tables
 from .errors import NgincompatError
 from .expressions import parse_expression
 from .fields import constant
@@ -317,18 +315,18 @@ def _note(row):
     return row["message"].replace("|", "/")
 
 
+#: Columns of the matrix's table and their units.
+COLUMNS = ("group", "cell", "status", "ndof", "load steps conv./att.", "newton", "t_reached",
+           "seconds", "strain_energy", "note")
+UNITS = {"seconds": "s", "strain_energy": "N mm"}
+
+
 def format_table(rows):
     """The rows of :func:`run_matrix` as a markdown table."""
-    lines = ["| group | cell | status | ndof | load steps conv./att. | Newton | t reached | "
-             "solve [s] | strain energy [N mm] | message / note |",
-             "|" + "---|" * 10]
-    for r in rows:
-        lines.append(
-            f"| {r['group']} | {r['label']} | {r['status']} | {_fmt(r['ndof'], 'd')} | "
-            f"{r['steps_converged']}/{r['steps_attempted']} | {r['newton']} | "
-            f"{r['t_reached']:.4g} | {r['seconds']:.2f} | {_fmt(r['strain_energy'], '.6e')} | "
-            f"{_note(r)} |")
-    return "\n".join(lines)
+    shown = [{**r, "cell": r["label"], "note": _note(r),
+              "load steps conv./att.": f"{r['steps_converged']}/{r['steps_attempted']}"}
+             for r in rows]
+    return tables.markdown(shown, list(COLUMNS), UNITS)
 
 
 def _relative(a, b):
@@ -412,38 +410,35 @@ LOCKING_ORDERS = (1, 2, 3, 4, 5)
 LOCKING_ORDERS_QUICK = (1, 2, 3)
 
 
-def add_arguments(parser):
-    parser.add_argument("--quick", action="store_true",
-                        help="only a small corner of the matrix and locking orders 1-3")
-    parser.add_argument("--out", default=None, help="folder for stability.json")
-    parser.add_argument("--threads", type=int, default=1,
-                        help="NGSolve threads (default 1: the cells are small, and times on a "
-                             "shared machine stay comparable)")
-
-
-def parse_args(argv=()):
-    parser = argparse.ArgumentParser(prog="stability", description=__doc__.splitlines()[0])
-    add_arguments(parser)
-    return parser.parse_args(list(argv))
-
-
-def main(args):
+def main(quick=False, threads=1, out=None):
     """Run the matrix and the locking study; returns the lines to print.
 
-    With ``args.out`` the rows are also written to ``OUT/stability.json`` (atomically).
+    Parameters
+    ----------
+    quick : bool
+        Only a small corner of the matrix (:func:`matrix`) and the locking orders
+        :data:`LOCKING_ORDERS_QUICK`.
+    threads : int or None
+        NGSolve threads (default 1: the cells are small, and times on a shared machine stay
+        comparable); None leaves NGSolve's setting.
+    out : path-like, optional
+        Folder of ``stability.json`` (the rows of both, written atomically).
+
+    Returns
+    -------
+    list of str
     """
     start = _time.perf_counter()
-    threads = getattr(args, "threads", None)
-    rows = run_matrix(matrix(quick=args.quick), threads=threads)
-    lock = locking(LOCKING_ORDERS_QUICK if args.quick else LOCKING_ORDERS, threads=threads)
+    rows = run_matrix(matrix(quick=quick), threads=threads)
+    lock = locking(LOCKING_ORDERS_QUICK if quick else LOCKING_ORDERS, threads=threads)
     seconds = _time.perf_counter() - start
     counts = {s: sum(r["status"] == s for r in rows) for s in ("converged", "error", UNEXPECTED)}
     summary = (f"{len(rows)} cells: {counts['converged']} converged, {counts['error']} error, "
                f"{counts[UNEXPECTED]} unexpected; matrix and locking study {seconds:.0f} s")
     lines = [format_table(rows), "", locking_table(lock), "", summary]
-    if args.out:
-        path = io.write_json(Path(args.out) / "stability.json",
-                             {"quick": args.quick, "threads": threads, "seconds": seconds,
+    if out is not None:
+        path = io.write_json(Path(out) / "stability.json",
+                             {"quick": quick, "threads": threads, "seconds": seconds,
                               "rows": rows, "locking": lock, **io.provenance()})
         lines.append(f"written to {path}")
     return lines

@@ -1,7 +1,6 @@
 """The scaling benchmark: one Newton step of the cube per linear solver, each case in its own
 process with its own peak memory."""
 
-import argparse
 import sys
 
 import ngsolve as ngs
@@ -87,10 +86,8 @@ def test_bddc_follows_a_new_linearisation():
 
 
 def test_benchmark_writes_rows_with_per_process_peak_memory(tmp_path):
-    args = argparse.Namespace(maxh=[0.5, 1 / 6], orders=None, quick=False,
-                              solvers=["sparsecholesky", "pardiso"], timeout=120.0,
-                              memory_limit=4.0, out=str(tmp_path))
-    lines = scaling.main(args)
+    lines = scaling.main([0.5, 1 / 6], solvers=["sparsecholesky", "pardiso"], timeout=120.0,
+                         memory_limit=4.0, out=str(tmp_path))
     data = io.read_json(tmp_path / "scaling.json")
     assert data["complete"]
     rows = {(r["ndof"], r["solver"]): r for r in data["rows"]}

@@ -140,8 +140,7 @@ def test_main_writes_stability_json(tmp_path, monkeypatch):
         Cell("order", "order 1, one hex", order=1, maxh=1.0),
         Cell("errors", "theta <= 0", theta="1 - 2*X1*t", maxh=1.0)])
     monkeypatch.setattr(stability, "LOCKING_ORDERS_QUICK", (1, 2))
-    args = stability.parse_args(["--quick", "--out", str(tmp_path)])
-    lines = stability.main(args)
+    lines = stability.main(quick=True, out=str(tmp_path))
     assert "2 cells: 1 converged, 1 error, 0 unexpected" in "\n".join(lines)
     data = json.loads((tmp_path / "stability.json").read_text())
     assert [r["status"] for r in data["rows"]] == ["converged", "error"]

@@ -1,0 +1,259 @@
+"""Running sweeps: failures as rows, resume, re-runs, Dask, exit codes of the command line.
+
+Every case is the cube at order 1 or 2 on one hexahedron (maxh = 1) without output files, a
+fraction of a second; most of the time goes into starting the worker processes.
+"""
+
+import json
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+
+from ngincompat import output
+from ngincompat.cli import main
+from ngincompat.errors import ConvergenceError, ParameterError
+from ngincompat.results import MeshInfo, Results
+from ngincompat.sweep import load_sweep, parse_sweep, read_table, run_case, run_sweep
+
+# six cases: (nu, a) zipped, the last nu out of range (its case fails in the scene)
+FAILING = """
+scene = "cube"
+metrics = ["strain_energy", "G_error_L2_rel"]
+
+[fixed]
+maxh = 1.0
+outputs = "none"
+
+[zip]
+nu = [0.2, 0.3, 0.4, 0.45, 0.49, 0.7]
+a = {start = 0.1, stop = 0.35, num = 6}
+
+[vary]
+order = [1]
+"""
+
+# six cases, all fine: order x nu
+PRODUCT = """
+scene = "cube"
+
+[fixed]
+maxh = 1.0
+outputs = "none"
+
+[vary]
+order = {start = 1, stop = 2, step = 1}
+nu = {start = 0.3, stop = 0.45, num = 3}
+"""
+
+
+def _write(path, text):
+    path.write_text(text)
+    return path
+
+
+def _mtimes(out):
+    return {p.parent.name: p.stat().st_mtime_ns for p in Path(out).glob("case_*/results.json")}
+
+
+def _without_seconds(rows):
+    return [{k: v for k, v in row.items() if k != "seconds"} for row in rows]
+
+
+@pytest.fixture(scope="module")
+def failing(tmp_path_factory):
+    root = tmp_path_factory.mktemp("failing")
+    sweep = load_sweep(_write(root / "failing.toml", FAILING))
+    report = run_sweep(sweep, root / "out", workers=2)
+    return sweep, report
+
+
+@pytest.fixture(scope="module")
+def resumed(tmp_path_factory):
+    """The product sweep stopped after three cases, then resumed."""
+    root = tmp_path_factory.mktemp("resumed")
+    sweep = load_sweep(_write(root / "product.toml", PRODUCT))
+    out = root / "out"
+    first = run_sweep(sweep, out, workers=1, max_cases=3)
+    before = _mtimes(out)
+    first_table = read_table(out)
+    second = run_sweep(sweep, out, resume=True)
+    return sweep, out, first, first_table, before, second
+
+
+def test_a_failing_case_is_a_row_and_the_others_go_on(failing):
+    sweep, report = failing
+    assert report.columns == ["case", "status", "nu", "a", "order", "strain_energy",
+                              "G_error_L2_rel", "seconds", "error"]
+    assert report.computed == 6 and report.reused == 0 and report.pending == 0
+    assert [row["case"] for row in report.rows] == list(range(6))
+    done = [row for row in report.rows if row["status"] == "done"]
+    failed = [row for row in report.rows if row["status"] == "failed"]
+    assert len(done) == 5 and len(failed) == 1
+    assert report.done == 5 and report.failed == 1
+    assert failed[0]["nu"] == 0.7 and failed[0]["a"] == pytest.approx(0.35)
+    assert "nu = 0.7" in failed[0]["error"] and "ParameterError" in failed[0]["error"]
+    assert failed[0]["strain_energy"] is None
+    assert (report.out / f"case_005_{sweep.cases()[5].key}" / "error.txt").is_file()
+    for row in done:
+        assert row["error"] is None and row["seconds"] > 0
+        assert row["strain_energy"] > 0 and row["G_error_L2_rel"] < 1e-6
+    # zipped: nu and a move together; a from the linspace range
+    assert [row["a"] for row in report.rows] == pytest.approx([0.1, 0.15, 0.2, 0.25, 0.3, 0.35])
+    # the table on disk is the report's table, with units
+    table = read_table(report.out)
+    assert table.columns == report.columns
+    assert table.units == {"a": "1/mm", "strain_energy": "N mm", "G_error_L2_rel": "-",
+                           "seconds": "s"}
+    assert [r["status"] for r in table.rows] == ["done"] * 5 + ["failed"]
+    assert table.rows[5]["error"] == failed[0]["error"]
+    assert [r["strain_energy"] for r in table.rows[:5]] == [r["strain_energy"] for r in done]
+    header = (report.out / "sweep.csv").read_text().splitlines()[0]
+    assert header == ("case,status,nu,a [1/mm],order,strain_energy [N mm],G_error_L2_rel [-],"
+                      "seconds [s],error")
+    # each case folder holds its own results.json, with the parameters of its row
+    for case, row in zip(sweep.cases()[:5], table.rows[:5], strict=True):
+        results = output.read(report.out / case.name)
+        assert results.params["nu"] == row["nu"] and results.params["order"] == 1
+        assert results.metrics["strain_energy"] == row["strain_energy"]
+
+
+def test_interrupted_sweep_resumes_without_recomputing(resumed):
+    sweep, out, first, first_table, before, second = resumed
+    assert first.computed == 3 and first.pending == 3
+    assert len(first_table.rows) == 3 and len(before) == 3
+    assert second.computed == 3 and second.reused == 3 and second.pending == 0
+    assert second.done == 6 and second.failed == 0
+    after = _mtimes(out)
+    assert len(after) == 6
+    assert {name: after[name] for name in before} == before   # the first three untouched
+    # the rows of the first three are rebuilt from their results.json, unchanged
+    assert _without_seconds(second.rows[:3]) == _without_seconds(first.rows)
+    assert [(r["order"], r["nu"]) for r in second.rows] == \
+        [(o, nu) for o in (1, 2) for nu in (0.3, 0.375, 0.45)]
+    # default metrics: every metric of results.json
+    assert {"strain_energy", "G_error_L2_rel", "burgers_max"} <= set(second.columns)
+
+
+def test_rerunning_a_finished_sweep_recomputes_nothing(resumed, failing):
+    sweep, out, *_ = resumed
+    before = _mtimes(out)
+    table = (out / "sweep.csv").read_bytes()
+    again = run_sweep(sweep, out)
+    assert again.computed == 0 and again.reused == 6
+    assert _mtimes(out) == before
+    assert (out / "sweep.csv").read_bytes() == table
+    # through the command line too
+    assert main(["sweep", "run", str(out.parent / "product.toml"), "--out", str(out),
+                 "-q"]) == 0
+    assert _mtimes(out) == before
+    # a failed case is tried again, the finished ones are not
+    sweep, report = failing
+    before = _mtimes(report.out)
+    again = run_sweep(sweep, report.out)
+    assert again.computed == 1 and again.reused == 5 and again.failed == 1
+    assert _mtimes(report.out) == before
+    assert _without_seconds(again.rows) == _without_seconds(report.rows)
+
+
+def test_a_case_is_done_only_with_complete_matching_results(resumed, tmp_path):
+    """A results.json that is not "done" (a ConvergenceError writes "not converged"), of other
+    parameters, or none at all: the case is to be run again. ``max_cases=0`` counts without
+    running."""
+    sweep, out, *_ = resumed
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    cases = sweep.cases()
+    path = copy / cases[0].name / "results.json"
+    results = json.loads(path.read_text())
+    path.write_text(json.dumps({**results, "status": "not converged",
+                                "error": "growth: Newton did not converge"}))
+    path = copy / cases[1].name / "results.json"
+    path.write_text(json.dumps({**results, "params": {**results["params"], "nu": 0.1}}))
+    (copy / cases[2].name / "results.json").unlink()
+    report = run_sweep(sweep, copy, max_cases=0)
+    assert report.computed == 0 and report.reused == 3 and report.pending == 3
+    assert [row["case"] for row in report.rows] == [3, 4, 5]
+    assert [row["case"] for row in read_table(copy).rows] == [3, 4, 5]
+
+
+def test_a_case_that_does_not_converge_keeps_its_last_converged_metrics(tmp_path):
+    """The row of a ConvergenceError: status "not converged", the metrics measured in the
+    last converged state, and the reason; no error.txt (results.json records it)."""
+    class Diverging:
+        def run(self, out, overwrite, progress, label):
+            err = ConvergenceError("growth: step below min_step at t = 0.5")
+            err.results = Results(scene="cube", params={}, units={},
+                                  mesh=MeshInfo(ne=1, nv=8, order=1, maxh=1.0),
+                                  status="not converged", timings={"growth": 0.5},
+                                  metrics={"strain_energy": 1e-8})
+            raise err
+
+    outcome = run_case({"scene": Diverging(), "folder": str(tmp_path / "case"),
+                        "threads": None, "quiet": True})
+    assert outcome == {"status": "not converged", "metrics": {"strain_energy": 1e-8},
+                       "seconds": 0.5,
+                       "error": "ConvergenceError: growth: step below min_step at t = 0.5"}
+    assert not (tmp_path / "case" / "error.txt").exists()
+
+
+def test_failed_cases_make_the_command_line_exit_4(tmp_path, capfd):
+    """The table is complete (the good case done, the bad one a row with its error)."""
+    path = _write(tmp_path / "sweep.toml", 'scene = "cube"\nmetrics = ["strain_energy"]\n'
+                  '[fixed]\nmaxh = 1.0\norder = 1\noutputs = "none"\n[vary]\nnu = [0.3, 0.7]')
+    out = tmp_path / "out"
+    assert main(["sweep", "run", str(path), "--out", str(out), "--workers", "1"]) == 4
+    captured = capfd.readouterr()
+    assert "2 cases: 1 done, 1 failed" in captured.out
+    assert "| case | status | nu | strain_energy [N mm] | seconds [s] |" in captured.out
+    assert "case 1: ParameterError: nu = 0.7" in captured.out
+    # progress on stderr: the sweep's lines, and the case's stages from its worker
+    assert "case_001_" in captured.err and "(nu=0.7): failed (ParameterError" in captured.err
+    assert "] growth: t = 1/1" in captured.err
+    rows = read_table(out).rows
+    assert [r["status"] for r in rows] == ["done", "failed"]
+    assert rows[0]["strain_energy"] > 0
+
+
+def test_scheduler_without_dask_is_a_parameter_error(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "dask", None)
+    sweep = parse_sweep({"scene": "cube", "vary": {"nu": [0.3]}})
+    with pytest.raises(ParameterError, match="dask"):
+        run_sweep(sweep, tmp_path / "out", scheduler="tcp://127.0.0.1:8786")
+
+
+def test_another_sweep_in_the_same_folder_needs_resume(tmp_path):
+    out = tmp_path / "out"
+    run_sweep(parse_sweep({"scene": "cube", "vary": {"nu": [0.3, 0.4]}}), out, max_cases=0)
+    assert (out / "sweep.json").is_file()
+    changed = parse_sweep({"scene": "cube", "vary": {"nu": [0.3, 0.45]}})
+    with pytest.raises(ParameterError, match="--resume"):
+        run_sweep(changed, out, max_cases=0)
+    report = run_sweep(changed, out, max_cases=0, resume=True)
+    assert report.computed == 0 and report.pending == 2
+
+
+def test_a_folder_holding_a_run_is_refused(tmp_path):
+    out = tmp_path / "run"
+    out.mkdir()
+    (out / "results.json").write_text("{}")
+    with pytest.raises(ParameterError, match="holds another run"):
+        run_sweep(parse_sweep({"scene": "cube", "vary": {"nu": [0.3]}}), out, max_cases=0)
+
+
+def test_dask_cluster_gives_the_same_table(failing, tmp_path):
+    distributed = pytest.importorskip("dask.distributed")
+    sweep, local = failing
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        report = run_sweep(sweep, tmp_path / "out", scheduler=cluster.scheduler_address)
+    assert report.computed == 6
+    assert report.columns == local.columns
+    assert [r["status"] for r in report.rows] == ["done"] * 5 + ["failed"]
+    dask_rows, local_rows = _without_seconds(report.rows), _without_seconds(local.rows)
+    for d, loc in zip(dask_rows, local_rows, strict=True):
+        assert d.keys() == loc.keys()
+        for key, value in loc.items():
+            assert d[key] == (pytest.approx(value, rel=1e-9) if isinstance(value, float)
+                              else value), key

@@ -1,0 +1,103 @@
+"""Sweep files: parsing, validation up front (keys, parameters, metrics), ranges and cases."""
+
+import pytest
+
+from ngincompat.cli import main
+from ngincompat.errors import ParameterError
+from ngincompat.scenes import CubeScene
+from ngincompat.sweep import load_sweep, parse_sweep
+
+
+def _write(path, text):
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("text, key", [
+    ('scene = "cube"\nvaryy = {nu = [0.3]}', "varyy"),
+    ('scene = "sphere"\n[vary]\nnu = [0.3]', "scene"),
+    ('[vary]\nnu = [0.3]', "scene"),
+    ('scene = "cube"\n[vary]\nnu = []', "vary.nu"),
+    ('scene = "cube"\n[vary]\nnu = 0.3', "vary.nu"),
+    ('scene = "cube"\n[vary]\npoisson = [0.3]', "vary.poisson"),
+    ('scene = "cube"\n[fixed]\nmaxhh = 1.0', "fixed.maxhh"),
+    ('scene = "cube"\n[fixed]\nnu = [0.3, 0.4]', "fixed.nu"),
+    ('scene = "cube"\n[fixed]\nnu = 0.3\n[vary]\nnu = [0.4]', "vary.nu"),
+    ('scene = "cube"\n[zip]\nnu = [0.3, 0.4]\na = [0.1]', "zip.a"),
+    ('scene = "cube"\n[vary]\norder = {start = 1, stop = 3, step = 0}', "vary.order.step"),
+    ('scene = "cube"\n[vary]\norder = {start = 3, stop = 1, step = 1}', "vary.order"),
+    ('scene = "cube"\n[vary]\nnu = {start = 0.1, stop = 0.4, step = 0.1}', "vary.nu.start"),
+    ('scene = "cube"\n[vary]\nnu = {start = 0.1, stop = 0.4, count = 3}', "vary.nu.count"),
+    ('scene = "cube"\n[vary]\nnu = {start = 0.1, stop = 0.4, num = 0}', "vary.nu.num"),
+    ('scene = "cube"\nmetrics = []', "metrics"),
+    ('scene = "cube"\nmetrics = ["strain_energy", "nu"]\n[vary]\nnu = [0.3]', "metrics"),
+    ('scene = "cube"\nmetrics = ["strain_energy", "strain_energy"]', "twice"),
+    ('scene = "cube"\nmetrics = ["strain_enrgy"]', "strain_enrgy"),
+    ('scene = "cube"\n[vary\nnu = [0.3]', "not valid TOML"),
+])
+def test_bad_sweep_files_name_the_key(tmp_path, text, key):
+    path = _write(tmp_path / "bad.toml", text)
+    with pytest.raises(ParameterError) as info:
+        load_sweep(path)
+    assert key in str(info.value)
+
+
+def test_bad_sweep_file_on_the_command_line(tmp_path, capsys):
+    path = _write(tmp_path / "bad.toml", 'scene = "cube"\n[zip]\nnu = [0.3, 0.4]\nmu = [1.0]')
+    assert main(["sweep", "run", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "zip.mu" in err[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_metric_typo_is_an_error_before_any_case_runs(tmp_path, capsys):
+    """Exit 2 with one line naming the unknown metric and every metric of the scene; no case
+    folder (nor the sweep folder) is made."""
+    path = _write(tmp_path / "typo.toml", 'scene = "cube"\nmetrics = ["strain_energy", '
+                  '"G_eror_L2_rel"]\n[fixed]\nmaxh = 1.0\n[vary]\nnu = [0.3, 0.4]')
+    out = tmp_path / "out"
+    assert main(["sweep", "run", str(path), "--out", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'G_eror_L2_rel'" in err[0]
+    assert "allowed " + ", ".join(CubeScene.metrics) in err[0]
+    assert not out.exists() and list(tmp_path.glob("**/case_*")) == []
+
+
+def test_ranges_and_products():
+    sweep = parse_sweep({"scene": "cube", "fixed": {"maxh": 1.0},
+                         "zip": {"mu": [1.0, 2.0], "a": [0.1, 0.2]},
+                         "vary": {"order": {"start": 1, "stop": 5, "step": 2},
+                                  "nu": {"start": 0.0, "stop": 0.4, "num": 3}}})
+    cases = sweep.cases()
+    assert len(cases) == 2 * 3 * 3
+    assert sweep.varied == ["mu", "a", "order", "nu"]
+    assert cases[0].params == {"maxh": 1.0, "mu": 1.0, "a": 0.1, "order": 1, "nu": 0.0}
+    assert cases[-1].varied == {"mu": 2.0, "a": 0.2, "order": 5, "nu": 0.4}
+    assert {c.varied["order"] for c in cases} == {1, 3, 5}
+    # folder names: deterministic, from the index and the parameters
+    again = parse_sweep({"scene": "cube", "fixed": {"maxh": 1.0},
+                         "zip": {"mu": [1.0, 2.0], "a": [0.1, 0.2]},
+                         "vary": {"order": [1, 3, 5], "nu": [0.0, 0.2, 0.4]}}).cases()
+    assert [c.name for c in again] == [c.name for c in cases]
+    assert cases[4].name.startswith("case_004_") and len({c.name for c in cases}) == 18
+    # the record beside the table lists every case with its folder
+    record = sweep.record()
+    assert record["varied"] == sweep.varied and len(record["cases"]) == 18
+    assert record["cases"][4] == {"case": 4, "folder": cases[4].name, "params": cases[4].params}
+
+
+def test_a_case_builds_its_scene_or_names_the_bad_value():
+    good, bad = parse_sweep({"scene": "cube", "vary": {"nu": [0.3, 0.7]}}).cases()
+    assert good.build() == CubeScene(nu=0.3)
+    with pytest.raises(ParameterError, match="nu = 0.7"):
+        bad.build()
+
+
+@pytest.mark.parametrize("name", ["cube_poisson", "hemisphere_profiles", "disc_fibers"])
+def test_example_sweep_files_are_valid(name):
+    """The sweep files shipped in examples/ parse and expand to the documented case counts."""
+    from pathlib import Path
+    path = Path(__file__).parent.parent / "examples" / "sweeps" / f"{name}.toml"
+    sweep = load_sweep(path)
+    expected = {"cube_poisson": 10, "hemisphere_profiles": 12, "disc_fibers": 6}[name]
+    assert len(sweep.cases()) == expected
