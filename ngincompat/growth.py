@@ -281,11 +281,30 @@ class TensorGrowth:
 
 
 def check_positive(theta, mesh, time=None, times=(0.0, 0.25, 0.5, 0.75, 1.0), order=4):
-    """Raise :class:`ParameterError` if theta <= 0 (or is not finite) anywhere in the body.
+    """Raise :class:`ParameterError` unless 0 < theta < inf everywhere in the body.
 
     theta is evaluated at the vertices and at the points of an integration rule of the given
     order in every element, at each of ``times`` (when a time Parameter is given). The message
-    names the worst point and time.
+    names the worst point and time: a non-finite value (NaN or +-inf) if there is one, else the
+    smallest value.
+
+    Parameters
+    ----------
+    theta : ngsolve.CoefficientFunction
+        The growth indicator theta(X, t).
+    mesh : ngsolve.Mesh
+        The body.
+    time : ngsolve.Parameter, optional
+        What t stands for in theta; it is restored after the check.
+    times : sequence of float
+        The times checked when ``time`` is given.
+    order : int
+        Order of the integration rule whose points are checked.
+
+    Raises
+    ------
+    ParameterError
+        If theta is not finite, or not positive, somewhere.
     """
     points = element_points(mesh, order)
     coords = np.column_stack([np.asarray(c(points)).ravel() for c in (ngs.x, ngs.y, ngs.z)])
@@ -295,14 +314,17 @@ def check_positive(theta, mesh, time=None, times=(0.0, 0.25, 0.5, 0.75, 1.0), or
             if time is not None:
                 time.Set(t)
             values = np.asarray(theta(points)).ravel()
-            bad = ~np.isfinite(values) | (values <= 0)
+            finite = np.isfinite(values)
+            bad = ~finite | (values <= 0)
             if bad.any():
-                i = int(np.argmin(np.where(np.isfinite(values), values, -np.inf)))
+                i = int(np.argmin(np.where(finite, values, -np.inf)))
                 where = "({:.4g}, {:.4g}, {:.4g})".format(*coords[i])
                 when = "" if t is None else f", t = {t:g}"
+                what = (f"theta = {values[i]:.4g}" if finite[i]
+                        else f"theta is not finite (theta = {values[i]})")
                 raise ParameterError(
-                    f"theta = {values[i]:.4g} at X = {where}{when}: the growth indicator must be "
-                    "positive (> 0) everywhere in the body")
+                    f"{what} at X = {where}{when}: the growth indicator must be finite and "
+                    "positive (0 < theta < inf) everywhere in the body")
     finally:
         if time is not None:
             time.Set(saved)

@@ -1,6 +1,8 @@
 """Atomic result files with provenance."""
 
 import json
+import os
+import stat
 
 import ngsolve as ngs
 import numpy as np
@@ -39,3 +41,23 @@ def test_vtk_written_under_final_name(tmp_path, unit_cube_hex):
     assert path.exists() and path.stat().st_size > 1000
     assert b"<VTKFile" in path.read_bytes()[:400]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fields.vtu"]
+
+
+@pytest.mark.skipif(os.name != "posix", reason="file modes and the umask are POSIX")
+@pytest.mark.parametrize("umask", [0o022, 0o077, 0o002], ids=oct)
+def test_files_get_the_mode_open_would_give(tmp_path, umask):
+    """Results are as readable as any file the user writes, 0o666 less the umask: a temporary
+    file from tempfile.mkstemp would keep its 0o600 through the rename."""
+    old = os.umask(umask)
+    try:
+        path = io.write_json(tmp_path / "results.json", {"step": 1})
+        new = stat.S_IMODE(path.stat().st_mode)
+        io.write_json(path, {"step": 2})  # replacing an existing file
+        replaced = stat.S_IMODE(path.stat().st_mode)
+        with io.atomic_path(tmp_path / "figure.png") as tmp:
+            tmp.write_bytes(b"png")
+        figure = stat.S_IMODE((tmp_path / "figure.png").stat().st_mode)
+    finally:
+        os.umask(old)
+    assert new == replaced == figure == 0o666 & ~umask
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["figure.png", "results.json"]
