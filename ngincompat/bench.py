@@ -94,6 +94,12 @@ ACCURACY = {
                                   for h, c in ((0.4, 0.1), (0.3, 0.02)) for p in (2, 3, 4)]),
     "cylinder": ("cylinder", [dict(maxh=h, order=p) for h in (0.5, 0.25) for p in (2, 3, 4)]),
 }
+#: The corner of :data:`ACCURACY` that ``--quick`` runs (seconds; what the tests run).
+QUICK_ACCURACY = {
+    "cube": ("cube", [dict(maxh=1.0, order=2), dict(maxh=1.0, order=3)]),
+    "cube-fast": ("cube", [dict(maxh=0.5, order=3, model="quarter", reuse_tangent=True)]),
+    "cylinder": ("cylinder", [dict(maxh=0.5, order=2)]),
+}
 TARGETS = (1e-2, 1e-4, 1e-6)
 #: Columns of the accuracy study and of its cheapest settings.
 ACCURACY_COLUMNS = ("case", "maxh", "order", "ndof", "newton", "tangents", "solve_s", "error")
@@ -114,13 +120,12 @@ def error(scene, results):
     return m["strain_energy"] / (p["mu"] * p["area"] * p["length"] * (p["a"] * p["length"]) ** 2)
 
 
-def accuracy_table(out=None, cases=None):
-    """Run every setting of the accuracy study (of ``cases``, default all); returns rows with
-    the columns :data:`ACCURACY_COLUMNS`. With ``out`` each run writes its results.json into
-    ``out/<case>_<settings>``."""
+def accuracy_table(out=None, study=None):
+    """Run every setting of the accuracy ``study`` (default :data:`ACCURACY`); returns rows
+    with the columns :data:`ACCURACY_COLUMNS`. With ``out`` each run writes its results.json
+    into ``out/<case>_<settings>``."""
     rows = []
-    for case in ACCURACY if cases is None else cases:
-        name, grid = ACCURACY[case]
+    for case, (name, grid) in (ACCURACY if study is None else study).items():
         for settings in grid:
             label = "_".join(f"{k}{v}" for k, v in settings.items()
                              if k in ("maxh", "centre_maxh", "order"))
@@ -151,13 +156,14 @@ def cheapest_rows(rows):
     return table
 
 
-def accuracy_main(out=None):
-    """``ngincompat bench accuracy``: run the study; returns the lines to print.
+def accuracy_main(out=None, quick=False):
+    """``ngincompat bench accuracy``: run the study (``quick``: :data:`QUICK_ACCURACY`);
+    returns the lines to print.
 
     With ``out``: the runs' results, the tables ``accuracy`` and ``accuracy_cheapest``
     (markdown, CSV, JSON) and one plot of error against solve time per case.
     """
-    rows = accuracy_table(out)
+    rows = accuracy_table(out, QUICK_ACCURACY if quick else None)
     best = cheapest_rows(rows)
     lines = [tables.markdown(rows, list(ACCURACY_COLUMNS), UNITS), "",
              tables.markdown(best, list(CHEAPEST_COLUMNS), UNITS)]

@@ -134,7 +134,7 @@ def _cmd_bench(args):
     if args.case == "cube":
         lines = bench.cube_main(args.maxh, args.orders, out=args.out)
     elif args.case == "accuracy":
-        lines = bench.accuracy_main(out=args.out)
+        lines = bench.accuracy_main(out=args.out, quick=args.quick)
     elif args.case == "stability":
         lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
     else:
@@ -183,8 +183,10 @@ def _add_bench(sub):
                    help="mesh sizes (default: 0.5 0.25)")
     p.add_argument("--orders", type=int, nargs="+", default=[2, 3, 4, 5],
                    help="polynomial orders (default: 2 3 4 5)")
-    case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
-                     "cylinder, with a plot and the cheapest setting per target")
+    p = case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
+                         "cylinder, with a plot and the cheapest setting per target")
+    p.add_argument("--quick", action="store_true",
+                   help="only coarse cube and cylinder settings (seconds)")
     p = case("stability", "the numerical stress-test matrix and the locking study (see "
                           "ngincompat.stability)")
     p.add_argument("--quick", action="store_true",

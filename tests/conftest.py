@@ -8,7 +8,7 @@ from geometries import cube
 
 #: Command-line settings that run the skin scene in seconds: linear elements, a mesh size of
 #: 3 cm, half a day of growth (a smoke test: the numbers are not the scene's).
-SKIN_COARSE = ["--set", "maxh=3", "--order", "1", "--set", "growth_order=0", "--set",
+SKIN_COARSE = ["--set", "maxh=3", "--set", "order=1", "--set", "growth_order=0", "--set",
                "g_order=2", "--set", "inflation_steps=2", "--set", "hold_days=0.5",
                "--set", "dt=0.5"]
 

@@ -21,13 +21,8 @@ def test_cheapest_setting_meeting_a_target():
     assert best[("cylinder", 1e-6)]["solve_s"] == 0.01
 
 
-def test_accuracy_study_writes_table_and_plots(tmp_path, monkeypatch):
-    monkeypatch.setattr(bench, "ACCURACY", {
-        "cube": ("cube", [dict(maxh=1.0, order=2), dict(maxh=1.0, order=3)]),
-        "cube-fast": ("cube", [dict(maxh=0.5, order=3, model="quarter", reuse_tangent=True)]),
-        "cylinder": ("cylinder", [dict(maxh=0.5, order=2)]),
-    })
-    lines = "\n".join(bench.accuracy_main(out=tmp_path)).splitlines()
+def test_accuracy_study_writes_table_and_plots(tmp_path):
+    lines = "\n".join(bench.accuracy_main(out=tmp_path, quick=True)).splitlines()
     rows = {(r["case"], r["order"]): r
             for r in io.read_json(tmp_path / "accuracy.json")["rows"]}
     assert rows[("cube", 3)]["error"] < rows[("cube", 2)]["error"] < 10

@@ -1,8 +1,9 @@
 """Every command the README shows runs, on coarse settings, as a user would follow it.
 
 The README's ``bash`` blocks are read line by line (a trailing ``\\`` continues a line); every
-``ngincompat`` command in them, also after ``&&`` or a ``.venv/bin/`` prefix, is run in order
-in one scratch folder (so a command can use what an earlier one wrote, as in the README),
+``ngincompat`` command in them, also after ``&&`` or a ``.venv/bin/`` prefix, and every inline
+command of the text that names an output folder (`` `ngincompat ... --out ...` ``), is run in
+order in one scratch folder (so a command can use what an earlier one wrote, as in the README),
 through the command line's ``main``, with coarse settings appended by the rules below. Each
 must exit 0 without a traceback and print its summary line. A command whose subcommand (or
 scene, or benchmark) has no rule here fails the test: a new README example cannot go
@@ -16,7 +17,8 @@ from pathlib import Path
 import pytest
 from conftest import SKIN_COARSE
 
-from ngincompat.cli import main
+from ngincompat import io
+from ngincompat.cli import EXIT_FAILED_CASES, main
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
@@ -50,9 +52,14 @@ SUMMARY = {
 
 
 def readme_commands(text):
-    """The ngincompat command lines of the README's bash blocks, in order."""
+    """The ngincompat command lines of the README's bash blocks, then its inline commands
+    with an output folder, each in the order of the README and once."""
     commands = []
-    for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
+    blocks = re.findall(r"```bash\n(.*?)```", text, flags=re.S)
+    prose = re.sub(r"```.*?```", "", text, flags=re.S)
+    blocks += [span for span in re.findall(r"`([^`\n]+)`", prose)
+               if span.startswith("ngincompat ") and "--out" in span.split()]
+    for block in blocks:
         joined = re.sub(r"\\\n\s*", " ", block)
         for line in joined.splitlines():
             words = shlex.split(line, comments=True)
@@ -61,11 +68,13 @@ def readme_commands(text):
             for start, end in zip(starts, ends, strict=True):
                 if end > start and Path(words[start]).name == "ngincompat":
                     commands.append(words[start + 1:end])
-    return commands
+    unique = {tuple(argv): argv for argv in commands}  # a command shown twice runs once
+    return list(unique.values())
 
 
-def coarse(argv):
-    """``argv`` with the coarse settings of its rule appended (KeyError: no rule)."""
+def coarse(argv, scheduler=None):
+    """``argv`` with the coarse settings of its rule appended (KeyError: no rule); a Dask
+    scheduler's address is replaced by ``scheduler``."""
     command = argv[0]
     if command == "run":
         return [*argv, *RUN[argv[1]], "-q"]
@@ -76,10 +85,24 @@ def coarse(argv):
     if command == "bench":
         return [*argv, *BENCH[argv[1]]]
     if command == "sweep":
+        if "--scheduler" in argv:
+            argv = list(argv)
+            argv[argv.index("--scheduler") + 1] = scheduler
         return [*argv, "--max-cases", "2", "-q"] if argv[1] == "run" else argv
     if command == "list":
         return argv
     raise KeyError(command)
+
+
+def expected_code(argv, scratch):
+    """0, or for a sweep the exit code of failed cases (4) when its table has failed rows:
+    the README's example sweep fails nu = 0.5 on purpose, and only that case may fail."""
+    if argv[:2] != ["sweep", "run"]:
+        return 0
+    rows = io.read_json(scratch / argv[argv.index("--out") + 1] / "sweep.json")["rows"]
+    failed = [row for row in rows if row["status"] != "done"]
+    assert all(row["nu"] == 0.5 and row["status"] == "failed" for row in failed), failed
+    return EXIT_FAILED_CASES if failed else 0
 
 
 COMMANDS = readme_commands(README.read_text())
@@ -103,14 +126,25 @@ def scratch(tmp_path_factory):
     return folder
 
 
+@pytest.fixture(scope="module")
+def dask_scheduler():
+    """A local Dask cluster, for the README's ``--scheduler tcp://host:8786``."""
+    distributed = pytest.importorskip("dask.distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        yield cluster.scheduler_address
+
+
 @pytest.mark.parametrize("index", range(len(COMMANDS)),
                          ids=[" ".join(argv[:3]) for argv in COMMANDS])
-def test_readme_command_runs(index, scratch, monkeypatch, capsys):
-    argv = coarse(COMMANDS[index])
+def test_readme_command_runs(index, scratch, monkeypatch, capsys, request):
+    argv = COMMANDS[index]
+    scheduler = request.getfixturevalue("dask_scheduler") if "--scheduler" in argv else None
+    argv = coarse(argv, scheduler)
     monkeypatch.chdir(scratch)
     code = main(argv)
     captured = capsys.readouterr()
-    assert code == 0, (argv, captured.err[-2000:])
+    assert code == expected_code(argv, scratch), (argv, captured.err[-2000:])
     assert "Traceback" not in captured.err
     assert SUMMARY[argv[0]] in captured.out, captured.out[-2000:]
 
