@@ -30,9 +30,9 @@
 # stay in one piece, the body deforms elastically (Fe = F Fg^-1) and keeps a residual stress,
 # although no load acts on it (traction-free; neo-Hookean, mu = 0.55 MPa, nu = 0.4).
 #
-# The notebook follows the pipeline of the `cube` scene (`ngincompat run cube`) step by step:
-# growth field -> incompatibility (G, b) -> mechanics -> residual stress -> the paper's Fig. 1g
-# profile -> verification of G against its closed form, eq. (16).
+# One call runs the `cube` scene (the same as `ngincompat run cube`): growth field ->
+# mechanics -> incompatibility (G, b) -> residual stress -> the profile of Fig. 1g -> G against
+# its closed form, eq. (16). The cells after it explain and draw what it returns.
 #
 # It runs at the scene's defaults (hexahedra, maxh 0.25 mm, displacement order 4). With the
 # environment variable `NGINCOMPAT_COARSE=1` (the tests) it takes a coarse mesh instead
@@ -41,60 +41,65 @@
 # %%
 import os
 
-import matplotlib.pyplot as plt
-import ngsolve as ngs
+from IPython.display import display
 from ngsolve.webgui import Draw
 
-from ngincompat import incompatibility as inc
-from ngincompat import postprocess
-from ngincompat.problem import GrowthMechanics
-from ngincompat.scenes.cube import CubeScene
-from ngincompat.solver import NewtonOptions, solve_growth
+from ngincompat import plots, postprocess
+from ngincompat.scenes import CubeScene
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
 scene = CubeScene(order=2, maxh=0.5) if COARSE else CubeScene()
 print(scene.describe())
 
+results = scene.run()  # mesh, solve, G and b, stresses, profiles: nothing is written
+
+# %% [markdown]
+# `results` is a typed record: the metrics (numbers, in the scene's units), the profiles
+# sampled along the X1 centre line, the specifications of the scene's figures, the solver
+# history of each stage, and the NGSolve fields themselves on `results.domain`, the mesh.
+
+# %%
+mesh, fields, m = results.domain, results.fields, results.metrics
+L, stress, energy = (results.units[k] for k in ("length", "stress", "energy"))
+print(f"{mesh.ne} elements, {results.mesh.ndof} dofs, "
+      f"{results.newton_iterations} Newton iterations, solved in {results.solve_seconds:.2f} s")
+print("fields:", ", ".join(fields))
+units = {"strain_energy": energy, "max_principal_stress": stress, "burgers_max": f"1/{L}",
+         "G_norm_L2": f"{L}^(1/2)"}
+for key, value in m.items():
+    print(f"  {key:28s} {value:11.4e} {units.get(key, '(relative)')}")
+
 # %% [markdown]
 # ## The growth field
 #
-# `scene.build()` returns the mesh, the growth model, the material and the growth time: an
-# `ngsolve.Parameter`, so one growth law serves every instant. We look at the end of growth,
-# t = 1, where theta runs from 1 at X1 = 0 to 1.25 at X1 = 1.
+# The fields are those of the end of growth, t = 1, where theta runs from 1 at X1 = 0 to 1.25
+# at X1 = 1.
 
 # %%
-case = scene.build()
-mesh, growth, time = case.mesh, case.growth, case.time
-print(f"{mesh.ne} elements, {mesh.nv} vertices")
-
-time.Set(1.0)
-theta_view = Draw(growth.theta, mesh, "theta")
+theta_view = Draw(fields["theta"], mesh, "theta")
 
 # %% [markdown]
 # ## Incompatibility: Curl Fg, G and Burgers vectors
 #
-# G depends on Fg alone, so it is known before any mechanics is solved. The package's
-# *projected path* interpolates each component of Fg into a high-order H1 space
-# (order `g_order`) and takes Curl of the interpolant, (Curl A)_ij = eps_irs dA_js/dX_r
+# G depends on Fg alone, so it is known before any mechanics is solved. The scene takes the
+# *projected path*: each component of Fg is interpolated into a high-order H1 space
+# (order `g_order`) and Curl is taken of the interpolant, (Curl A)_ij = eps_irs dA_js/dX_r
 # (eq. 7); it is the path that also works for computed growth fields.
 #
-# The paper reports b on the planes n_i = Fg e_i / |Fg e_i| (Fig. 1d). For isotropic growth
-# these are the coordinate planes, and eq. (16) makes G the skew matrix of grad theta over
-# 3 theta^(4/3). With grad theta = (t/4) e1:
+# The paper reports b on the planes n_i = Fg e_i / |Fg e_i| (Fig. 1d), the fields `b_n1`,
+# `b_n2`, `b_n3`. For isotropic growth these are the coordinate planes, and eq. (16) makes G
+# the skew matrix of grad theta over 3 theta^(4/3). With grad theta = (t/4) e1:
 #
 # * on n1 = e1, b = 0: a loop in the X2-X3 plane sees the same growth everywhere;
 # * on n2 and n3, |b| = (1/4) / (3 theta^(4/3)), from 1/12 at X1 = 0 down to ~0.062 at X1 = 1,
 #   along -e3 (plane n2) and +e2 (plane n3).
 
 # %%
-curl_Fg, _ = inc.curl_projected(growth.Fg, mesh, scene.g_order)
-G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
-normals = inc.lattice_normals(growth.Fg)  # n_i = Fg e_i / |Fg e_i|
-b = {f"n{i + 1}": inc.burgers_vector(G, n) for i, n in enumerate(normals)}
-for label, vec in b.items():
-    print(f"max |b| on plane {label}: {postprocess.maximum(ngs.Norm(vec), mesh):.5f} 1/mm")
-print(f"eq. (16) at X1 = 0:        {1 / 12:.5f} 1/mm")
+for plane in ("n1", "n2", "n3"):
+    print(f"max |b| on plane {plane}: {postprocess.maximum(fields[f'|b_{plane}|'], mesh):.5f} "
+          f"1/{L}")
+print(f"eq. (16) at X1 = 0:        {1 / 12:.5f} 1/{L}")
 
 # %% [markdown]
 # |b| on the plane n2, with the vectors b drawn on a clipping plane normal to X3 through the
@@ -103,86 +108,90 @@ print(f"eq. (16) at X1 = 0:        {1 / 12:.5f} 1/mm")
 
 # %%
 clip = {"x": 0, "y": 0, "z": -1, "dist": 0}
-b2_view = Draw(b["n2"], mesh, "b on n2", clipping=clip, vectors={"grid_size": 12})
+b2_view = Draw(fields["b_n2"], mesh, "b on n2", clipping=clip, vectors={"grid_size": 12})
 
 # %% [markdown]
 # And on the plane n3, where b points along +e2:
 
 # %%
-b3_view = Draw(b["n3"], mesh, "b on n3", clipping=clip, vectors={"grid_size": 12})
+b3_view = Draw(fields["b_n3"], mesh, "b on n3", clipping=clip, vectors={"grid_size": 12})
+
+# %% [markdown]
+# The same along the X1 centre line, the scene's figure of the Burgers vectors: zero on n1,
+# equal magnitudes on n2 and n3, falling as 1/theta^(4/3).
+
+# %%
+figures = {spec.file: spec for spec in results.figures}
+display(plots.figure(results, figures["burgers.png"]))
 
 # %% [markdown]
 # ## Mechanics: the body grows and stays in one piece
 #
 # Equilibrium is the minimum of the elastic energy int Jg Psi(Fe) dV over displacements u
 # (section 2.4). The cube is traction-free; its six rigid-body motions are removed by a
-# statically determinate support at three vertices, which carries no load. Growth is applied
-# from t = 0 to t = 1 in one load step (the solver cuts it if Newton fails).
+# statically determinate support at three vertices, which carries no load. The scene applies
+# the growth from t = 0 to t = 1 in one load step (the solver cuts it if Newton fails); its
+# solver history has one stage, "growth". The strain energy converges to 2.19533e-7 N mm
+# under refinement (README, Performance); the coarse mesh is some 50 % off.
 
 # %%
-time.Set(0.0)
-problem = GrowthMechanics(mesh, growth, case.material, order=scene.order)
-with ngs.TaskManager():
-    history = solve_growth(problem, time, NewtonOptions(steps=scene.steps))
-energy = problem.strain_energy()
-reference = 2.19533e-7  # N mm, converged high-order value (README, Performance)
-print(f"t = {time.Get():g}, {problem.ndof} dofs, {history.newton_iterations} Newton iterations")
-print(f"strain energy {energy:.6e} N mm, {abs(energy / reference - 1):.1e} from {reference:g}")
+for stage, history in results.solver.items():
+    print(f"stage {stage}: t = {history.t_reached:g}, {len(history.steps)} load step(s), "
+          f"{history.newton_iterations} Newton iterations, {results.timings[stage]:.2f} s")
+reference = 2.19533e-7  # N mm, converged high-order value
+print(f"strain energy {m['strain_energy']:.6e} {energy}, "
+      f"{abs(m['strain_energy'] / reference - 1):.1e} from {reference:g}")
 
 # %% [markdown]
-# The residual stress comes from the same energy by symbolic differentiation
-# (`postprocess.stresses`): P = dW/dF, S = F^-1 P. Below is S11 (Fig. 1f) on the deformed
-# configuration, `deformation=u` at true scale (the face X1 = 1 ends up ~7 % wider than the
-# face X1 = 0; pass `scale=...` to exaggerate). The residual stress is a few kPa, a few
-# thousandths of mu, and self-equilibrated: tension and compression balance in every section.
+# The residual stress comes from the same energy by symbolic differentiation: P = dW/dF,
+# S = F^-1 P. Below is S11 (Fig. 1f) on the deformed configuration, `deformation=u` at true
+# scale (the face X1 = 1 ends up ~7 % wider than the face X1 = 0; pass `scale=...` to
+# exaggerate). The residual stress is a few kPa, a few thousandths of mu, and
+# self-equilibrated: tension and compression balance in every section.
 
 # %%
-stress = postprocess.stresses(problem.energy_density, problem.u)
-e1 = ngs.CF((1, 0, 0))
-S11 = postprocess.component(stress["S"], e1)
-Psi = stress["W"] / growth.Jg  # strain energy density per intermediate volume
-S11_min, S11_max = -postprocess.maximum(-S11, mesh), postprocess.maximum(S11, mesh)
-print(f"S11 from {S11_min:.2e} to {S11_max:.2e} MPa")
-deformed_view = Draw(S11, mesh, "S11", deformation=problem.u)
+S11_max = postprocess.maximum(fields["S11"], mesh)
+S11_min = -postprocess.maximum(-fields["S11"], mesh)
+print(f"S11 from {S11_min:.2e} to {S11_max:.2e} {stress}")
+deformed_view = Draw(fields["S11"], mesh, "S11", deformation=fields["u"])
+
+# %% [markdown]
+# Along the centre line, S11, S22 and S33 (S22 and S33 coincide by symmetry):
+
+# %%
+display(plots.figure(results, figures["stress.png"]))
 
 # %% [markdown]
 # ## The profile along the X1 centre line (Fig. 1g)
 #
 # The strain energy density Psi and the scalar Curl Fg : Curl Fg along the line
-# X2 = X3 = 0.5 mm. From eq. (15), Curl Fg : Curl Fg = 2 |grad theta|^2 / (9 theta^(4/3)),
-# drawn as markers.
+# X2 = X3 = 0.5 mm: the scene's figure, with eq. (15),
+# Curl Fg : Curl Fg = 2 |grad theta|^2 / (9 theta^(4/3)), added as markers on its right axis.
 
 # %%
-start, end, coord = case.line
-s, values = postprocess.sample_line(
-    mesh, {"Psi": Psi, "curlFg_sq": inc.curl_norm_squared(curl_Fg)}, start, end)
-X1 = start[0] + s
-theta_line = 1 + scene.a * X1
-curl_sq_exact = 2 * scene.a**2 / (9 * theta_line ** (4 / 3))
-
-fig, ax = plt.subplots(figsize=(5.5, 3.8))
-ax.plot(X1, values["Psi"], color="tab:blue", lw=2)
-ax.set_xlabel(f"{coord} [mm]")
-ax.set_ylabel(r"$\Psi$ [MPa]", color="tab:blue")
-twin = ax.twinx()
-twin.plot(X1, values["curlFg_sq"], color="tab:red", lw=2, ls="--", label="projected")
-twin.plot(X1[::10], curl_sq_exact[::10], "o", color="tab:red", mfc="none", label="eq. (15)")
-twin.set_ylabel(r"Curl $F^g$ : Curl $F^g$ [1/mm$^2$]", color="tab:red")
-twin.legend(loc="upper center")
-ax.set_title("cube: profile along the X1 centre line (Fig. 1g)")
-fig.tight_layout()
-plt.show()
+line = results.profile("line")
+X1 = line["X1"]
+curl_sq_eq15 = 2 * scene.a**2 / (9 * (1 + scene.a * X1) ** (4 / 3))
+fig = plots.figure(results, figures["profile.png"])
+left, right = fig.axes
+right.plot(X1[5::10], curl_sq_eq15[5::10], "x", color="k", label="eq. (15)")
+left.legend(handles=left.get_lines() + right.get_lines(), fontsize="small")
+display(fig)
 
 # %% [markdown]
 # ## Verification: G against the closed form, eq. (16)
 #
-# `closed_form_G` writes eq. (16) out independently of the generic Curl operator, with the
-# gradient of theta taken symbolically. The relative L2 error of the projected G is of the
-# order of the interpolation error of theta^(1/3) at order `g_order` (1e-9 to 1e-10), on the
-# coarse mesh as on the fine one: G does not depend on how the displacement is discretised.
+# The scene compares the projected G with `ngincompat.incompatibility.closed_form_G`, which
+# writes eq. (16) out independently of the generic Curl operator, with the gradient of theta
+# taken symbolically. The relative L2 error is of the order of the interpolation error of
+# theta^(1/3) at order `g_order` (1e-9 to 1e-10), on the coarse mesh as on the fine one: G
+# does not depend on how the displacement is discretised.
+#
+# The scene also computes G a second way, from the elastic deformation alone (eq. 12:
+# G = Je Fe^-1 curl Fe^-1, derivatives in the current configuration). It agrees with G of
+# eq. (10) only as far as the displacement is resolved: ~1e-2 on the coarse mesh.
 
 # %%
-G_exact = inc.closed_form_G(growth)
-error = inc.relative_l2_error(G, G_exact, mesh)
-print(f"relative L2 error of G (t = {time.Get():g}): {error:.2e}")
-assert error < 1e-5, error
+print(f"relative L2 error of G against eq. (16): {m['G_error_L2_rel']:.2e}")
+print(f"G from Fe (eq. 12) against G from Fg (eq. 10): {m['G_elastic_vs_growth_L2_rel']:.2e}")
+assert m["G_error_L2_rel"] < 1e-5, m["G_error_L2_rel"]

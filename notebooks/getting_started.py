@@ -14,61 +14,63 @@
 # %% [markdown]
 # # Getting started: your own growth field in ten lines
 #
-# Build a geometry, prescribe a growth field theta(X, t), and get the incompatibility tensor
-# G = (1/Jg) Fg Curl Fg (eq. 10 of Lee et al., JMPS 146 (2021) 104177), a Burgers vector
+# Prescribe a growth field theta(X, t) on a geometry and get the incompatibility tensor
+# G = (1/Jg) Fg Curl Fg (eq. 10 of Lee et al., JMPS 146 (2021) 104177), the Burgers vectors
 # b = G^T n (eq. 11) and the residual stress, with the public Python API. Units: mm, MPa.
 #
-# Here a 1 mm cube (tetrahedra), traction-free, neo-Hookean (mu = 0.55 MPa, nu = 0.4), grows
-# isotropically, by up to 30 % in volume, in a Gaussian bump around the centre of its top face
-# X3 = 1. With `NGINCOMPAT_COARSE=1` (the tests) the mesh and the displacement order are
-# coarser.
+# Here a 1 mm cube, traction-free, neo-Hookean (mu = 0.55 MPa, nu = 0.4), grows isotropically,
+# by up to 30 % in volume, in a Gaussian bump around the centre of its top face X3 = 1. The
+# `custom` scene takes theta as a formula in X1, X2, X3 and the growth time t in [0, 1]
+# (`ngincompat run custom --set theta=...` from the command line does the same). With
+# `NGINCOMPAT_COARSE=1` (the tests) the mesh and the displacement order are coarser.
 
 # %%
 import os
 
-import ngsolve as ngs
 from ngsolve.webgui import Draw
 
-from geometries import cube
-from ngincompat import incompatibility as inc
-from ngincompat import postprocess
-from ngincompat.growth import IsotropicGrowth
-from ngincompat.materials import NeoHookean
-from ngincompat.problem import GrowthMechanics
-from ngincompat.solver import solve_growth
+from ngincompat.scenes import CustomScene
 
 maxh, order = (0.5, 2) if os.environ.get("NGINCOMPAT_COARSE") == "1" else (0.2, 3)
 
 # %% [markdown]
-# The ten lines. `t` is the growth time: theta depends on it, and the solver drives it from 0
-# to 1. G depends on Fg alone; b is reported on the plane whose normal is Fg e3 / |Fg e3|.
+# The ten lines. `growth` is `isotropic`, `area` or `fiber` (with a `direction`); `geometry`
+# any of the package's geometries; `run()` solves (t = 0 -> 1), computes G and b, the stresses
+# and their profiles, and returns them; nothing is written unless you pass an output folder.
 
 # %%
-t = ngs.Parameter(0.0)
-mesh = cube(maxh=maxh, elements="tet")
-r2 = (ngs.x - 0.5) ** 2 + (ngs.y - 0.5) ** 2 + (ngs.z - 1) ** 2
-growth = IsotropicGrowth(1 + 0.3 * t * ngs.exp(-r2 / 0.2))
-problem = GrowthMechanics(mesh, growth, NeoHookean.from_nu(0.55, 0.4), order=order)
-history = solve_growth(problem, t)  # traction-free, t = 0 -> 1
-curl_Fg, _ = inc.curl_projected(growth.Fg, mesh, order=6)
-G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
-b3 = inc.burgers_vector(G, inc.lattice_normals(growth.Fg)[2])
-stress = postprocess.stresses(problem.energy_density, problem.u)  # P, S, sigma, W
+bump = "exp(-((X1-0.5)*(X1-0.5) + (X2-0.5)*(X2-0.5) + (X3-1)*(X3-1)) / 0.2)"
+scene = CustomScene(geometry="cube", growth="isotropic", theta=f"1 + 0.3*t*{bump}",
+                    maxh=maxh, order=order)
+results = scene.run()
+
+m, units = results.metrics, results.units
+print(f"{results.domain.ne} elements, {results.mesh.ndof} dofs, "
+      f"{results.newton_iterations} Newton iterations")
+print(f"strain energy {m['strain_energy']:.4e} {units['energy']}")
+print(f"largest |b| {m['burgers_max']:.4f} 1/{units['length']}")
+print(f"largest principal Cauchy stress {m['max_principal_stress']:.3e} {units['stress']}")
+bump_view = Draw(results.fields["|b_n3|"], results.domain, "|b| on n3",
+                 deformation=results.fields["u"])
+
+# %% [markdown]
+# `results.fields` holds every field as an NGSolve CoefficientFunction (theta, G, b on the
+# planes n_i = Fg e_i / |Fg e_i|, the displacement u, the stresses), `results.profiles` the
+# fields sampled along the X1 centre line, `results.figures` the specifications of the
+# scene's figures (`ngincompat.plots.figure(results, spec)` draws one), `results.solver` the
+# Newton history. `scene.run("out")` also writes results.json, VTK and the figures into the
+# folder `out`.
 
 # %%
-print(f"{mesh.ne} tets, {problem.ndof} dofs, {history.newton_iterations} Newton iterations")
-print(f"strain energy {problem.strain_energy():.4e} N mm")
-print(f"max |b| on n3: {postprocess.maximum(ngs.Norm(b3), mesh):.4f} 1/mm")
-sigma_max = postprocess.principal_values(stress["sigma"])[2]
-print(f"largest principal Cauchy stress {postprocess.maximum(sigma_max, mesh):.3e} MPa")
-bump_view = Draw(ngs.Norm(b3), mesh, "|b| on n3", deformation=problem.u)
+print(", ".join(results.fields))
 
 # %% [markdown]
 # G against its closed form for isotropic growth, eq. (16), with the gradient of your theta
-# taken symbolically. The projected G converges with the mesh and the interpolation order (~3e-3
-# on the coarse mesh, ~2e-5 at the defaults); a wrong Curl convention would be off by O(1).
+# taken symbolically (`ngincompat.incompatibility.closed_form_G`). The projected G converges
+# with the mesh and the interpolation order (~3e-4 on the coarse mesh, ~1e-6 at the
+# defaults); a wrong Curl convention would be off by O(1).
 
 # %%
-error = inc.relative_l2_error(G, inc.closed_form_G(growth), mesh)
+error = m["G_error_L2_rel"]
 print(f"relative L2 error of G: {error:.1e}")
 assert error < 1e-2, error

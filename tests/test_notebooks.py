@@ -4,6 +4,11 @@ The notebooks are jupytext percent scripts; each is converted to a notebook and 
 fresh python3 kernel with NGINCOMPAT_COARSE=1, from the repository root. A cell that raises
 (including the notebook's final assert) fails the test. ``ngsolve.webgui.Draw`` only
 produces widget output there.
+
+Executing the notebooks is a tier of its own, marked ``notebooks`` (``pytest -m notebooks``);
+the structural checks below are fast and run with the rest of the tests: every notebook ends
+with an assert, and none re-implements the scene pipeline (it runs a scene and draws its
+results).
 """
 
 import ast
@@ -20,6 +25,34 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.py"))
 TIMEOUT = 300  # seconds, per notebook (and so per cell)
 
 
+#: What the scene pipeline does for a notebook: building and solving the mechanics, and the
+#: projected Curl Fg. A notebook that uses these re-implements a scene.
+PIPELINE = {"GrowthMechanics", "CoupledGrowth", "solve_growth", "solve_coupled",
+            "curl_projected"}
+
+
+def code_cells(path):
+    """The code cells of a notebook as Python modules (IPython magics blanked)."""
+    for cell in jupytext.read(path).cells:
+        if cell.cell_type == "code":
+            lines = ["" if line.lstrip().startswith(("%", "!")) else line
+                     for line in cell.source.splitlines()]
+            yield ast.parse("\n".join(lines))
+
+
+def pipeline_names(tree):
+    """Names of the pipeline's internals that a module imports or uses."""
+    found = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom | ast.Import):
+            found |= {part for alias in node.names for part in alias.name.split(".")}
+        elif isinstance(node, ast.Attribute):
+            found.add(node.attr)
+        elif isinstance(node, ast.Name):
+            found.add(node.id)
+    return found & PIPELINE
+
+
 def test_notebooks_found():
     assert {p.name for p in NOTEBOOKS} >= {"cube.py", "getting_started.py"}
 
@@ -31,6 +64,25 @@ def test_notebook_ends_with_an_assert(path):
     assert code and isinstance(ast.parse(code[-1].source).body[-1], ast.Assert)
 
 
+def test_pipeline_names_are_found():
+    """The check below sees an import, a module attribute and a bare name."""
+    tree = ast.parse("from ngincompat.problem import GrowthMechanics\n"
+                     "import ngincompat.incompatibility as inc\n"
+                     "inc.curl_projected(Fg, mesh, 6)\n"
+                     "solve_coupled(problem, 1.0, 0.1)\n")
+    assert pipeline_names(tree) == {"GrowthMechanics", "curl_projected", "solve_coupled"}
+    assert not pipeline_names(ast.parse("results = CubeScene().run()"))
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
+def test_notebook_does_not_reimplement_the_pipeline(path):
+    """A notebook runs a scene and draws its results; building and solving the mechanics or
+    projecting Curl Fg by hand duplicates what the scenes do."""
+    used = set().union(*(pipeline_names(tree) for tree in code_cells(path)))
+    assert not used, f"{path.name} uses {sorted(used)}: run a scene instead"
+
+
+@pytest.mark.notebooks
 @pytest.mark.timeout(TIMEOUT)
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
 def test_notebook_runs(path):
