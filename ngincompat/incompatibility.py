@@ -18,12 +18,7 @@ which is what ``ngsolve.Grad`` gives for a matrix-valued GridFunction, and
     (Curl A)_ij = eps_irs dA_js / dX_r      (eq. 7).
 """
 
-from typing import TYPE_CHECKING
-
 import ngsolve as ngs
-
-if TYPE_CHECKING:
-    from .growth import GrowthModel
 
 _COORDS = (ngs.x, ngs.y, ngs.z)
 
@@ -194,13 +189,6 @@ def burgers_fiber_magnitude(theta, grad_theta, f0):
     along +f0 for m = grad theta x f0 / |grad theta x f0| and along -f0 for -m.
     """
     return ngs.Norm(ngs.Cross(grad_theta, f0)) / theta
-
-
-def closed_form_G(growth: "GrowthModel") -> ngs.CoefficientFunction | None:
-    """The closed-form G of a growth model, ``growth.closed_form_G()``, or None where none
-    exists (isotropic growth eq. 16; area eq. 20 and fiber growth eq. 25 for a constant
-    direction). See :class:`~ngincompat.growth.GrowthModel`."""
-    return growth.closed_form_G()
 
 
 def relative_l2_error(A, A_ref, mesh, order=10):

@@ -181,7 +181,7 @@ display(fig)
 # %% [markdown]
 # ## Verification: G against the closed form, eq. (16)
 #
-# The scene compares the projected G with `ngincompat.incompatibility.closed_form_G`, which
+# The scene compares the projected G with `GrowthModel.closed_form_G`, which
 # writes eq. (16) out independently of the generic Curl operator, with the gradient of theta
 # taken symbolically. The relative L2 error is of the order of the interpolation error of
 # theta^(1/3) at order `g_order` (1e-9 to 1e-10), on the coarse mesh as on the fine one: G

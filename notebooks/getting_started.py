@@ -66,7 +66,7 @@ print(", ".join(results.fields))
 
 # %% [markdown]
 # G against its closed form for isotropic growth, eq. (16), with the gradient of your theta
-# taken symbolically (`ngincompat.incompatibility.closed_form_G`). The projected G converges
+# taken symbolically (`GrowthModel.closed_form_G`). The projected G converges
 # with the mesh and the interpolation order (~3e-4 on the coarse mesh, ~1e-6 at the
 # defaults); a wrong Curl convention would be off by O(1).
 
