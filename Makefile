@@ -1,16 +1,15 @@
-# The README's two commands, and the benchmarks.
-PYTHON ?= python
+# The README's two commands (`make demo`, `make test`: the same lines), and the benchmarks.
 
 .PHONY: demo test bench lint
 
 demo:
-	$(PYTHON) -m pip install -e ".[test]" && ngincompat paper --out results/paper
+	python3 -m venv .venv && .venv/bin/python -m pip install -e ".[test]" && .venv/bin/ngincompat paper --out results/paper
 
 test:
-	$(PYTHON) -m pip install -e ".[test]" && $(PYTHON) -m pytest
+	python3 -m venv .venv && .venv/bin/python -m pip install -e ".[test]" && .venv/bin/python -m pytest
 
 bench:
-	ngincompat bench cube --out bench-results/cube
+	.venv/bin/ngincompat bench cube --out bench-results/cube
 
 lint:
-	ruff check .
+	.venv/bin/ruff check .

@@ -86,18 +86,8 @@ def _cmd_run(args):
 
 def _print_run(results, out):
     """The summary lines of a run: size, solver, time, metrics with the scene's units."""
-    if results.solver:
-        stages = ", ".join(f"{stage} {h.newton_iterations}"
-                           for stage, h in results.solver.items())
-        print(f"{results.scene}: {results.status}; ndof {results.mesh.ndof}, "
-              f"Newton iterations {results.newton_iterations} ({stages}), "
-              f"solve {results.solve_seconds:.2f} s, "
-              f"total {sum(results.timings.values()):.2f} s")
-    else:
-        print(f"{results.scene}: incompatibility only (no mechanics), "
-              f"{sum(results.timings.values()):.2f} s")
-    for key, value in results.metrics.items():
-        print(f"  {key:32s} {value:.6g}")
+    print(results.summary())
+    print("\n".join(results.metric_lines()))
     print(f"results written to {out}/results.json (units: "
           + ", ".join(f"{q} {u}" for q, u in results.units.items()) + ")")
 

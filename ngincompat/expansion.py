@@ -22,10 +22,7 @@ COLUMNS = ("footprint", "status", "ndof", "seconds", "volume_inflated", "pressur
            "theta_max", "theta_mean_footprint", "theta_apex", "burgers_max", "burgers_apex",
            "burgers_max_radius", "max_principal_stress_clamped",
            "max_principal_stress_released")
-UNITS = {"seconds": "s", "volume_inflated": "cm^3", "pressure_inflated": "MPa",
-         "theta_max": "-", "theta_mean_footprint": "-", "theta_apex": "-",
-         "burgers_max": "1/cm", "burgers_apex": "1/cm", "burgers_max_radius": "cm",
-         "max_principal_stress_clamped": "MPa", "max_principal_stress_released": "MPa"}
+UNITS = {"seconds": "s", **{k: SkinExpansionScene.metric_unit(k) for k in COLUMNS[4:]}}
 
 
 def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, **settings):

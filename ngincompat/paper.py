@@ -49,8 +49,7 @@ def cases(quick=False):
 #: Columns of the summary table and their units.
 COLUMNS = ("case", "status", "ndof", "newton", "load_steps", "newton_per_step", "seconds",
            "strain_energy", "burgers_max", "max_principal_stress", *CHECKS)
-UNITS = {"seconds": "s", "strain_energy": "N mm", "burgers_max": "1/mm",
-         "max_principal_stress": "MPa", **{k: "-" for k in CHECKS}}
+UNITS = {"seconds": "s", **{k: CubeScene.metric_unit(k) for k in COLUMNS[7:]}}
 
 
 def row(label, results, seconds):

@@ -102,6 +102,8 @@ class Results:
         Phase -> wall time [s].
     metrics : dict
         Name -> float (units: the scene's).
+    metric_units : dict
+        Metric name -> unit symbol ("-" for a ratio).
     profiles : dict
         Profile name -> {key: array}: fields sampled along lines.
     figures : list of Figure
@@ -126,6 +128,7 @@ class Results:
     solver: dict[str, SolverHistory] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
     metrics: dict[str, float] = field(default_factory=dict)
+    metric_units: dict[str, str] = field(default_factory=dict)
     profiles: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
     figures: list[Figure] = field(default_factory=list)
     versions: dict[str, str] = field(default_factory=dict)
@@ -149,6 +152,21 @@ class Results:
         """Wall time of the solver stages (the timings whose phase is a stage)."""
         return sum(self.timings.get(stage, 0.0) for stage in self.solver)
 
+    def summary(self) -> str:
+        """One line: status, size, Newton iterations per stage, solve and total time."""
+        total = sum(self.timings.values())
+        if not self.solver:
+            return f"{self.scene}: incompatibility only (no mechanics), {total:.2f} s"
+        stages = ", ".join(f"{stage} {h.newton_iterations}" for stage, h in self.solver.items())
+        return (f"{self.scene}: {self.status}; ndof {self.mesh.ndof}, Newton iterations "
+                f"{self.newton_iterations} ({stages}), solve {self.solve_seconds:.2f} s, "
+                f"total {total:.2f} s")
+
+    def metric_lines(self) -> list[str]:
+        """One line per metric: name, value and unit."""
+        return [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
+                for key, value in self.metrics.items()]
+
     def profile(self, name: str = "line") -> dict[str, np.ndarray]:
         """A sampled profile by name."""
         return self.profiles[name]
@@ -159,7 +177,8 @@ class Results:
             "scene": self.scene, "status": self.status, "error": self.error,
             "params": self.params, "units": self.units, "mesh": asdict(self.mesh),
             "solver": {stage: h.as_dict() for stage, h in self.solver.items()},
-            "timings": self.timings, "metrics": self.metrics, "profiles": self.profiles,
+            "timings": self.timings, "metrics": self.metrics,
+            "metric_units": self.metric_units, "profiles": self.profiles,
             "figures": [asdict(f) for f in self.figures], "versions": self.versions,
             "argv": self.argv, "files": self.files,
         })
@@ -177,6 +196,7 @@ class Results:
             solver={stage: _history(h) for stage, h in data.get("solver", {}).items()},
             timings={k: number(v) for k, v in data.get("timings", {}).items()},
             metrics={k: number(v) for k, v in data.get("metrics", {}).items()},
+            metric_units=dict(data.get("metric_units", {})),
             profiles={name: {k: np.asarray(v, dtype=float) for k, v in p.items()}
                       for name, p in data.get("profiles", {}).items()},
             figures=[Figure(**f) for f in data.get("figures", [])],

@@ -62,13 +62,9 @@ results = scene.run()  # mesh, solve, G and b, stresses, profiles: nothing is wr
 # %%
 mesh, fields, m = results.domain, results.fields, results.metrics
 L, stress, energy = (results.units[k] for k in ("length", "stress", "energy"))
-print(f"{mesh.ne} elements, {results.mesh.ndof} dofs, "
-      f"{results.newton_iterations} Newton iterations, solved in {results.solve_seconds:.2f} s")
+print(f"{mesh.ne} elements;", results.summary())
 print("fields:", ", ".join(fields))
-units = {"strain_energy": energy, "max_principal_stress": stress, "burgers_max": f"1/{L}",
-         "G_norm_L2": f"{L}^(1/2)"}
-for key, value in m.items():
-    print(f"  {key:28s} {value:11.4e} {units.get(key, '(relative)')}")
+print("\n".join(results.metric_lines()))  # units: the scene's, "-" a ratio
 
 # %% [markdown]
 # ## The growth field

@@ -76,13 +76,8 @@ results = scene.run()  # nothing is written without an output folder
 mesh, fields, m = results.domain, results.fields, results.metrics
 L, stress, energy = (results.units[k] for k in ("length", "stress", "energy"))
 a = scene.a
-print(f"{mesh.ne} elements, {results.mesh.ndof} dofs, "
-      f"{results.newton_iterations} Newton iterations, solved in {results.solve_seconds:.2f} s")
-units = {"strain_energy": energy, "max_principal_stress": stress, "burgers_max": f"1/{L}",
-         "G_norm_L2": f"{L}^(1/2)", "rotation_rate": f"1/{L}",
-         "rotation_rate_expected": f"1/{L}"}
-for key, value in m.items():
-    print(f"  {key:28s} {value:11.4e} {units.get(key, '(relative)')}")
+print(f"{mesh.ne} elements;", results.summary())
+print("\n".join(results.metric_lines()))  # units: the scene's, "-" a ratio
 
 # %% [markdown]
 # ## The growth field
@@ -205,7 +200,7 @@ runs = {p: results if p == scene.order else CylinderScene(order=p, **settings).r
 columns = ["order", "ndof", "strain_energy", "max_principal_stress", "Fe_rotation_deviation",
            "rotation_rate", "b_eq27_error"]
 rows = [{"order": p, "ndof": r.mesh.ndof, **r.metrics} for p, r in runs.items()]
-display(Markdown(tables.markdown(rows, columns, units)))
+display(Markdown(tables.markdown(rows, columns, results.metric_units)))
 
 fig = Figure(figsize=(5.5, 3.5), dpi=120)
 ax = fig.subplots()

@@ -68,13 +68,9 @@ results = scene.run()  # nothing is written without an output folder
 
 # %%
 mesh, fields, m = results.domain, results.fields, results.metrics
-L, stress, energy = (results.units[k] for k in ("length", "stress", "energy"))
-print(f"{mesh.ne} elements, {results.mesh.ndof} dofs, "
-      f"{results.newton_iterations} Newton iterations, solved in {results.solve_seconds:.2f} s")
-units = {"strain_energy": energy, "max_principal_stress": stress, "burgers_max": f"1/{L}",
-         "G_norm_L2": f"{L}^(1/2)"}
-for key, value in m.items():
-    print(f"  {key:28s} {value:11.4e} {units.get(key, '(relative)')}")
+L, stress = results.units["length"], results.units["stress"]
+print(f"{mesh.ne} elements;", results.summary())
+print("\n".join(results.metric_lines()))  # units: the scene's, "-" a ratio
 
 # %% [markdown]
 # ## The growth field
@@ -142,7 +138,7 @@ columns = ["fibers", "ndof", "newton", "strain_energy", "max_principal_stress",
            "sigma_r_rim_rel", "b_eq22_error"]
 rows = [{"fibers": f, "ndof": r.mesh.ndof, "newton": r.newton_iterations, **r.metrics}
         for f, r in runs.items()]
-display(Markdown(tables.markdown(rows, columns, units)))
+display(Markdown(tables.markdown(rows, columns, results.metric_units)))
 
 # %% [markdown]
 # The radial stress sigma_r = e_r . sigma e_r on the deformed configuration (`deformation=u`,

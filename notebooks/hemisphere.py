@@ -73,13 +73,9 @@ results = scene.run()  # nothing is written without an output folder
 
 # %%
 mesh, fields, m = results.domain, results.fields, results.metrics
-L, stress, energy = (results.units[k] for k in ("length", "stress", "energy"))
-print(f"{mesh.ne} elements, {results.mesh.ndof} dofs, "
-      f"{results.newton_iterations} Newton iterations, solved in {results.solve_seconds:.2f} s")
-units = {"strain_energy": energy, "max_principal_stress": stress, "burgers_max": f"1/{L}",
-         "G_norm_L2": f"{L}^(1/2)"}
-for key, value in m.items():
-    print(f"  {key:34s} {value:11.4e} {units.get(key, '(relative)')}")
+L, stress = results.units["length"], results.units["stress"]
+print(f"{mesh.ne} elements;", results.summary())
+print("\n".join(results.metric_lines()))  # units: the scene's, "-" a ratio
 
 # %% [markdown]
 # ## The growth field (Fig. 2a)
@@ -155,7 +151,7 @@ runs = {profile: results if profile == scene.profile
 columns = ["profile", "ndof", "strain_energy", "max_principal_stress", "burgers_max",
            "G_error_L2_rel"]
 rows = [{"profile": p, "ndof": r.mesh.ndof, **r.metrics} for p, r in runs.items()]
-display(Markdown(tables.markdown(rows, columns, units)))
+display(Markdown(tables.markdown(rows, columns, results.metric_units)))
 
 # %% [markdown]
 # theta at t = 1 along the ray for the three profiles (Fig. 2f). The linear and concave

@@ -108,6 +108,16 @@ def expected_code(argv, scratch):
 COMMANDS = readme_commands(README.read_text())
 
 
+def test_make_runs_the_two_commands_of_the_readme():
+    """``make demo`` and ``make test`` are the README's two set-up commands, word for word."""
+    two = re.search(r"## Two commands.*?```bash\n(.*?)```", README.read_text(), flags=re.S)
+    commands = [line for line in two.group(1).splitlines()
+                if line and not line.startswith("#")]
+    recipes = re.findall(r"^(demo|test):\n\t(.+)$", (ROOT / "Makefile").read_text(), flags=re.M)
+    assert dict(recipes) == {"demo": commands[0], "test": commands[1]}
+    assert "ngincompat paper" in commands[0] and "pytest" in commands[1]
+
+
 def test_the_readme_shows_commands_of_every_kind():
     kinds = {argv[0] for argv in COMMANDS}
     assert {"list", "run", "paper", "expansion", "bench", "sweep"} <= kinds

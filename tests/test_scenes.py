@@ -6,7 +6,8 @@ import pytest
 
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
-from ngincompat.scenes import CubeScene, CustomScene, get_scene
+from ngincompat.results import Results
+from ngincompat.scenes import CubeScene, CustomScene, HemisphereScene, SkinExpansionScene, get_scene
 
 REQUIRED = {"scene", "status", "params", "units", "versions", "mesh", "solver", "timings",
             "metrics", "profiles", "figures", "files"}
@@ -232,3 +233,22 @@ def test_custom_scene_refuses_a_mesh_file_together_with_a_geometry(tmp_path):
     path.write_text("x")
     with pytest.raises(ParameterError, match="geometry = 'disc'"):
         CustomScene(mesh=str(path), geometry="disc")
+
+
+def test_metric_units_follow_the_scene():
+    assert HemisphereScene.metric_unit("burgers_max") == "1/mm"
+    assert HemisphereScene.metric_unit("radial_sigma_rr_error") == "-"
+    assert SkinExpansionScene.metric_unit("burgers_max_radius") == "cm"
+    assert SkinExpansionScene.metric_unit("volume_inflated") == "cm^3"
+    assert SkinExpansionScene.metric_unit("strain_energy_released") == "MPa cm^3 (J)"
+
+
+def test_a_run_reports_its_metrics_with_units():
+    results = CubeScene(maxh=1.0, order=1, g_order=2).run()
+    assert results.metric_units["strain_energy"] == "N mm"
+    assert results.metric_units["G_error_L2_rel"] == "-"
+    assert set(results.metric_units) >= set(results.metrics)
+    lines = results.metric_lines()
+    assert any(line.split()[0] == "max_principal_stress" and line.endswith("MPa")
+               for line in lines)
+    assert Results.from_dict(results.to_dict()).metric_units == results.metric_units

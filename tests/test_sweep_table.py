@@ -8,8 +8,7 @@ import pytest
 
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
-from ngincompat.scenes import HemisphereScene, SkinExpansionScene
-from ngincompat.sweep import metric_unit, parse_sweep, read_table, sweep_figure
+from ngincompat.sweep import parse_sweep, read_table, sweep_figure
 from ngincompat.sweep.table import make_table, write_table
 
 SWEEP = parse_sweep({"scene": "cube", "metrics": ["strain_energy", "max_principal_stress"],
@@ -46,14 +45,6 @@ def test_the_table_carries_units_and_reads_back(folder):
         "| case | status | order | a [1/mm] | strain_energy [N mm] |")
     with pytest.raises(ParameterError, match="no sweep.json"):
         read_table(folder / "nothing")
-
-
-def test_metric_units_follow_the_scene():
-    assert metric_unit(HemisphereScene, "burgers_max") == "1/mm"
-    assert metric_unit(HemisphereScene, "radial_sigma_rr_error") == "-"
-    assert metric_unit(SkinExpansionScene, "burgers_max_radius") == "cm"
-    assert metric_unit(SkinExpansionScene, "volume_inflated") == "cm^3"
-    assert metric_unit(SkinExpansionScene, "strain_energy_released") == "MPa cm^3 (J)"
 
 
 def test_parquet_table_matches_the_json(folder):

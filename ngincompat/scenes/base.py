@@ -36,6 +36,19 @@ class Scene:
     #: Every metric the scene can report (a run reports those its settings produce); sweeps
     #: check the metrics they ask for against it before running anything.
     metrics: ClassVar[tuple[str, ...]] = ()
+    #: The quantity each dimensional metric measures, spelled in the scene's units by
+    #: :meth:`unit_of`; every other metric is a ratio (relative errors, growth multipliers).
+    metric_quantities: ClassVar[dict[str, str]] = {
+        "strain_energy": "energy", "strain_energy_clamped": "energy",
+        "strain_energy_released": "energy",
+        "max_principal_stress": "stress", "max_principal_stress_clamped": "stress",
+        "max_principal_stress_released": "stress", "pressure_inflated": "stress",
+        "pressure_end_of_hold": "stress",
+        "burgers_max": "1/length", "burgers_apex": "1/length", "rotation_rate": "1/length",
+        "rotation_rate_expected": "1/length",
+        "burgers_max_radius": "length", "volume_inflated": "volume",
+        "G_norm_L2": "length^(1/2)",
+    }
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
 
@@ -92,8 +105,8 @@ class Scene:
         info = MeshInfo(ne=mesh.ne, nv=mesh.nv, order=self.order if order is None else order,
                         maxh=self.maxh)
         return Results(scene=self.name, params=self.settings(), units=dict(self.units),
-                       mesh=info, versions=io.versions(), argv=list(sys.argv), domain=mesh,
-                       **kwargs)
+                       metric_units={m: self.metric_unit(m) for m in self.metrics}, mesh=info,
+                       versions=io.versions(), argv=list(sys.argv), domain=mesh, **kwargs)
 
     @classmethod
     def parameters(cls):
@@ -113,6 +126,13 @@ class Scene:
                     f"{', '.join(sorted(fields))}")
             kwargs[key] = _convert(key, raw, type(fields[key].default))
         return cls(**kwargs)
+
+    @classmethod
+    def metric_unit(cls, metric):
+        """The unit of ``metric`` in the scene's units ("-" for a ratio), from the quantity
+        it measures (:attr:`metric_quantities`)."""
+        quantity = cls.metric_quantities.get(metric)
+        return cls.unit_of(quantity) if quantity else "-"
 
     @classmethod
     def unit_of(cls, unit):

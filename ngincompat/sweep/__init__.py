@@ -15,7 +15,7 @@ From Python::
 
 from .runner import SweepReport, run_case, run_sweep
 from .spec import Case, Sweep, load_sweep, parse_sweep
-from .table import SweepTable, metric_unit, plot_sweep, read_table, sweep_figure
+from .table import SweepTable, plot_sweep, read_table, sweep_figure
 
-__all__ = ["Case", "Sweep", "SweepReport", "SweepTable", "load_sweep", "metric_unit",
+__all__ = ["Case", "Sweep", "SweepReport", "SweepTable", "load_sweep",
            "parse_sweep", "plot_sweep", "read_table", "run_case", "run_sweep", "sweep_figure"]

@@ -9,8 +9,7 @@ converged state) or "failed" (no metrics: the scene rejected a value, or the run
 :func:`read_table` reads it back, :func:`plot_sweep` draws a metric against a parameter.
 
 Units: a parameter's from the scene's parameter metadata (:meth:`Scene.parameters`,
-:meth:`Scene.unit_of`), a metric's from the quantity it measures (:data:`METRIC_QUANTITIES`)
-in the scene's units.
+:meth:`Scene.unit_of`), a metric's from :meth:`Scene.metric_unit`.
 """
 
 import dataclasses
@@ -23,28 +22,6 @@ NAME = "sweep"
 PARQUET = f"{NAME}.parquet"
 RECORD = f"{NAME}.json"
 FIXED_COLUMNS = ("case", "status", "seconds", "error")
-#: The quantity each dimensional metric measures (spelled in the scene's units by
-#: :meth:`Scene.unit_of`); every other metric of the scenes is a ratio (relative errors,
-#: growth multipliers), unit "-".
-METRIC_QUANTITIES = {
-    "strain_energy": "energy", "strain_energy_clamped": "energy",
-    "strain_energy_released": "energy",
-    "max_principal_stress": "stress", "max_principal_stress_clamped": "stress",
-    "max_principal_stress_released": "stress", "pressure_inflated": "stress",
-    "pressure_end_of_hold": "stress",
-    "burgers_max": "1/length", "burgers_apex": "1/length", "rotation_rate": "1/length",
-    "rotation_rate_expected": "1/length",
-    "burgers_max_radius": "length", "volume_inflated": "volume",
-    "G_norm_L2": "length^(1/2)",
-}
-
-
-def metric_unit(scene_class, metric):
-    """The unit of ``metric`` in the units of ``scene_class`` ("-" for a ratio)."""
-    quantity = METRIC_QUANTITIES.get(metric)
-    return scene_class.unit_of(quantity) if quantity else "-"
-
-
 def column_units(scene_class, columns):
     """Column -> unit of a sweep of ``scene_class``: parameters with a unit, every metric,
     and the seconds."""
@@ -58,7 +35,7 @@ def column_units(scene_class, columns):
         elif column == "seconds":
             units[column] = "s"
         elif column not in FIXED_COLUMNS:
-            units[column] = metric_unit(scene_class, column)
+            units[column] = scene_class.metric_unit(column)
     return units
 
 
