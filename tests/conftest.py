@@ -5,6 +5,9 @@ import numpy as np
 import pytest
 
 from geometries import cube
+from ngincompat.growth import IsotropicGrowth
+from ngincompat.materials import NeoHookean
+from ngincompat.problem import GrowthMechanics
 
 #: Command-line settings that run the skin scene in seconds: linear elements, a mesh size of
 #: 3 cm, half a day of growth (a smoke test: the numbers are not the scene's).
@@ -38,3 +41,12 @@ def random_points(n=20, seed=0, low=0.05, high=0.95):
 
 def l2_norm(cf, mesh, order=8):
     return float(ngs.Integrate(ngs.InnerProduct(cf, cf), mesh, order=order)) ** 0.5
+
+
+def cube_problem(a=0.25, maxh=0.5, order=2, elements="hex", condense=True):
+    """The paper's cube (section 3.1) with theta = 1 + a X1 t: (GrowthMechanics, time)."""
+    time = ngs.Parameter(0.0)
+    growth = IsotropicGrowth(1 + a * ngs.x * time)
+    mesh = cube(maxh=maxh, elements=elements)
+    material = NeoHookean.paper_idealized()
+    return GrowthMechanics(mesh, growth, material, order=order, condense=condense), time

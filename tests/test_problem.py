@@ -1,27 +1,19 @@
-"""The mechanics problem and its solver: oracles, consistency and robustness."""
+"""The mechanics problem: oracles, consistency, boundary conditions."""
 
 import ngsolve as ngs
 import numpy as np
 import pytest
+from conftest import cube_problem
 
 from geometries import cube
 from ngincompat import incompatibility as inc
 from ngincompat import postprocess
-from ngincompat.errors import ConvergenceError, ParameterError
+from ngincompat.errors import ParameterError
 from ngincompat.growth import IsotropicGrowth, TensorGrowth
 from ngincompat.kinematics import deformation_gradient
 from ngincompat.materials import NeoHookean
 from ngincompat.problem import GrowthMechanics
-from ngincompat.solver import NewtonOptions, solve_growth
-
-MATERIAL = NeoHookean.paper_idealized()
-
-
-def _cube_problem(a=0.25, maxh=0.5, order=2, elements="hex", condense=True):
-    time = ngs.Parameter(0.0)
-    growth = IsotropicGrowth(1 + a * ngs.x * time)
-    mesh = cube(maxh=maxh, elements=elements)
-    return GrowthMechanics(mesh, growth, MATERIAL, order=order, condense=condense), time
+from ngincompat.solver import solve_growth
 
 
 @pytest.mark.parametrize("elements", ["hex", "tet"])
@@ -46,11 +38,13 @@ def test_uniform_growth_is_stress_free_and_affine(elements):
     G = inc.incompatibility_tensor(Fg, inc.curl_exact(Fg))
     assert ngs.Integrate(ngs.InnerProduct(G, G), mesh) ** 0.5 < 1e-14
 
+MATERIAL = NeoHookean.paper_idealized()
+
 
 def test_energy_residual_tangent_agree_by_finite_differences():
     """(E(u + e w) - E(u - e w)) / 2e = <r(u), w> and (r(u + e w) - r(u - e w)) / 2e = K w
     (K uncondensed: with static condensation the assembled matrix is the Schur complement)."""
-    problem, time = _cube_problem(order=3, condense=False)
+    problem, time = cube_problem(order=3, condense=False)
     time.Set(1.0)
     a, u = problem.form, problem.u.vec
     rng = np.random.default_rng(0)
@@ -73,76 +67,10 @@ def test_energy_residual_tangent_agree_by_finite_differences():
     assert diff.Norm() < 1e-6 * Kw.Norm()
 
 
-def _orders(residuals):
-    """Estimated convergence orders q_k = log(r_k+1 / r_k) / log(r_k / r_k-1)."""
-    r = np.log(np.asarray(residuals))
-    return (r[2:] - r[1:-1]) / (r[1:-1] - r[:-2])
-
-
-def test_newton_converges_quadratically_near_the_solution():
-    """From the recorded residuals of the cube (order 3): once in the quadratic range the
-    residual about squares each iteration, r_k+1 ~ C r_k^2 with C nearly constant while 1/r_k
-    grows by orders of magnitude (linear convergence would make C grow like 1/r_k)."""
-    problem, time = _cube_problem(maxh=0.5, order=3)
-    history = solve_growth(problem, time)
-    (step,) = history.steps
-    res = np.asarray(step.residuals)
-    assert step.converged and res[-1] < 1e-10 * res[0]
-    above_roundoff = res[res > 1e-13 * res[0]]
-    assert len(above_roundoff) >= 4
-    orders = _orders(above_roundoff[-3:])
-    assert np.all(orders > 1.6), (res, orders)
-    C = above_roundoff[2:] / above_roundoff[1:-1] ** 2
-    growth_of_inverse = above_roundoff[1] / above_roundoff[-2]
-    assert C.max() / C.min() < 0.1 * growth_of_inverse, (res, C)
-
-
-def test_full_step_converges_where_plain_newton_fails():
-    """theta = 1 + X1 t in one step from u = 0 at order 3: plain Newton (full steps, no
-    predictor) leaves Je > 0 and produces NaN; the robust solver converges in one load step."""
-    plain = NewtonOptions(predictor=False, line_search=False, min_step=1.0)
-    problem, time = _cube_problem(a=1.0, order=3)
-    with pytest.raises(ConvergenceError, match="not finite"):
-        solve_growth(problem, time, plain)
-    problem, time = _cube_problem(a=1.0, order=3)
-    history = solve_growth(problem, time)
-    assert history.converged
-    assert len(history.steps) == 1
-    assert history.newton_iterations <= 10
-
-
-def test_line_search_alone_also_rescues_the_full_step():
-    problem, time = _cube_problem(a=1.0, order=3)
-    history = solve_growth(problem, time, NewtonOptions(predictor=False))
-    assert history.converged
-    assert any(alpha < 1 for s in history.steps for alpha in s.line_search) or \
-        len(history.steps) > 1
-
-
-def test_failed_step_is_cut_and_last_converged_state_is_kept():
-    """With too few Newton iterations allowed, steps are cut; below min_step the solver raises
-    and the displacement and time hold the last converged state."""
-    problem, time = _cube_problem(a=1.0, order=2)
-    options = NewtonOptions(max_iter=2, min_step=0.2, predictor=False)
-    with pytest.raises(ConvergenceError) as err:
-        solve_growth(problem, time, options)
-    history = err.value.history
-    assert [s.converged for s in history.steps].count(False) >= 2
-    t_ok = err.value.t_converged
-    assert time.Get() == pytest.approx(t_ok)
-    assert t_ok == pytest.approx(history.t_reached)
-    # the kept state is an equilibrium at t_ok: its residual is tiny
-    r = problem.u.vec.CreateVector()
-    problem.form.Apply(problem.u.vec, r)
-    free = problem.freedofs
-    worst = max(abs(r[i]) for i in range(len(r)) if free[i])
-    assert worst < 1e-8
-
-
 def test_cube_energy_converges_to_reference():
     """The cube of section 3.1: strain energy 2.19533e-7 N mm (independent high-order runs);
     order 4 on 4^3 hexahedra is within 1e-4 of it."""
-    problem, time = _cube_problem(maxh=0.25, order=4)
+    problem, time = cube_problem(maxh=0.25, order=4)
     solve_growth(problem, time)
     assert problem.strain_energy() == pytest.approx(2.19533e-7, rel=1e-4)
 
@@ -151,7 +79,7 @@ def test_G_from_elastic_part_agrees_with_G_from_growth_under_refinement():
     """G by eq. (12) from the solved Fe approaches G by eq. (10) as the mesh is refined."""
     errors = []
     for maxh in (0.5, 0.25):
-        problem, time = _cube_problem(maxh=maxh, order=3)
+        problem, time = cube_problem(maxh=maxh, order=3)
         solve_growth(problem, time)
         Fg = problem.growth.Fg
         F = deformation_gradient(problem.u)
@@ -234,15 +162,3 @@ def test_pins_remove_exactly_the_rigid_motions_left_free(symmetry, dirichlet, co
         gf.Set(cf)
         motions.append(gf.vec.FV().NumPy()[~free])
     assert np.linalg.matrix_rank(np.array(motions).T, tol=1e-8) == 6
-
-
-def test_reused_tangents_reach_the_same_state_with_fewer_assemblies():
-    solutions = {}
-    for reuse in (False, True):
-        problem, time = _cube_problem(order=3)
-        history = solve_growth(problem, time, NewtonOptions(reuse_tangent=reuse))
-        solutions[reuse] = (problem.strain_energy(), history)
-    (e_full, h_full), (e_reuse, h_reuse) = solutions[False], solutions[True]
-    assert h_full.tangent_assemblies == h_full.newton_iterations
-    assert h_reuse.tangent_assemblies < h_full.tangent_assemblies
-    assert e_reuse == pytest.approx(e_full, rel=1e-9)

@@ -1,0 +1,87 @@
+"""The robust Newton solver on the growing cube: quadratic convergence, the full growth step,
+step cutting that keeps the last converged state, tangent reuse."""
+
+import numpy as np
+import pytest
+from conftest import cube_problem
+
+from ngincompat.errors import ConvergenceError
+from ngincompat.solver import NewtonOptions, solve_growth
+
+
+def _orders(residuals):
+    """Estimated convergence orders q_k = log(r_k+1 / r_k) / log(r_k / r_k-1)."""
+    r = np.log(np.asarray(residuals))
+    return (r[2:] - r[1:-1]) / (r[1:-1] - r[:-2])
+
+
+def test_newton_converges_quadratically_near_the_solution():
+    """From the recorded residuals of the cube (order 3): once in the quadratic range the
+    residual about squares each iteration, r_k+1 ~ C r_k^2 with C nearly constant while 1/r_k
+    grows by orders of magnitude (linear convergence would make C grow like 1/r_k)."""
+    problem, time = cube_problem(maxh=0.5, order=3)
+    history = solve_growth(problem, time)
+    (step,) = history.steps
+    res = np.asarray(step.residuals)
+    assert step.converged and res[-1] < 1e-10 * res[0]
+    above_roundoff = res[res > 1e-13 * res[0]]
+    assert len(above_roundoff) >= 4
+    orders = _orders(above_roundoff[-3:])
+    assert np.all(orders > 1.6), (res, orders)
+    C = above_roundoff[2:] / above_roundoff[1:-1] ** 2
+    growth_of_inverse = above_roundoff[1] / above_roundoff[-2]
+    assert C.max() / C.min() < 0.1 * growth_of_inverse, (res, C)
+
+
+def test_full_step_converges_where_plain_newton_fails():
+    """theta = 1 + X1 t in one step from u = 0 at order 3: plain Newton (full steps, no
+    predictor) leaves Je > 0 and produces NaN; the robust solver converges in one load step."""
+    plain = NewtonOptions(predictor=False, line_search=False, min_step=1.0)
+    problem, time = cube_problem(a=1.0, order=3)
+    with pytest.raises(ConvergenceError, match="not finite"):
+        solve_growth(problem, time, plain)
+    problem, time = cube_problem(a=1.0, order=3)
+    history = solve_growth(problem, time)
+    assert history.converged
+    assert len(history.steps) == 1
+    assert history.newton_iterations <= 10
+
+
+def test_line_search_alone_also_rescues_the_full_step():
+    problem, time = cube_problem(a=1.0, order=3)
+    history = solve_growth(problem, time, NewtonOptions(predictor=False))
+    assert history.converged
+    assert any(alpha < 1 for s in history.steps for alpha in s.line_search) or \
+        len(history.steps) > 1
+
+
+def test_failed_step_is_cut_and_last_converged_state_is_kept():
+    """With too few Newton iterations allowed, steps are cut; below min_step the solver raises
+    and the displacement and time hold the last converged state."""
+    problem, time = cube_problem(a=1.0, order=2)
+    options = NewtonOptions(max_iter=2, min_step=0.2, predictor=False)
+    with pytest.raises(ConvergenceError) as err:
+        solve_growth(problem, time, options)
+    history = err.value.history
+    assert [s.converged for s in history.steps].count(False) >= 2
+    t_ok = err.value.t_converged
+    assert time.Get() == pytest.approx(t_ok)
+    assert t_ok == pytest.approx(history.t_reached)
+    # the kept state is an equilibrium at t_ok: its residual is tiny
+    r = problem.u.vec.CreateVector()
+    problem.form.Apply(problem.u.vec, r)
+    free = problem.freedofs
+    worst = max(abs(r[i]) for i in range(len(r)) if free[i])
+    assert worst < 1e-8
+
+
+def test_reused_tangents_reach_the_same_state_with_fewer_assemblies():
+    solutions = {}
+    for reuse in (False, True):
+        problem, time = cube_problem(order=3)
+        history = solve_growth(problem, time, NewtonOptions(reuse_tangent=reuse))
+        solutions[reuse] = (problem.strain_energy(), history)
+    (e_full, h_full), (e_reuse, h_reuse) = solutions[False], solutions[True]
+    assert h_full.tangent_assemblies == h_full.newton_iterations
+    assert h_reuse.tangent_assemblies < h_full.tangent_assemblies
+    assert e_reuse == pytest.approx(e_full, rel=1e-9)
