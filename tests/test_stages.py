@@ -1,0 +1,71 @@
+"""Stages of a load history: prescribed growth in parts, the coupled stage's loads, and its
+checkpoints."""
+
+from types import SimpleNamespace
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+from conftest import cube_problem
+
+from geometries import cube
+from ngincompat.errors import ParameterError
+from ngincompat.progress import SILENT
+from ngincompat.stages import (
+    CoupledStage,
+    PrescribedGrowthStage,
+    restore_checkpoint,
+    save_checkpoint,
+)
+
+
+def test_growth_in_two_stages_reaches_the_state_of_one():
+    """t from 0 to 1 in one stage, or from 0 to 0.4 then 0.4 to 1: the same equilibrium."""
+    problem, time = cube_problem(order=2)
+    PrescribedGrowthStage("growth", problem, time).run(SILENT)
+    one = problem.strain_energy()
+    problem, time = cube_problem(order=2)
+    first = PrescribedGrowthStage("first", problem, time, t_end=0.4).run(SILENT)
+    assert first.t_reached == pytest.approx(0.4) and time.Get() == pytest.approx(0.4)
+    second = PrescribedGrowthStage("second", problem, time, t_start=0.4).run(SILENT)
+    assert second.converged
+    assert [(s.t, s.dt) for s in second.steps] == [(1.0, pytest.approx(0.6))]
+    assert problem.strain_energy() == pytest.approx(one, rel=1e-9)
+    assert one > 1e-8
+
+
+def _coupled_stub(mesh, order=1):
+    space = ngs.H1(mesh, order=order)
+    return SimpleNamespace(dt=ngs.Parameter(0.25), volume_target=ngs.Parameter(0.0),
+                           state=ngs.GridFunction(space), theta_old=ngs.GridFunction(space))
+
+
+def test_coupled_stage_drives_the_volume_linearly_and_freezes_growth():
+    problem = _coupled_stub(cube(maxh=1.0))
+    stage = CoupledStage("inflation", problem, t_end=3.0, dt=1.0, t_start=1.0, grow=False,
+                         volume=(10.0, 50.0))
+    for t, expected in ((1.0, 10.0), (2.0, 30.0), (2.5, 40.0), (3.0, 50.0)):
+        stage.load(t)
+        assert problem.volume_target.Get() == pytest.approx(expected)
+    assert problem.dt.Get() == 0.0
+    growing = _coupled_stub(cube(maxh=1.0))
+    CoupledStage("hold", growing, t_end=7.0, dt=0.5).load(3.0)
+    assert growing.dt.Get() == 0.25 and growing.volume_target.Get() == 0.0
+
+
+def test_checkpoint_restores_the_state_and_refuses_another_mesh(tmp_path):
+    mesh = cube(maxh=1.0)
+    problem = _coupled_stub(mesh)
+    rng = np.random.default_rng(0)
+    problem.state.vec.FV().NumPy()[:] = rng.normal(size=problem.state.space.ndof)
+    problem.theta_old.vec.FV().NumPy()[:] = 1 + rng.uniform(size=problem.theta_old.space.ndof)
+    path = tmp_path / "checkpoint.npz"
+    assert restore_checkpoint(problem, path) is None
+    save_checkpoint(problem, path, 2.5)
+    fresh = _coupled_stub(mesh)
+    assert restore_checkpoint(fresh, path) == 2.5
+    np.testing.assert_array_equal(fresh.state.vec.FV().NumPy(), problem.state.vec.FV().NumPy())
+    np.testing.assert_array_equal(fresh.theta_old.vec.FV().NumPy(),
+                                  problem.theta_old.vec.FV().NumPy())
+    with pytest.raises(ParameterError, match="does not fit this mesh and order"):
+        restore_checkpoint(_coupled_stub(mesh, order=2), path)
