@@ -15,7 +15,7 @@ import shlex
 from pathlib import Path
 
 import pytest
-from conftest import SKIN_COARSE
+from conftest import FOLDING_COARSE, SKIN_COARSE
 
 from ngincompat import io
 from ngincompat.cli import EXIT_FAILED_CASES, main
@@ -32,6 +32,7 @@ RUN = {
     "cylinder": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
     "custom": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
     "skin": SKIN_COARSE,
+    "folding": FOLDING_COARSE,
 }
 #: Coarse settings of ``ngincompat bench CASE``, by case.
 BENCH = {

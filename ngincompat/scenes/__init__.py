@@ -5,11 +5,12 @@ from .cube import CubeScene
 from .custom import CustomScene
 from .cylinder import CylinderScene
 from .disc import DiscScene
+from .folding import FoldingScene
 from .hemisphere import HemisphereScene
 from .skin import SkinExpansionScene
 
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
-                                    SkinExpansionScene, CustomScene)}
+                                    SkinExpansionScene, FoldingScene, CustomScene)}
 
 
 def get_scene(name):
@@ -19,5 +20,5 @@ def get_scene(name):
     return SCENES[name]
 
 
-__all__ = ["SCENES", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+__all__ = ["SCENES", "CubeScene", "CustomScene", "CylinderScene", "DiscScene", "FoldingScene",
            "HemisphereScene", "SkinExpansionScene", "get_scene"]
