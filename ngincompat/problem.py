@@ -353,6 +353,14 @@ class CoupledGrowth:
         A boundary, initially in the plane X3 = 0, whose enclosed volume
         V = int x3 det(dx_a / dX_b) dA (a, b = 1, 2) is held at the Parameter
         ``volume_target`` by the pressure p (e.g. an expander's footprint).
+    viscous : bool
+        Add a viscous regularisation: the energy of a step gains
+        eta / (2 dt) int |u - u_n|^2 dV (u_n the last converged displacement), i.e. the
+        residual eta / dt int (u - u_n) . v dV, with eta the Parameter ``viscosity``
+        (stress x time / length^2; 0 switches it off, as does a frozen step, dt = 0). It
+        adds eta / dt M to the tangent, which keeps Newton's system positive definite past
+        a buckling point (smallest eigenvalue of K w = omega M w above -eta / dt) and lets
+        an unstable mode grow at the finite rate -omega / eta instead of jumping.
     """
 
     has_energy = False
@@ -363,7 +371,7 @@ class CoupledGrowth:
                  order: int = 2, growth_order: int | None = None,
                  fibers: Sequence[DirectionField] = (), dirichlet: str = "",
                  symmetry: Mapping[str, str] | None = None, volume: str | None = None,
-                 condense: bool = True):
+                 condense: bool = True, viscous: bool = False):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         ensure_heap(order)
         growth_order = max(order - 1, 0) if growth_order is None else growth_order
@@ -399,6 +407,11 @@ class CoupledGrowth:
         stretch = self._growth(th).stretch(F)
         growth_residual = euler_residual(law, th, self.theta_old, self.dt, stretch)
         self.form += (W.Diff(u, v) + growth_residual * eta).Compile() * ngs.dx
+        self.viscosity = ngs.Parameter(0.0)
+        self.u_old = ngs.GridFunction(V) if viscous else None
+        if viscous:
+            rate = self.viscosity / ngs.IfPos(self.dt, self.dt, 1.0) * ngs.IfPos(self.dt, 1, 0)
+            self.form += rate * ngs.InnerProduct(u - self.u_old, v) * ngs.dx
         if volume:
             p, q = trials[2], tests[2]
             dV = self._volume_density(u)
@@ -450,5 +463,8 @@ class CoupledGrowth:
                              self.mesh)
 
     def accept_step(self):
-        """Make the converged growth the start of the next step (theta_n <- theta_n+1)."""
+        """Make the converged growth the start of the next step (theta_n <- theta_n+1), and
+        with a viscous regularisation the displacement too (u_n <- u_n+1)."""
         self.theta_old.vec.data = self.theta.vec
+        if self.u_old is not None:
+            self.u_old.vec.data = self.u.vec

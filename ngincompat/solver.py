@@ -399,6 +399,34 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
                   progress.march(stage, t_start, t_end, unit))
 
 
+def solve_equilibrium(problem, options=NewtonOptions(), stage="equilibrium"):
+    """Solve a :class:`~ngincompat.problem.CoupledGrowth` problem for equilibrium at frozen
+    growth (dt = 0) from its current state, in one Newton solve.
+
+    Raises
+    ------
+    ConvergenceError
+        Newton did not converge; the state is then restored.
+    """
+    problem.dt.Set(0.0)
+    solver = NewtonSolver(problem, options)
+    history = SolverHistory()
+    saved = problem.state.vec.CreateVector()
+    saved.data = problem.state.vec
+    record = StepRecord(t=0.0, dt=0.0, converged=False)
+    start = _time.perf_counter()
+    with ngs.TaskManager():
+        record.converged = solver.minimise(record)
+    record.seconds = _time.perf_counter() - start
+    history.steps.append(record)
+    if not record.converged:
+        problem.state.vec.data = saved
+        raise ConvergenceError(f"{stage}: {record.reason}", history=history, t_converged=0.0)
+    problem.accept_step()
+    history.converged = True
+    return history
+
+
 def _march(problem, options, t, t_end, dt, advance, restore, accept, report):
     """The adaptive stepping loop: a failed step is undone and retried at half the size.
 

@@ -2,6 +2,7 @@
 
 * :class:`PrescribedGrowthStage`: prescribed growth Fg(X, t) applied from t = 0 to ``t_end``
   in adaptive load steps (:func:`~ngincompat.solver.solve_growth`);
+* :class:`EquilibriumStage`: one equilibrium solve at frozen growth;
 * :class:`CoupledStage`: mechanically coupled growth marched in time
   (:func:`~ngincompat.solver.solve_coupled`), with growth on or frozen and the enclosed volume
   driven linearly between two targets (inflation, hold), checkpointed after every step when
@@ -22,7 +23,7 @@ import numpy as np
 from . import io
 from .errors import ParameterError
 from .progress import Progress
-from .solver import NewtonOptions, SolverHistory, solve_coupled, solve_growth
+from .solver import NewtonOptions, SolverHistory, solve_coupled, solve_equilibrium, solve_growth
 
 
 @dataclass(eq=False)
@@ -102,6 +103,19 @@ class CoupledStage:
         return solve_coupled(self.problem, self.t_end, self.dt, self.options,
                              t_start=self.t_start, schedule=self.load, on_step=self.after_step,
                              progress=progress, stage=self.name, unit=self.unit)
+
+
+@dataclass(eq=False)
+class EquilibriumStage:
+    """One equilibrium solve of a coupled problem at frozen growth (dt = 0), e.g. the final
+    state of a viscously regularised march once the viscosity is switched off."""
+
+    name: str
+    problem: object
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=30))
+
+    def run(self, progress: Progress) -> SolverHistory:
+        return solve_equilibrium(self.problem, self.options, stage=self.name)
 
 
 def save_checkpoint(problem, path: Path, t: float) -> None:

@@ -10,10 +10,12 @@ from geometries import cube, skin_patch
 from ngincompat import fields
 from ngincompat.errors import ParameterError
 from ngincompat.growth import IsotropicGrowth
-from ngincompat.growth_laws import HillLaw, StrainDrivenLaw
+from ngincompat.growth_laws import ConstantRateLaw, HillLaw, StrainDrivenLaw
 from ngincompat.materials import NeoHookean
 from ngincompat.problem import CoupledGrowth
+from ngincompat.progress import SILENT
 from ngincompat.solver import NewtonOptions, solve_coupled
+from ngincompat.stages import CoupledStage, EquilibriumStage
 
 LAW = StrainDrivenLaw(tau=1.0, theta_max=1.5, gamma=2.0, theta_crit=1.0)
 
@@ -149,3 +151,29 @@ def test_a_march_ends_where_on_step_says_so():
     history = solve_coupled(problem, t_end=2.0, dt=0.25, on_step=on_step)
     assert history.converged and history.t_reached == pytest.approx(0.5)
     assert seen == pytest.approx([0.25, 0.5])
+
+
+def test_viscous_regularisation_lags_and_the_equilibrium_stage_removes_it():
+    """Fiber growth at a constant rate in a cube on rollers at one end: with the viscous term
+    eta / dt int (u - u_n) . v dV a step ends short of equilibrium (the displacement lags);
+    the equilibrium stage with the viscosity off then reaches the state of the march without
+    it, to the Newton tolerance."""
+    def grown(viscosity):
+        problem = CoupledGrowth(cube(maxh=0.5), "fiber", fields.constant("e1"),
+                                ConstantRateLaw(0.2), NeoHookean.from_nu(1.0, 0.3), order=2,
+                                symmetry={"left": "x"}, viscous=True)
+        problem.viscosity.Set(viscosity)
+        CoupledStage("growth", problem, t_end=1.0, dt=1.0).run(SILENT)
+        return problem
+
+    def end_displacement(problem):
+        return problem.u(problem.mesh(1.0, 0.5, 0.5))[0]
+
+    plain = grown(0.0)
+    assert end_displacement(plain) == pytest.approx(0.2, rel=1e-6)   # theta = 1.2 exactly
+    problem = grown(10.0)
+    assert 0 < end_displacement(problem) < 0.5 * end_displacement(plain)
+    problem.viscosity.Set(0.0)
+    EquilibriumStage("equilibrium", problem).run(SILENT)
+    np.testing.assert_allclose(problem.u.vec.FV().NumPy(), plain.u.vec.FV().NumPy(),
+                               atol=1e-9)
