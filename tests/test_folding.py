@@ -103,9 +103,10 @@ def test_zero_crossing_and_wavelength_of_sampled_data():
 
 
 @pytest.fixture(scope="module")
-def onset_run():  # about 5 minutes on 2 busy cores
-    """The small perfect bilayer grown until its tangent loses positive definiteness."""
-    scene = FoldingScene(**SMALL, dt=5.0, onset_dt=5.0)
+def onset_run():
+    """The small bilayer grown on its perfect branch until its tangent loses positive
+    definiteness, then, perturbed by the buckling mode, on to theta_c = 1.4."""
+    scene = FoldingScene(**SMALL, dt=5.0, onset_dt=5.0, t_end=50.0)
     case = scene.build()
     solution = Solution()
     case.solve(solution, SILENT, None)
@@ -136,11 +137,26 @@ def test_onset_matches_the_bifurcation_oracle(onset_run):
 def test_perfect_branch_stays_flat_before_the_onset(onset_run):
     """Every step before the onset: no undulation of the top, a positive tangent."""
     _, case, _ = onset_run
-    series = case.series
+    series = case.series["perfect"]
     assert len(series["t"]) >= 3
     assert series["eigenvalue"][-1] < 0 < min(series["eigenvalue"][:-1])
     # the top only rises uniformly: its undulation is round-off next to the rise
     assert max(series["amplitude"][:-1]) < 1e-8
+
+
+@pytest.mark.slow
+def test_folds_grow_after_the_onset(onset_run):
+    """Past the onset the perturbed bilayer folds: the viscous march reaches t_end without
+    giving up, the top is flat to round-off on the perfect branch and the fold amplitude
+    grows after the onset to many times the imperfection."""
+    scene, case, solution = onset_run
+    assert solution.converged, solution.error
+    assert solution.histories["buckling"].t_reached == pytest.approx(scene.t_end)
+    amplitude = np.array(case.series["buckling"]["amplitude"])
+    imperfection = scene.imperfection * scene.cortex_thickness
+    assert max(case.series["perfect"]["amplitude"]) < 1e-8
+    assert amplitude[-1] > 20 * imperfection
+    assert amplitude[-1] > 2 * amplitude[0]
 
 
 def test_flat_branch_is_the_homogeneous_state_in_closed_form():

@@ -26,6 +26,21 @@ faces of the slab (plane strain). Stages:
    crosses zero the bilayer buckles: ``onset_growth`` (theta_c there, interpolated) and
    ``onset_wavelength`` (the eigenmode's, along the top surface, reference length) are
    measured, and the stage ends.
+2. **buckling**: the state of that step (the first with a negative eigenvalue) is perturbed
+   by the first buckling mode, scaled so that the top surface moves by ``imperfection`` x
+   ``cortex_thickness`` at most (a perturbation of the displacement, not of the body: the
+   flat state is unstable there, so it grows by itself), and growth goes on to ``t_end`` in
+   adaptive steps with a viscous regularisation, eta / (2 dt) int |u - u_n|^2 dV
+   (:class:`~ngincompat.problem.CoupledGrowth`, ``viscous``), eta = ``viscosity`` x
+   ``mu_white``. An unstable mode (eigenvalue omega < 0) then grows at the rate |omega| / eta;
+   implicit Euler follows that growth, and the step's tangent K + eta / dt M stays positive
+   definite, only for dt < eta / |omega| (a longer step converges back to the flat state: seen
+   with eta = 10 mu and 5-day steps), so the steps are capped at eta / (2 |omega_onset|),
+   omega_onset the first negative eigenvalue: the mode at most doubles per step. The fold
+   amplitude (half the peak-to-peak u3 along the top) and the smallest eigenvalue are
+   recorded every step. (Switching the viscosity off at ``t_end`` for a last equilibrium
+   solve is not done yet: tried, plain Newton from the viscous state diverged, see the
+   README.)
 """
 
 from dataclasses import dataclass, field
@@ -65,9 +80,9 @@ class FoldingScene(Scene):
     name = "folding"
     summary = "section 3.7: cortical folding, a growing cortex on a subcortex with axon growth"
     variant = ("axons",)
-    metrics = ("onset_growth", "onset_wavelength", "onset_time")
+    metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude")
     metric_quantities = {**Scene.metric_quantities, "onset_wavelength": "length",
-                         "onset_time": "time"}
+                         "fold_amplitude": "length", "onset_time": "time"}
     units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
 
     order: int = param(2, "polynomial order of the displacement")
@@ -95,6 +110,10 @@ class FoldingScene(Scene):
                       "time")
     onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
                                   "the onset)", "time")
+    imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
+                                      "onset / cortex_thickness")
+    viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
+                                   "(eta in stress x time / length^2)", "time/length^2")
 
     def __post_init__(self):
         super().__post_init__()
@@ -118,6 +137,9 @@ class FoldingScene(Scene):
         require(self.t_end > 0, "t_end", self.t_end, "> 0")
         require(self.dt > 0, "dt", self.dt, "> 0")
         require(self.onset_dt > 0, "onset_dt", self.onset_dt, "> 0")
+        require(0 < self.imperfection <= 0.1, "imperfection", self.imperfection,
+                "in (0, 0.1] (of the cortex thickness)")
+        require(self.viscosity > 0, "viscosity", self.viscosity, "> 0")
         self.axon_law()
 
     def axon_law(self):
@@ -142,16 +164,17 @@ class FoldingScene(Scene):
 class FoldingCase:
     """The folding scene's case: the coupled bilayer and the observations of its growth.
 
-    ``series`` holds, per converged step of the perfect branch, the time, the cortex growth,
-    the smallest tangent eigenvalue and the fold amplitude (half the peak-to-peak u3 along the
-    top surface).
+    ``series`` holds, per converged step of the perfect branch and of the buckling stage,
+    the time, the cortex growth, the smallest tangent eigenvalue and the fold amplitude (half
+    the peak-to-peak u3 along the top surface).
     """
 
     scene: FoldingScene
     mesh: ngs.Mesh
     noted: dict = field(default_factory=dict)
-    series: dict = field(default_factory=lambda: {"t": [], "theta_c": [], "eigenvalue": [],
-                                                  "amplitude": []})
+    series: dict = field(default_factory=lambda: {
+        branch: {"t": [], "theta_c": [], "eigenvalue": [], "amplitude": []}
+        for branch in ("perfect", "buckling")})
 
     def __post_init__(self):
         scene, mesh = self.scene, self.mesh
@@ -168,7 +191,7 @@ class FoldingCase:
                                  "subcortex": scene.axon_law()})
         self.problem = CoupledGrowth(mesh, "fiber", self.f0, law, self.material,
                                      order=scene.order, growth_order=scene.growth_order,
-                                     symmetry=GROWING)
+                                     symmetry=GROWING, viscous=True)
         self.mode = None
 
     def top_profile(self, u, n=301):
@@ -179,22 +202,42 @@ class FoldingCase:
             (s.length, s.depth / 2, s.height), n=n)
         return x, values["u3"]
 
-    def _observe_perfect(self, t):
-        """Record the step; at the first negative eigenvalue measure the onset and stop."""
+    def _observe(self, branch, t):
+        """Append the time, cortex growth, smallest eigenvalue and fold amplitude of the
+        current state to ``series[branch]``; return the eigenpairs."""
         values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS)
         _, u3 = self.top_profile(self.problem.u)
         for key, value in (("t", t), ("theta_c", 1 + self.scene.cortex_rate * t),
                            ("eigenvalue", values[0]), ("amplitude", np.ptp(u3) / 2)):
-            self.series[key].append(float(value))
+            self.series[branch][key].append(float(value))
+        return values, modes
+
+    def _observe_perfect(self, t):
+        """Record the step; at the first negative eigenvalue measure the onset and stop."""
+        values, modes = self._observe("perfect", t)
         if values[0] >= 0:
             return False
         rate = self.scene.cortex_rate
-        onset = buckling.zero_crossing(self.series["theta_c"], self.series["eigenvalue"])
+        perfect = self.series["perfect"]
+        onset = buckling.zero_crossing(perfect["theta_c"], perfect["eigenvalue"])
         self.mode = modes[0]
         x, w = self.top_profile(self.mode)
         self.noted.update(onset_growth=onset, onset_time=(onset - 1) / rate,
                           onset_wavelength=buckling.wavelength(x, w))
         return True
+
+    def _observe_buckling(self, t):
+        self._observe("buckling", t)
+        return False
+
+    def perturb(self):
+        """Add the buckling mode to the displacement (and to the last converged one the
+        viscous term measures from), scaled to ``imperfection`` x ``cortex_thickness`` on
+        the top surface."""
+        _, w = self.top_profile(self.mode)
+        scale = self.scene.imperfection * self.scene.cortex_thickness / np.max(np.abs(w))
+        self.problem.u.vec.data += scale * self.mode.vec
+        self.problem.u_old.vec.data = self.problem.u.vec
 
     def stages(self):
         scene = self.scene
@@ -207,9 +250,24 @@ class FoldingCase:
                              options=options,
                              observe=self._observe_perfect, unit="days")]
 
+    def buckling_stage(self):
+        """The viscous march from the onset step to ``t_end``."""
+        scene = self.scene
+        eta = scene.viscosity * scene.mu_white
+        step = min(scene.dt, eta / (2 * abs(self.series["perfect"]["eigenvalue"][-1])))
+        options = NewtonOptions(max_iter=12, max_step=step, line_search=False, min_step=1e-6)
+        return CoupledStage("buckling", self.problem, t_end=scene.t_end, dt=step,
+                             t_start=self.series["perfect"]["t"][-1], options=options,
+                            observe=self._observe_buckling, unit="days")
+
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
         solve_stages(self.stages(), progress, solution)
+        if not solution.converged or self.mode is None:
+            return
+        self.perturb()
+        self.problem.viscosity.Set(self.scene.viscosity * self.scene.mu_white)
+        solve_stages([self.buckling_stage()], progress, solution)
 
     def interrupted(self, solution: Solution) -> Results:
         results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
@@ -220,7 +278,11 @@ class FoldingCase:
 
     def measure(self, solution: Solution, progress: Progress) -> Results:
         results = self.interrupted(solution)
-        results.profiles = {"perfect": {k: np.array(v) for k, v in self.series.items()}}
+        results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
+                            for branch, series in self.series.items() if series["t"]}
+        buckled = self.series["buckling"]["amplitude"]
+        if buckled and solution.converged:
+            results.metrics["fold_amplitude"] = buckled[-1]
         sigma = postprocess.stresses(self.problem.energy_density, self.problem.u)["sigma"]
         flds = {"u": self.problem.u, "theta": self.problem.theta, "sigma": sigma,
                 "sigma_max": postprocess.principal_values(sigma)[2]}
@@ -240,6 +302,11 @@ def _figures(scene):
                {"smallest eigenvalue": "eigenvalue"},
                f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
                f"{title}: perfect branch", profile="perfect"),
+        Figure("folds.png", "theta_c", "cortex growth theta_c [-]",
+               {"fold amplitude": "amplitude"}, f"fold amplitude [{L}]",
+               f"{title}: after the onset", right={"smallest eigenvalue": "eigenvalue"},
+               right_label=f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
+               profile="buckling"),
         Figure("mode.png", "X1", f"X1 [{L}]", {"u3 on top": "u3"}, "buckling mode u3 [-]",
                f"{title}: first buckling mode", profile="mode"),
     ]
