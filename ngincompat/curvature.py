@@ -1,0 +1,145 @@
+"""Intrinsic incompatibility: the curvature of the growth metric Cg = Fg^T Fg.
+
+G (eq. 10) vanishes only when Fg is a gradient; the growth is *compatible* (a stress-free
+state exists, simply connected body) exactly when the Riemann tensor of the metric
+Cg = Fg^T Fg vanishes. In 3-D the Weyl tensor is zero, so Riemann = 0 <=> Ricci = 0 <=>
+Einstein = 0. Two paths lead to the curvature:
+
+* **exact** (:func:`curvature_exact`): for an analytic Fg, the Christoffel symbols, Riemann,
+  Ricci, scalar curvature and Einstein tensor of Cg by symbolic differentiation (``CF.Diff``);
+  exact to round-off;
+* **discrete** (:mod:`ngincompat.regge`): Cg interpolated into the Regge space and its
+  distributional Einstein tensor; the path for computed growth fields.
+
+Conventions
+-----------
+Cartesian reference coordinates X, metric g = Cg, and the sign convention of Lee,
+*Introduction to Riemannian manifolds*, which NGSolve's ``HCurlCurl`` operators use:
+
+    Gamma_ijk   = 1/2 (d_i g_jk + d_j g_ik - d_k g_ij)                (first kind)
+    Gamma_ij^k  = g^kl Gamma_ijl                                       (second kind)
+    R_ijkl      = d_i Gamma_jkl - d_j Gamma_ikl
+                  + Gamma_ik^p Gamma_jlp - Gamma_jk^p Gamma_ilp
+    Ric_ij      = g^kl R_kijl,   S = g^ij Ric_ij,   Ein = Ric - S/2 g
+
+so that a sphere of radius r has S = 6 / r^2 (3-D) and Ric = 2 / r^2 g. The derivative part
+of Riemann is written with the incompatibility operator,
+d_i Gamma_jkl - d_j Gamma_ikl = 1/2 eps_ija eps_klb inc(g)^ab with
+inc(g)^ab = eps_amn eps_bpq d_m d_p g_nq, so that for g = I + 2 eps the linearisation is
+Ein = inc(eps) + O(eps^2): Kröner's relation inc(sym H) = Curl(G - tr(G)/2 I) + O(|H|^2) for
+Fg = I + H (the paper's Curl, eq. 7).
+
+Frame-invariant outputs: the scalar curvature S, the g-norm |Ein|_g = sqrt(Ein : g^-1 Ein g^-1)
+and the Einstein tensor pushed to the intermediate configuration,
+Fg^-T Ein Fg^-1 (orthonormal components in the frame in which G is written). Curvature has
+units 1/length^2.
+"""
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+from ngsolve.fem import Einsum
+
+from .incompatibility import gradient_exact, levi_civita
+
+_COORDS = (ngs.x, ngs.y, ngs.z)
+
+
+@dataclass(frozen=True, eq=False)
+class Curvature:
+    """The curvature of a metric g on a 3-D body, as CoefficientFunctions.
+
+    Attributes
+    ----------
+    metric : CF (3x3)
+        g.
+    christoffel : CF (3x3x3)
+        Gamma_ijk, first kind.
+    christoffel2 : CF (3x3x3)
+        Gamma_ij^k, second kind (the raised index last).
+    riemann : CF (3x3x3x3)
+        R_ijkl.
+    ricci : CF (3x3)
+    scalar : CF
+        S.
+    einstein : CF (3x3)
+        Ein = Ric - S/2 g, covariant components in reference coordinates.
+    """
+
+    metric: ngs.CoefficientFunction
+    christoffel: ngs.CoefficientFunction
+    christoffel2: ngs.CoefficientFunction
+    riemann: ngs.CoefficientFunction
+    ricci: ngs.CoefficientFunction
+    scalar: ngs.CoefficientFunction
+    einstein: ngs.CoefficientFunction
+
+    def einstein_norm(self):
+        """|Ein|_g = sqrt(Ein_ij g^ik g^jl Ein_kl), frame-invariant."""
+        return einstein_norm(self.einstein, self.metric)
+
+
+def inc(g):
+    """inc(g)^ab = eps_amn eps_bpq d_m d_p g_nq of an analytic symmetric 3x3 CF.
+
+    Second derivatives by symbolic differentiation; for a row-wise curl this is
+    curl((curl g)^T), the Saint-Venant incompatibility operator.
+    """
+    d2g = ngs.CF(tuple(g[n, q].Diff(_COORDS[m]).Diff(_COORDS[p])
+                       for m in range(3) for p in range(3)
+                       for n in range(3) for q in range(3)), dims=(3, 3, 3, 3))
+    eps = levi_civita()
+    return Einsum("amn,bpq,mpnq->ab", eps, eps, d2g)
+
+
+def curvature_exact(g):
+    """The curvature of an analytic metric g (3x3 CF of x, y, z) by ``CF.Diff``.
+
+    Parameters
+    ----------
+    g : CoefficientFunction
+        A symmetric positive definite 3x3 field, e.g. Cg = Fg^T Fg.
+
+    Returns
+    -------
+    Curvature
+    """
+    dg = gradient_exact(g)                       # dg[j, k, i] = d_i g_jk
+    chr1 = 0.5 * (Einsum("jki->ijk", dg) + Einsum("ikj->ijk", dg) - dg)
+    g_inv = ngs.Inv(g)
+    chr2 = Einsum("ijp,pk->ijk", chr1, g_inv)
+    eps = levi_civita()
+    riemann = (0.5 * Einsum("ija,klb,ab->ijkl", eps, eps, inc(g))
+               + Einsum("ikp,jlp->ijkl", chr2, chr1) - Einsum("jkp,ilp->ijkl", chr2, chr1))
+    ricci = Einsum("kijl,kl->ij", riemann, g_inv)
+    scalar = ngs.InnerProduct(ricci, g_inv)
+    einstein = ricci - 0.5 * scalar * g
+    return Curvature(metric=g, christoffel=chr1, christoffel2=chr2, riemann=riemann,
+                     ricci=ricci, scalar=scalar, einstein=einstein)
+
+
+def growth_metric(Fg):
+    """Cg = Fg^T Fg, the metric that growth gives the reference body."""
+    return Fg.trans * Fg
+
+
+def einstein_norm(einstein, g):
+    """|Ein|_g = sqrt(Ein : g^-1 Ein g^-1), frame-invariant (1/length^2)."""
+    g_inv = ngs.Inv(g)
+    return ngs.sqrt(ngs.InnerProduct(g_inv * einstein * g_inv, einstein))
+
+
+def einstein_intermediate(einstein, Fg):
+    """Fg^-T Ein Fg^-1: the Einstein tensor of Cg in the intermediate configuration.
+
+    The growth coframe Fg dX is Cg-orthonormal, so these are orthonormal components, in the
+    frame in which G = (1/Jg) Fg Curl Fg (eq. 10) is written; their Frobenius norm is
+    |Ein|_g.
+    """
+    Fg_inv = ngs.Inv(Fg)
+    return Fg_inv.trans * einstein * Fg_inv
+
+
+def growth_curvature(Fg):
+    """The exact curvature of the growth metric Cg = Fg^T Fg of an analytic Fg."""
+    return curvature_exact(growth_metric(Fg))
