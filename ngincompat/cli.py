@@ -35,20 +35,20 @@ def _settings(pairs, option="--set"):
     return out
 
 
-OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures")
+OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures", "curvature")
 
 
 def _outputs(text):
     """--outputs LIST -> the scene settings ``mechanics`` and ``outputs``.
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
-    energy; vtk and figures add files."""
+    energy; vtk and figures add files; curvature adds the curvature of the growth metric."""
     items = {item.strip() for item in text.split(",") if item.strip()}
     unknown = items - set(OUTPUT_NAMES)
     if unknown or not items:
         raise ParameterError(f"--outputs {text!r}: allowed a comma list of "
                              f"{', '.join(OUTPUT_NAMES)}")
-    files = [name for name in ("vtk", "figures") if name in items]
+    files = [name for name in ("vtk", "figures", "curvature") if name in items]
     return {"mechanics": "mechanics" in items, "outputs": ",".join(files) or "none"}
 
 
@@ -98,6 +98,9 @@ def _print_run(results, out):
               f"{sum(results.timings.values()):.2f} s")
     for key, value in results.metrics.items():
         print(f"  {key:32s} {value:.6g}")
+    if "einstein_norm_L2" in results.metrics:
+        from . import curvature
+        print(f"  {curvature.verdict(results.metrics)}")
     print(f"results written to {out}/results.json (units: "
           + ", ".join(f"{q} {u}" for q, u in results.units.items()) + ")")
 

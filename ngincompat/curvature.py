@@ -143,3 +143,61 @@ def einstein_intermediate(einstein, Fg):
 def growth_curvature(Fg):
     """The exact curvature of the growth metric Cg = Fg^T Fg of an analytic Fg."""
     return curvature_exact(growth_metric(Fg))
+
+
+#: Round-off level of the exact path: curvature below ROUNDOFF * |G|^2 (the size curvature
+#: built from the incompatibility G would have) is zero in double precision.
+ROUNDOFF = 1e-10
+
+
+def measure(einstein, scalar, g, mesh, G, mirror=1, order=6):
+    """Fields and metrics of a curvature for a scene's results.
+
+    Parameters
+    ----------
+    einstein, scalar : CoefficientFunction
+        Ein (covariant, reference coordinates) and S of the metric ``g``.
+    g : CoefficientFunction
+        The metric (Cg, or its Regge interpolant).
+    mesh : ngsolve.Mesh
+    G : CoefficientFunction
+        The incompatibility tensor (eq. 10), for the round-off scale.
+    mirror : int
+        Mirror copies of the mesh that make the body (integrals are of the whole body).
+    order : int
+        Quadrature order of the L2 norm; the estimate of its error compares with order + 4.
+
+    Returns
+    -------
+    fields : dict
+        ``scalar_curvature`` (S) and ``einstein_norm_g`` (|Ein|_g), 1/length^2.
+    metrics : dict
+        ``scalar_curvature_min``, ``scalar_curvature_max``, ``einstein_norm_L2``
+        (||Ein||_g over the reference body, 1/length^(1/2)) and ``einstein_norm_L2_error``:
+        the quadrature error of that norm plus the round-off level ROUNDOFF ||G (x) G||_L2.
+    """
+    from .postprocess import maximum
+
+    norm = einstein_norm(einstein, g)
+
+    def l2(cf, o):
+        return (mirror * max(float(ngs.Integrate(cf * cf, mesh, order=o)), 0.0)) ** 0.5
+
+    value = l2(norm, order)
+    GG = ngs.InnerProduct(G, G)
+    error = abs(value - l2(norm, order + 4)) + ROUNDOFF * l2(GG, order)
+    return ({"scalar_curvature": scalar, "einstein_norm_g": norm},
+            {"scalar_curvature_min": -maximum(-scalar, mesh),
+             "scalar_curvature_max": maximum(scalar, mesh),
+             "einstein_norm_L2": value, "einstein_norm_L2_error": error})
+
+
+def verdict(metrics):
+    """The one-line verdict on a run's curvature metrics: compatible when the measured
+    ||Ein||_g does not exceed the estimate of its error."""
+    value, error = metrics["einstein_norm_L2"], metrics["einstein_norm_L2_error"]
+    if value <= error:
+        return (f"compatible: a stress-free state exists (||Ein(Cg)||_L2 = {value:.3g} "
+                f"<= its error {error:.3g})")
+    return (f"incompatible: no stress-free state (||Ein(Cg)||_L2 = {value:.3g} > "
+            f"its error {error:.3g})")

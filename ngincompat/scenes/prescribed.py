@@ -12,8 +12,9 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
+from .. import curvature as cv
 from .. import incompatibility as inc
-from .. import postprocess
+from .. import postprocess, regge
 from ..growth import check_positive
 from ..kinematics import deformation_gradient, elastic_part
 from ..materials import NeoHookean
@@ -114,7 +115,8 @@ class PrescribedScene(Scene):
 
     #: Metrics of every prescribed-growth scene; subclasses add their verification metrics.
     metrics = ("strain_energy", "max_principal_stress", "burgers_max", "G_error_L2_rel",
-               "G_norm_L2", "G_elastic_vs_growth_L2_rel")
+               "G_norm_L2", "G_elastic_vs_growth_L2_rel", "scalar_curvature_min",
+               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
 
     def __post_init__(self):
         super().__post_init__()
@@ -158,6 +160,9 @@ def _measure(case, solution, progress):
     with ngs.TaskManager():
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
             fields, metrics = _incompatibility(scene, case, problem)
+        if "curvature" in scene.output_set():
+            with progress.phase("curvature"), timed(timings, "curvature"):
+                metrics.update(_curvature(case, fields))
         with progress.phase("stresses and profiles"), timed(timings, "postprocess"):
             fields["theta"] = growth.theta
             if problem is not None:
@@ -165,7 +170,8 @@ def _measure(case, solution, progress):
             if case.verify is not None:
                 metrics.update(case.verify(problem, fields))
             start, end, coord = case.line
-            sampled = [k for k in ("theta", "Psi", "curlFg_sq", *case.components,
+            sampled = [k for k in ("theta", "Psi", "curlFg_sq", "scalar_curvature",
+                                   "einstein_norm_g", *case.components,
                                    *(f"|b_{label}|" for label in case.planes)) if k in fields]
             s, values = postprocess.sample_line(mesh, {k: fields[k] for k in sampled},
                                                 start, end)
@@ -173,7 +179,38 @@ def _measure(case, solution, progress):
     results.fields = fields
     results.profiles = {"line": {coord: np.asarray(start)[_axis(start, end)] + s, **values}}
     results.figures = _figures(scene, coord, case, problem is not None)
+    if "curvature" in scene.output_set():
+        results.figures.append(_curvature_figure(scene, coord, case))
     return results
+
+
+def _curvature(case, fields):
+    """The curvature of Cg (exact path for analytic growth, Regge path of degree 2 for growth
+    given as data); adds S and |Ein|_g to the fields, returns the metrics."""
+    Fg = case.growth.Fg
+    if case.analytic:
+        exact = cv.growth_curvature(Fg)
+        einstein, scalar, g = exact.einstein, exact.scalar, exact.metric
+    else:
+        ngs.SetHeapSize(10**8)
+        discrete = regge.discrete_curvature(cv.growth_metric(Fg), case.mesh, order=2)
+        einstein, scalar, g = discrete.einstein, discrete.scalar, discrete.gh
+    extra, metrics = cv.measure(einstein, scalar, g, case.mesh, fields["G"], mirror=case.mirror)
+    fields.update(extra)
+    return metrics
+
+
+#: Smallest range of the curvature axis [1/length^2]: round-off of a flat metric is drawn flat.
+_CURVATURE_FLOOR = 1e-8
+
+
+def _curvature_figure(scene, coord, case):
+    """|Ein|_g of Cg along the profile line, beside |b| on the scene's planes."""
+    L = scene.units["length"]
+    return Figure("curvature.png", coord, f"{coord} [{L}]", {"|Ein(Cg)|_g": "einstein_norm_g"},
+                  f"curvature [1/{L}$^2$]", f"{scene.title()}: curvature of the growth metric",
+                  right={f"|b| on {label}": f"|b_{label}|" for label in case.planes},
+                  right_label=f"|b| [1/{L}]", floor=_CURVATURE_FLOOR)
 
 
 def _mechanics(case, problem, fields):
