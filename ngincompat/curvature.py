@@ -41,6 +41,7 @@ import ngsolve as ngs
 from ngsolve.fem import Einsum
 
 from .incompatibility import gradient_exact, levi_civita
+from .results import Figure
 
 _COORDS = (ngs.x, ngs.y, ngs.z)
 
@@ -145,12 +146,16 @@ def growth_curvature(Fg):
     return curvature_exact(growth_metric(Fg))
 
 
+#: Smallest range of the curvature axis of :func:`figure` [1/length^2]: the round-off of a
+#: flat metric is drawn flat.
+FIGURE_FLOOR = 1e-8
+
 #: Round-off level of the exact path: curvature below ROUNDOFF * |G|^2 (the size curvature
 #: built from the incompatibility G would have) is zero in double precision.
 ROUNDOFF = 1e-10
 
 
-def measure(einstein, scalar, g, mesh, G, mirror=1, order=6):
+def measure(einstein, scalar, g, mesh, G, mirror=1, order=6, reference=None):
     """Fields and metrics of a curvature for a scene's results.
 
     Parameters
@@ -166,6 +171,10 @@ def measure(einstein, scalar, g, mesh, G, mirror=1, order=6):
         Mirror copies of the mesh that make the body (integrals are of the whole body).
     order : int
         Quadrature order of the L2 norm; the estimate of its error compares with order + 4.
+    reference : CoefficientFunction, optional
+        A less accurate Einstein tensor of the same metric (the discrete path one degree
+        lower): ||Ein - reference||_g is added to the error estimate, a conservative estimate
+        of the discretisation error.
 
     Returns
     -------
@@ -174,7 +183,8 @@ def measure(einstein, scalar, g, mesh, G, mirror=1, order=6):
     metrics : dict
         ``scalar_curvature_min``, ``scalar_curvature_max``, ``einstein_norm_L2``
         (||Ein||_g over the reference body, 1/length^(1/2)) and ``einstein_norm_L2_error``:
-        the quadrature error of that norm plus the round-off level ROUNDOFF ||G (x) G||_L2.
+        the quadrature error of that norm, the difference from ``reference`` and the
+        round-off level ROUNDOFF ||G (x) G||_L2.
     """
     from .postprocess import maximum
 
@@ -186,6 +196,8 @@ def measure(einstein, scalar, g, mesh, G, mirror=1, order=6):
     value = l2(norm, order)
     GG = ngs.InnerProduct(G, G)
     error = abs(value - l2(norm, order + 4)) + ROUNDOFF * l2(GG, order)
+    if reference is not None:
+        error += l2(einstein_norm(einstein - reference, g), order)
     return ({"scalar_curvature": scalar, "einstein_norm_g": norm},
             {"scalar_curvature_min": -maximum(-scalar, mesh),
              "scalar_curvature_max": maximum(scalar, mesh),
@@ -201,3 +213,32 @@ def verdict(metrics):
                 f"<= its error {error:.3g})")
     return (f"incompatible: no stress-free state (||Ein(Cg)||_L2 = {value:.3g} > "
             f"its error {error:.3g})")
+
+
+def measure_growth(Fg, mesh, G, exact=True, mirror=1, regge_order=2):
+    """Curvature fields and metrics (:func:`measure`) of the growth metric Cg = Fg^T Fg.
+
+    ``exact``: Fg is analytic (a CF of x, y, z) and the exact path applies; otherwise the
+    Regge path of degree ``regge_order`` (:mod:`ngincompat.regge`, tetrahedral meshes), its
+    error estimated against degree ``regge_order - 1``.
+    """
+    if exact:
+        curv = growth_curvature(Fg)
+        return measure(curv.einstein, curv.scalar, curv.metric, mesh, G, mirror=mirror)
+    from .regge import discrete_curvature
+    ngs.SetHeapSize(10**8)
+    g = growth_metric(Fg)
+    curv = discrete_curvature(g, mesh, order=regge_order)
+    lower = discrete_curvature(g, mesh, order=regge_order - 1).einstein
+    return measure(curv.einstein, curv.scalar, curv.gh, mesh, G, mirror=mirror,
+                   reference=lower)
+
+
+def figure(scene, coord, burgers):
+    """The figure ``curvature.png`` of a scene: |Ein(Cg)|_g (profile key ``einstein_norm_g``)
+    along a line with coordinate ``coord``, beside the Burgers vectors ``burgers`` (legend
+    label -> profile key) on the right axis."""
+    L = scene.units["length"]
+    return Figure("curvature.png", coord, f"{coord} [{L}]", {"|Ein(Cg)|_g": "einstein_norm_g"},
+                  f"curvature [1/{L}$^2$]", f"{scene.title()}: curvature of the growth metric",
+                  right=burgers, right_label=f"|b| [1/{L}]", floor=FIGURE_FLOOR)

@@ -230,3 +230,17 @@ def test_hemisphere_scene_is_incompatible_with_exact_scalar_curvature():
     expected = -theta ** (-2 / 3) * (4 * lap + 2 * d1 ** 2)
     inside = (R > 0.05) & (R < 0.95)
     assert np.allclose(S[inside], expected[inside], rtol=1e-8)
+
+
+@pytest.mark.slow
+def test_skin_reports_discrete_curvature_beside_b():
+    from conftest import SKIN_COARSE
+
+    from ngincompat.scenes import get_scene
+    settings = dict(item.split("=") for item in SKIN_COARSE[1::2])
+    results = get_scene("skin").from_settings({**settings, "outputs": "curvature"}).run()
+    m = results.metrics
+    assert m["einstein_norm_L2"] > 0 and m["einstein_norm_L2_error"] > 0
+    assert m["scalar_curvature_min"] < m["scalar_curvature_max"]
+    assert "einstein_norm_g" in results.profiles["line"]
+    assert any(f.file == "curvature.png" for f in results.figures)

@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import curvature as cv
 from .. import incompatibility as inc
-from .. import postprocess, regge
+from .. import postprocess
 from ..growth import check_positive
 from ..kinematics import deformation_gradient, elastic_part
 from ..materials import NeoHookean
@@ -185,32 +185,21 @@ def _measure(case, solution, progress):
 
 
 def _curvature(case, fields):
-    """The curvature of Cg (exact path for analytic growth, Regge path of degree 2 for growth
-    given as data); adds S and |Ein|_g to the fields, returns the metrics."""
+    """The curvature of Cg: exact path for analytic growth; for growth given as data, the
+    Regge path of degree 2 on the continuous interpolant of Fg that G is computed from.
+    Adds S and |Ein|_g to the fields, returns the metrics."""
     Fg = case.growth.Fg
-    if case.analytic:
-        exact = cv.growth_curvature(Fg)
-        einstein, scalar, g = exact.einstein, exact.scalar, exact.metric
-    else:
-        ngs.SetHeapSize(10**8)
-        discrete = regge.discrete_curvature(cv.growth_metric(Fg), case.mesh, order=2)
-        einstein, scalar, g = discrete.einstein, discrete.scalar, discrete.gh
-    extra, metrics = cv.measure(einstein, scalar, g, case.mesh, fields["G"], mirror=case.mirror)
+    if not case.analytic:
+        Fg = inc.project_tensor(Fg, case.mesh, case.scene.g_order)[0]
+    extra, metrics = cv.measure_growth(Fg, case.mesh, fields["G"], exact=case.analytic,
+                                       mirror=case.mirror)
     fields.update(extra)
     return metrics
 
 
-#: Smallest range of the curvature axis [1/length^2]: round-off of a flat metric is drawn flat.
-_CURVATURE_FLOOR = 1e-8
-
-
 def _curvature_figure(scene, coord, case):
     """|Ein|_g of Cg along the profile line, beside |b| on the scene's planes."""
-    L = scene.units["length"]
-    return Figure("curvature.png", coord, f"{coord} [{L}]", {"|Ein(Cg)|_g": "einstein_norm_g"},
-                  f"curvature [1/{L}$^2$]", f"{scene.title()}: curvature of the growth metric",
-                  right={f"|b| on {label}": f"|b_{label}|" for label in case.planes},
-                  right_label=f"|b| [1/{L}]", floor=_CURVATURE_FLOOR)
+    return cv.figure(scene, coord, {f"|b| on {label}": f"|b_{label}|" for label in case.planes})
 
 
 def _mechanics(case, problem, fields):
