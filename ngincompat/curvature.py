@@ -58,22 +58,40 @@ class Curvature:
         Gamma_ijk, first kind.
     christoffel2 : CF (3x3x3)
         Gamma_ij^k, second kind (the raised index last).
-    riemann : CF (3x3x3x3)
-        R_ijkl.
-    ricci : CF (3x3)
+    incompatibility : CF (3x3)
+        inc(g) + E with E^ab = eps_akl eps_bmn Gamma_km^q Gamma_lnq: the curvature operator
+        Q = -(inc(g) + E) / (2 det g), R_ijkl = det(g) eps_ija eps_klb Q^ab (3-D).
     scalar : CF
-        S.
+        S = 2 g : Q = -g : (inc(g) + E) / det g.
     einstein : CF (3x3)
-        Ein = Ric - S/2 g, covariant components in reference coordinates.
+        Ein = -g Q g = g (inc(g) + E) g / (2 det g), covariant components in reference
+        coordinates; equal to Ric - S/2 g.
+
+    The Riemann tensor (81 components) is built only when asked for (:attr:`riemann`); the
+    scene outputs need S and Ein alone, which the 3-D curvature operator gives at a fraction
+    of the cost.
     """
 
     metric: ngs.CoefficientFunction
     christoffel: ngs.CoefficientFunction
     christoffel2: ngs.CoefficientFunction
-    riemann: ngs.CoefficientFunction
-    ricci: ngs.CoefficientFunction
+    incompatibility: ngs.CoefficientFunction
     scalar: ngs.CoefficientFunction
     einstein: ngs.CoefficientFunction
+
+    @property
+    def riemann(self):
+        """R_ijkl = d_i Gamma_jkl - d_j Gamma_ikl + Gamma_ik^p Gamma_jlp - Gamma_jk^p Gamma_ilp,
+        from the coordinate formula (the derivative part as 1/2 eps_ija eps_klb inc(g)^ab)."""
+        eps = levi_civita()
+        chr1, chr2 = self.christoffel, self.christoffel2
+        return (0.5 * Einsum("ija,klb,ab->ijkl", eps, eps, inc(self.metric))
+                + Einsum("ikp,jlp->ijkl", chr2, chr1) - Einsum("jkp,ilp->ijkl", chr2, chr1))
+
+    @property
+    def ricci(self):
+        """Ric = Ein + S/2 g."""
+        return self.einstein + 0.5 * self.scalar * self.metric
 
     def einstein_norm(self):
         """|Ein|_g = sqrt(Ein_ij g^ik g^jl Ein_kl), frame-invariant."""
@@ -107,16 +125,13 @@ def curvature_exact(g):
     """
     dg = gradient_exact(g)                       # dg[j, k, i] = d_i g_jk
     chr1 = 0.5 * (Einsum("jki->ijk", dg) + Einsum("ikj->ijk", dg) - dg)
-    g_inv = ngs.Inv(g)
-    chr2 = Einsum("ijp,pk->ijk", chr1, g_inv)
+    chr2 = Einsum("ijp,pk->ijk", chr1, ngs.Inv(g))
     eps = levi_civita()
-    riemann = (0.5 * Einsum("ija,klb,ab->ijkl", eps, eps, inc(g))
-               + Einsum("ikp,jlp->ijkl", chr2, chr1) - Einsum("jkp,ilp->ijkl", chr2, chr1))
-    ricci = Einsum("kijl,kl->ij", riemann, g_inv)
-    scalar = ngs.InnerProduct(ricci, g_inv)
-    einstein = ricci - 0.5 * scalar * g
-    return Curvature(metric=g, christoffel=chr1, christoffel2=chr2, riemann=riemann,
-                     ricci=ricci, scalar=scalar, einstein=einstein)
+    total = inc(g) + Einsum("akl,bmn,kmq,lnq->ab", eps, eps, chr2, chr1)
+    det = ngs.Det(g)
+    return Curvature(metric=g, christoffel=chr1, christoffel2=chr2, incompatibility=total,
+                     scalar=-ngs.InnerProduct(g, total) / det,
+                     einstein=(0.5 / det) * (g * total * g))
 
 
 def growth_metric(Fg):

@@ -50,6 +50,9 @@ def test_round_sphere_in_stereographic_coordinates(cube_tet):
     # constant curvature: R_ijkl = K (g_il g_jk - g_ik g_jl), Lee's sign
     R = ngs.fem.Einsum("il,jk->ijkl", g, g) - ngs.fem.Einsum("ik,jl->ijkl", g, g)
     assert l2_norm(c.riemann - R, cube_tet) < 1e-12
+    # the coordinate formula of Riemann contracts to the same Ricci (two routes)
+    ricci = ngs.fem.Einsum("kijl,kl->ij", c.riemann, ngs.Inv(g))
+    assert l2_norm(ricci - c.ricci, cube_tet) < 1e-12
     # |Ein|_g = |-g|_g = sqrt(3)
     assert l2_norm(c.einstein_norm() - np.sqrt(3), cube_tet) < 1e-12
 
@@ -63,6 +66,8 @@ def test_isotropic_growth_is_conformally_flat_closed_form(cube_tet):
     assert l2_norm(S, cube_tet) > 0.1
     assert l2_norm(c.scalar - S, cube_tet) < 1e-12 * l2_norm(S, cube_tet)
     assert l2_norm(c.einstein - ein, cube_tet) < 1e-12 * l2_norm(ein, cube_tet)
+    ricci = ngs.fem.Einsum("kijl,kl->ij", c.riemann, ngs.Inv(c.metric))
+    assert l2_norm(ricci - c.ricci, cube_tet) < 1e-12 * l2_norm(ein, cube_tet)
 
 
 def test_hemisphere_growth_closed_form_away_from_the_cone_point():
