@@ -44,8 +44,8 @@ class Scene:
     steps: int = param(1, "initial number of load steps (adaptive: cut on failure)")
     g_order: int = param(6, "order of the H1 space that Fg is projected into for Curl Fg")
     outputs: str = param("vtk,figures", "files besides results.json: comma list of "
-                                        "vtk, figures, growth (mesh.vol + growth.npz); "
-                                        "or none")
+                                        "vtk, figures, growth (mesh.vol + growth.npz), "
+                                        "curvature (of the growth metric); or none")
     mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
                                   "incompatibility of the growth field only")
 
