@@ -21,8 +21,10 @@ from .results import Results
 
 #: Files that mark a folder as holding a run (a scene's, or a summary of several).
 MARKERS = ("results.json", "summary.json")
-#: Optional files of a run, as named in a scene's ``outputs`` parameter.
-OUTPUTS = ("vtk", "figures", "growth")
+#: Optional outputs of a run, as named in a scene's ``outputs`` parameter: files, and
+#: ``curvature`` (the curvature of the growth metric, :mod:`ngincompat.curvature`, in the
+#: metrics, the VTK fields and the figures).
+OUTPUTS = ("vtk", "figures", "growth", "curvature")
 
 
 def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:

@@ -163,9 +163,14 @@ class Results:
                 f"total {total:.2f} s")
 
     def metric_lines(self) -> list[str]:
-        """One line per metric: name, value and unit."""
-        return [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
-                for key, value in self.metrics.items()]
+        """One line per metric: name, value and unit; then the compatibility verdict when the
+        curvature of the growth metric was measured (:func:`ngincompat.curvature.verdict`)."""
+        lines = [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
+                 for key, value in self.metrics.items()]
+        if "einstein_norm_L2" in self.metrics:
+            from .curvature import verdict      # curvature imports this module
+            lines.append(f"  {verdict(self.metrics)}")
+        return lines
 
     def profile(self, name: str = "line") -> dict[str, np.ndarray]:
         """A sampled profile by name."""

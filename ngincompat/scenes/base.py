@@ -48,6 +48,8 @@ class Scene:
         "rotation_rate_expected": "1/length",
         "burgers_max_radius": "length", "volume_inflated": "volume",
         "G_norm_L2": "length^(1/2)",
+        "scalar_curvature_min": "1/length^2", "scalar_curvature_max": "1/length^2",
+        "einstein_norm_L2": "length^(-1/2)", "einstein_norm_L2_error": "length^(-1/2)",
     }
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
@@ -57,8 +59,8 @@ class Scene:
     steps: int = param(1, "initial number of load steps (adaptive: cut on failure)")
     g_order: int = param(6, "order of the H1 space that Fg is projected into for Curl Fg")
     outputs: str = param("vtk,figures", "files besides results.json: comma list of "
-                                        "vtk, figures, growth (mesh.vol + growth.npz); "
-                                        "or none")
+                                        "vtk, figures, growth (mesh.vol + growth.npz), "
+                                        "curvature (of the growth metric); or none")
     mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
                                   "incompatibility of the growth field only")
 

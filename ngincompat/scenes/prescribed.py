@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
+from .. import curvature as cv
 from .. import incompatibility as inc
 from .. import postprocess
 from ..growth import check_positive
@@ -114,7 +115,8 @@ class PrescribedScene(Scene):
 
     #: Metrics of every prescribed-growth scene; subclasses add their verification metrics.
     metrics = ("strain_energy", "max_principal_stress", "burgers_max", "G_error_L2_rel",
-               "G_norm_L2", "G_elastic_vs_growth_L2_rel")
+               "G_norm_L2", "G_elastic_vs_growth_L2_rel", "scalar_curvature_min",
+               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
 
     def __post_init__(self):
         super().__post_init__()
@@ -158,6 +160,9 @@ def _measure(case, solution, progress):
     with ngs.TaskManager():
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
             fields, metrics = _incompatibility(scene, case, problem)
+        if "curvature" in scene.output_set():
+            with progress.phase("curvature"), timed(timings, "curvature"):
+                metrics.update(_curvature(case, fields))
         with progress.phase("stresses and profiles"), timed(timings, "postprocess"):
             fields["theta"] = growth.theta
             if problem is not None:
@@ -165,7 +170,8 @@ def _measure(case, solution, progress):
             if case.verify is not None:
                 metrics.update(case.verify(problem, fields))
             start, end, coord = case.line
-            sampled = [k for k in ("theta", "Psi", "curlFg_sq", *case.components,
+            sampled = [k for k in ("theta", "Psi", "curlFg_sq", "scalar_curvature",
+                                   "einstein_norm_g", *case.components,
                                    *(f"|b_{label}|" for label in case.planes)) if k in fields]
             s, values = postprocess.sample_line(mesh, {k: fields[k] for k in sampled},
                                                 start, end)
@@ -173,7 +179,27 @@ def _measure(case, solution, progress):
     results.fields = fields
     results.profiles = {"line": {coord: np.asarray(start)[_axis(start, end)] + s, **values}}
     results.figures = _figures(scene, coord, case, problem is not None)
+    if "curvature" in scene.output_set():
+        results.figures.append(_curvature_figure(scene, coord, case))
     return results
+
+
+def _curvature(case, fields):
+    """The curvature of Cg: exact path for analytic growth; for growth given as data, the
+    Regge path of degree 2 on the continuous interpolant of Fg that G is computed from.
+    Adds S and |Ein|_g to the fields, returns the metrics."""
+    Fg = case.growth.Fg
+    if not case.analytic:
+        Fg = inc.project_tensor(Fg, case.mesh, case.scene.g_order)[0]
+    extra, metrics = cv.measure_growth(Fg, case.mesh, fields["G"], exact=case.analytic,
+                                       mirror=case.mirror)
+    fields.update(extra)
+    return metrics
+
+
+def _curvature_figure(scene, coord, case):
+    """|Ein|_g of Cg along the profile line, beside |b| on the scene's planes."""
+    return cv.figure(scene, coord, {f"|b| on {label}": f"|b_{label}|" for label in case.planes})
 
 
 def _mechanics(case, problem, fields):

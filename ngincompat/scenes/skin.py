@@ -35,6 +35,7 @@ import numpy as np
 
 from geometries import FOOTPRINTS, skin_patch
 
+from .. import curvature as cv
 from .. import fields, postprocess
 from .. import incompatibility as inc
 from ..errors import require
@@ -62,7 +63,9 @@ class SkinExpansionScene(Scene):
                "pressure_end_of_hold", "theta_max", "theta_mean_footprint", "theta_apex",
                "burgers_max", "burgers_apex", "burgers_max_radius",
                "max_principal_stress_clamped", "strain_energy_clamped",
-               "max_principal_stress_released", "strain_energy_released")
+               "max_principal_stress_released", "strain_energy_released",
+               "scalar_curvature_min", "scalar_curvature_max", "einstein_norm_L2",
+               "einstein_norm_L2_error")
     units = {"length": "cm", "stress": "MPa", "energy": "MPa cm^3 (J)", "volume": "cm^3",
              "time": "day"}
 
@@ -214,7 +217,7 @@ class SkinCase:
                                                         definedon=footprint) / area
         growth = AreaGrowth(theta, self.N0)
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
-            curl_Fg, _ = inc.curl_projected(growth.Fg, mesh, scene.g_order)
+            curl_Fg, Fg_h = inc.curl_projected(growth.Fg, mesh, scene.g_order)
             G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
             b = inc.burgers_vector(G, self.N0.cf)
             metrics["burgers_max"] = postprocess.maximum(ngs.Norm(b), mesh)
@@ -229,13 +232,22 @@ class SkinCase:
                 flds[f"sigma_max_{stage}"], mesh)
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
         metrics.update(_where(mesh, theta, ngs.Norm(b)))
+        if "curvature" in scene.output_set():
+            # growth computed on the mesh: the Regge path, on the continuous interpolant of Fg
+            # that G is computed from (theta itself may jump between elements)
+            with progress.phase("curvature"), timed(timings, "curvature"):
+                extra, measured = cv.measure_growth(Fg_h, mesh, G, exact=False)
+            flds.update(extra)
+            metrics.update(measured)
         line = ((-4.99, 0.0, 0.0), (4.99, 0.0, 0.0))
-        sampled = [k for k in ("theta", "|b|", "sigma_max_clamped", "sigma_max_released")
-                   if k in flds]
+        sampled = [k for k in ("theta", "|b|", "sigma_max_clamped", "sigma_max_released",
+                               "einstein_norm_g", "scalar_curvature") if k in flds]
         s, values = postprocess.sample_line(mesh, {k: flds[k] for k in sampled}, *line)
         results.profiles = {"line": {"X1": line[0][0] + s, **values}}
         results.fields = flds
         results.figures = _figures(scene)
+        if "curvature" in scene.output_set():
+            results.figures.append(cv.figure(scene, "X1", {"|b| on e3": "|b|"}))
         return results
 
 
