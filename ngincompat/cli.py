@@ -35,20 +35,23 @@ def _settings(pairs, option="--set"):
     return out
 
 
-OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures")
+#: --outputs: what to compute (incompatibility always, mechanics optionally), then the
+#: optional outputs of a scene, :data:`ngincompat.output.OUTPUTS` (spelled out here: the
+#: command line does not import NGSolve before it needs to).
+OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures", "growth", "curvature")
 
 
 def _outputs(text):
     """--outputs LIST -> the scene settings ``mechanics`` and ``outputs``.
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
-    energy; vtk and figures add files."""
+    energy; the scene's optional outputs (:data:`ngincompat.output.OUTPUTS`) are passed on."""
     items = {item.strip() for item in text.split(",") if item.strip()}
     unknown = items - set(OUTPUT_NAMES)
     if unknown or not items:
         raise ParameterError(f"--outputs {text!r}: allowed a comma list of "
                              f"{', '.join(OUTPUT_NAMES)}")
-    files = [name for name in ("vtk", "figures") if name in items]
+    files = [name for name in OUTPUT_NAMES[2:] if name in items]
     return {"mechanics": "mechanics" in items, "outputs": ",".join(files) or "none"}
 
 

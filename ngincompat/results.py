@@ -168,7 +168,7 @@ class Results:
         lines = [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
                  for key, value in self.metrics.items()]
         if "einstein_norm_L2" in self.metrics:
-            from .curvature import verdict      # curvature imports this module
+            from .curvature import verdict  # curvature imports this module
             lines.append(f"  {verdict(self.metrics)}")
         return lines
 
