@@ -19,6 +19,7 @@ import argparse
 import logging
 import sys
 
+from . import parallel
 from .errors import ConvergenceError, Interrupted, ParameterError
 from .progress import Progress
 
@@ -74,13 +75,16 @@ def _cmd_run(args):
     if args.outputs is not None:
         settings.update(_outputs(args.outputs))
     scene = cls.from_settings(settings)
+    root = parallel.is_root()       # with MPI, rank 0 alone reports
     try:
         results = scene.run(args.out, overwrite=args.overwrite,
-                            progress=Progress(quiet=args.quiet))
+                            progress=Progress(quiet=args.quiet or not root))
     except ConvergenceError as err:
-        _print_run(err.results, args.out)
+        if root:
+            _print_run(err.results, args.out)
         raise
-    _print_run(results, args.out)
+    if root:
+        _print_run(results, args.out)
     return EXIT_OK
 
 

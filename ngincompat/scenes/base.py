@@ -14,7 +14,7 @@ import sys
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from .. import io, pipeline
+from .. import io, parallel, pipeline
 from ..errors import ParameterError, require
 from ..output import OUTPUTS
 from ..progress import SILENT, Progress
@@ -89,7 +89,8 @@ class Scene:
 
     def record(self, mesh, order=None, **kwargs) -> Results:
         """An empty :class:`Results` of this scene on ``mesh`` (an ngsolve.Mesh)."""
-        info = MeshInfo(ne=mesh.ne, nv=mesh.nv, order=self.order if order is None else order,
+        ne, nv = parallel.counts(mesh)
+        info = MeshInfo(ne=ne, nv=nv, order=self.order if order is None else order,
                         maxh=self.maxh)
         return Results(scene=self.name, params=self.settings(), units=dict(self.units),
                        mesh=info, versions=io.versions(), argv=list(sys.argv), domain=mesh,
