@@ -134,8 +134,10 @@ def _cmd_expansion(args):
 
 
 def _cmd_bench(args):
-    from . import bench, scaling, stability
-    if args.case == "cube":
+    from . import bench, peer, scaling, stability
+    if args.case == "peer":
+        lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
+    elif args.case == "cube":
         lines = bench.cube_main(args.maxh, args.orders, out=args.out)
     elif args.case == "accuracy":
         lines = bench.accuracy_main(out=args.out, quick=args.quick)
@@ -169,7 +171,7 @@ def _cmd_sweep_plot(args):
 
 
 def _add_bench(sub):
-    """``bench cube | accuracy | stability | scaling`` and their options."""
+    """``bench cube | accuracy | peer | stability | scaling`` and their options."""
     from .scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
@@ -191,6 +193,15 @@ def _add_bench(sub):
                          "cylinder, with a plot and the cheapest setting per target")
     p.add_argument("--quick", action="store_true",
                    help="only coarse cube and cylinder settings (seconds)")
+    p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
+                     "alternate runs, the ratio of solve times and both energy errors")
+    p.add_argument("--peer", metavar="DIR",
+                   help="the peer's folder (env_dolfinx.sh, fenicsx_growth.py; default: "
+                        "$NGINCOMPAT_PEER)")
+    p.add_argument("--pairs", type=int, default=3,
+                   help="alternating (peer, ours) runs (default 3)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="a parameter of our cube (repeatable; default: the scene's defaults)")
     p = case("stability", "the numerical stress-test matrix and the locking study (see "
                           "ngincompat.stability)")
     p.add_argument("--quick", action="store_true",
