@@ -112,3 +112,16 @@ def test_linear_solver_is_checked():
     from ngincompat.errors import ParameterError
     with pytest.raises(ParameterError, match="linear_solver"):
         CubeScene(linear_solver="mumps")
+
+
+def test_a_scene_that_does_not_distribute_refuses_mpi(tmp_path):
+    launcher, reason = _mpiexec()
+    if launcher is None:
+        pytest.skip(reason)
+    done = subprocess.run([launcher, "-n", "2", sys.executable, "-m", "ngincompat.cli", "run",
+                           "hemisphere", "--out", str(tmp_path / "h")], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 2
+    assert "does not run distributed" in done.stderr and "Traceback" not in done.stderr
+    assert not (tmp_path / "h" / "results.json").exists()

@@ -38,6 +38,9 @@ class Scene:
     metrics: ClassVar[tuple[str, ...]] = ()
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
+    #: Whether the scene distributes its mesh when launched on several MPI ranks
+    #: (:mod:`ngincompat.parallel`); the others refuse to run under MPI.
+    distributed: ClassVar[bool] = False
 
     order: int = param(4, "polynomial order of the displacement")
     maxh: float = param(0.25, "mesh size", "length")
@@ -76,6 +79,10 @@ class Scene:
         """Build, solve and measure the scene; write the folder ``out`` if given.
 
         See :func:`ngincompat.pipeline.run` (errors, interruption, what is written)."""
+        comm = parallel.world()
+        require(comm is None or self.distributed, "MPI ranks", comm and comm.size,
+                f"1: the {self.name} scene does not run distributed (launch it without "
+                "mpiexec)")
         return pipeline.run(self, out, overwrite=overwrite, progress=progress, label=label)
 
     def title(self) -> str:

@@ -34,6 +34,7 @@ class CubeScene(prescribed.PrescribedScene):
     name = "cube"
     summary = "section 3.1: isotropic growth theta = 1 + X1 t / 4 of a 1 mm cube"
     variant = ("model", "formulation")
+    distributed = True
 
     side: float = param(1.0, "edge length of the cube", "length")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length")
