@@ -14,7 +14,7 @@ import os
 import time
 from pathlib import Path
 
-from . import io, plots
+from . import io, parallel, plots
 from .errors import ParameterError
 from .inputs import save_growth, save_mesh
 from .results import Results
@@ -108,23 +108,34 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     """Write a run into the folder ``out``: results.json always; ``fields.vtu`` (scalar and
     vector fields), the figures and ``mesh.vol`` + ``growth.npz`` (the growth field as data,
     for a later run's ``--set mesh=... --set theta_file=...``) as the scene's ``outputs``
-    ask. ``results.files`` lists what was written; results.json is written last."""
+    ask. ``results.files`` lists what was written; results.json is written last.
+
+    On a distributed mesh every rank writes its part of the VTK output (``fields.pvd`` and
+    one ``.vtu`` per part); rank 0 alone writes results.json and the figures; the growth
+    field as data is not written (it is for serial reruns)."""
     start = time.perf_counter()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     outputs = wanted(results) if outputs is None else outputs
     files = []
+    distributed = results.domain is not None and parallel.distributed(results.domain)
     if results.fields and results.domain is not None:
         if "vtk" in outputs:
             vtk = {k: v for k, v in results.fields.items() if v.dim <= 3}
-            io.write_vtk(out / "fields.vtu", results.domain, vtk,
-                         subdivision=2 if results.mesh.order >= 3 else 1)
-            files.append("fields.vtu")
-        if "growth" in outputs and "theta" in results.fields:
+            subdivision = 2 if results.mesh.order >= 3 else 1
+            if distributed:
+                files += io.write_vtk_parallel(out / "fields", results.domain, vtk,
+                                               subdivision=subdivision)
+            else:
+                io.write_vtk(out / "fields.vtu", results.domain, vtk, subdivision=subdivision)
+                files.append("fields.vtu")
+        if "growth" in outputs and "theta" in results.fields and not distributed:
             save_mesh(out / "mesh.vol", results.domain)
             save_growth(out / "growth.npz", results.domain, results.fields["theta"],
                         order=max(results.mesh.order, 2))
             files += ["mesh.vol", "growth.npz"]
+    if not parallel.is_root():
+        return results
     if "figures" in outputs:
         for figure in results.figures:
             if all(k in results.profiles.get(figure.profile, {})

@@ -11,7 +11,7 @@ import ngsolve as ngs
 import numpy as np
 from netgen.libngpy._meshing import NgException
 
-from . import kinematics
+from . import kinematics, parallel
 from .sampling import element_points
 
 
@@ -56,7 +56,8 @@ def sample_line(mesh, cfs, start, end, n=101):
         The arc-length coordinate of the points, from 0.
     values : dict
         name -> ndarray of shape (n,) for scalars or (n, k) for vector/matrix fields; NaN at
-        points the mesh does not cover.
+        points the mesh does not cover. On a distributed mesh, each point's values are those
+        of the lowest rank whose part holds it, on every rank.
     """
     start, end = np.asarray(start, float), np.asarray(end, float)
     s = np.linspace(0.0, 1.0, n)
@@ -67,7 +68,8 @@ def sample_line(mesh, cfs, start, end, n=101):
     for name, cf in cfs.items():
         size = int(np.prod(cf.dims))
         v = np.array([np.full(size, np.nan) if p is None else np.atleast_1d(cf(p))
-                      for p in points], dtype=float)
+                      for p in points], dtype=float).reshape(n, size)
+        v = parallel.first_found(mesh, v)
         values[name] = v[:, 0] if v.shape[1] == 1 else v
     return s * np.linalg.norm(end - start), values
 
@@ -94,5 +96,7 @@ def _locatable(mesh, pts):
 
 
 def maximum(cf, mesh, order=4):
-    """Largest value of a scalar CF over the integration points and vertices of the mesh."""
-    return float(np.max(np.asarray(cf(element_points(mesh, order)))))
+    """Largest value of a scalar CF over the integration points and vertices of the mesh
+    (of all ranks of a distributed mesh)."""
+    values = np.asarray(cf(element_points(mesh, order))) if mesh.ne else np.empty(0)
+    return parallel.maximum(mesh, np.max(values, initial=-np.inf))

@@ -20,8 +20,9 @@ from typing import Literal
 
 import ngsolve as ngs
 import numpy as np
+from ngsolve.krylovspace import CGSolver
 
-from . import kinematics
+from . import kinematics, parallel
 from .errors import require
 from .fields import DirectionField
 from .growth import GrowthKind, GrowthModel, growth_kind
@@ -144,7 +145,8 @@ class GrowthMechanics:
 
     @property
     def ndof(self):
-        return self.fes.ndof
+        """Number of unknowns (over all ranks of a distributed mesh)."""
+        return self.fes.ndofglobal
 
     def fibers_intermediate(self):
         """Fiber directions pushed to the intermediate configuration, Fg a0 / |Fg a0| (eq. 39)."""
@@ -170,8 +172,8 @@ class GrowthMechanics:
 
     def strain_energy(self):
         """Total elastic energy int Jg Psi dV of the current state (mixed: the value of the
-        discrete saddle-point functional)."""
-        return self.form.Energy(self.state.vec)
+        discrete saddle-point functional); summed over the ranks of a distributed mesh."""
+        return parallel.total(self.mesh, self.form.Energy(self.state.vec))
 
     def growth_load(self):
         """The vector f with f . v = int (Fg - I) : Grad v dV, at the current growth time."""
@@ -196,8 +198,50 @@ class GrowthMechanics:
         is only anchored at one dof against its constant.
         """
         if self._fit_inverse is None:
-            self._fit_inverse = _ComponentLaplaceInverse(self.space, self.order)
+            if parallel.distributed(self.mesh):
+                self._fit_inverse = _DistributedLaplaceInverse(self.space)
+            else:
+                self._fit_inverse = _ComponentLaplaceInverse(self.space, self.order)
         return self._fit_inverse.solve(load)
+
+
+class _DistributedLaplaceInverse:
+    """The inverse of the vector Laplacian on a distributed VectorH1, by CG preconditioned with
+    BDDC (the component-wise factorisations of :class:`_ComponentLaplaceInverse` need a direct
+    solver, which a distributed mesh does not have). Free dofs as in ``fes``; a component
+    without fixed dofs is anchored against its constant at the vertex with the
+    lexicographically smallest coordinates (the anchor only shifts the fit by a translation)."""
+
+    def __init__(self, fes):
+        mesh = fes.mesh
+        w, v = fes.TnT()
+        lap = ngs.BilinearForm(fes, symmetric=True)
+        lap += ngs.InnerProduct(ngs.Grad(w), ngs.Grad(v)) * ngs.dx
+        bddc = ngs.Preconditioner(lap, "bddc")
+        lap.Assemble()
+        free = ngs.BitArray(fes.FreeDofs())
+        mask = np.array(free, dtype=bool)
+        n = len(mask) // 3
+        pts = np.array([p.point for p in mesh.vertices]).reshape(-1, 3)
+        corner = np.unique(parallel.gather_rows(mesh, pts), axis=0)[0]
+        here = [i for i, p in enumerate(pts) if np.array_equal(p, corner)]
+        for c in range(3):
+            if parallel.total(mesh, np.count_nonzero(~mask[c * n:(c + 1) * n])) == 0:
+                for i in here:
+                    free.Clear(fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, i))[c])
+        self._fixed = ~np.array(free, dtype=bool)
+        project = ngs.Projector(free, True)
+        self.inverse = CGSolver(lap.mat, project @ bddc.mat @ project, tol=1e-10,
+                                maxiter=2000)
+
+    def solve(self, load):
+        """w = L^-1 load on the free dofs, zero on the others."""
+        rhs = load.CreateVector()
+        rhs.data = load
+        rhs.FV().NumPy()[self._fixed] = 0.0
+        w = load.CreateVector()
+        w.data = self.inverse * rhs
+        return w
 
 
 class _ComponentLaplaceInverse:
@@ -278,16 +322,30 @@ def rigid_pins(mesh, fes):
     multipliers on the modes, and keeps the tangent symmetric positive definite near
     equilibrium.
     """
-    pts = np.array([v.point for v in mesh.vertices])
+    pts = np.array([v.point for v in mesh.vertices]).reshape(-1, 3)
+    dofs = np.array([fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))[:3]
+                     for v in range(len(pts))], dtype=int).reshape(-1, 3)
+    free = np.array(fes.FreeDofs(), dtype=bool)[dofs]
+    if not parallel.distributed(mesh):
+        return tuple(int(dofs[v, c]) for v, c in _pin_nodes(pts, free))
+    # every rank chooses from all vertices (each once), then pins its own copies of them
+    table = np.unique(parallel.gather_rows(mesh, np.column_stack([pts, free])), axis=0)
+    local = {tuple(p): i for i, p in enumerate(pts)}
+    return tuple(int(dofs[local[tuple(table[v, :3])], c])
+                 for v, c in _pin_nodes(table[:, :3], table[:, 3:].astype(bool))
+                 if tuple(table[v, :3]) in local)
+
+
+def _pin_nodes(pts, free):
+    """The (vertex, component) pairs that :func:`rigid_pins` pins, for vertex coordinates
+    ``pts`` and the free flags ``free`` of their three displacement components."""
     size = max(np.ptp(pts, axis=0).max(), 1e-300)
     centred = (pts - pts.mean(axis=0)) / size
-    dofs = np.array([fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))[:3] for v in range(len(pts))])
     modes = np.zeros((len(pts), 3, 6))          # value of mode m in component c at a vertex
     for c in range(3):
         modes[:, c, c] = 1.0
         for k in range(3):                       # rotation about axis k: (e_k x X)_c
             modes[:, c, 3 + k] = np.cross(np.eye(3)[k], centred)[:, c]
-    free = np.array(fes.FreeDofs(), dtype=bool)[dofs]
     fixed = modes[~free]
     basis = np.eye(6)
     if len(fixed):
@@ -302,8 +360,8 @@ def rigid_pins(mesh, fes):
         trial = np.vstack([chosen, modes[v, c] @ basis])
         if np.linalg.matrix_rank(trial, tol=1e-8) > len(chosen):
             chosen = trial
-            pinned.append(int(dofs[v, c]))
-    return tuple(pinned)
+            pinned.append((v, c))
+    return pinned
 
 
 def _support_preference(pts):

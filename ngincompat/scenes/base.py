@@ -14,7 +14,7 @@ import sys
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from .. import io, pipeline
+from .. import io, parallel, pipeline
 from ..errors import ParameterError, require
 from ..output import OUTPUTS
 from ..progress import SILENT, Progress
@@ -53,6 +53,9 @@ class Scene:
     }
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
+    #: Whether the scene distributes its mesh when launched on several MPI ranks
+    #: (:mod:`ngincompat.parallel`); the others refuse to run under MPI.
+    distributed: ClassVar[bool] = False
 
     order: int = param(4, "polynomial order of the displacement")
     maxh: float = param(0.25, "mesh size", "length")
@@ -91,6 +94,10 @@ class Scene:
         """Build, solve and measure the scene; write the folder ``out`` if given.
 
         See :func:`ngincompat.pipeline.run` (errors, interruption, what is written)."""
+        comm = parallel.world()
+        require(comm is None or self.distributed, "MPI ranks", comm and comm.size,
+                f"1: the {self.name} scene does not run distributed (launch it without "
+                "mpiexec)")
         return pipeline.run(self, out, overwrite=overwrite, progress=progress, label=label)
 
     def title(self) -> str:
@@ -104,7 +111,8 @@ class Scene:
 
     def record(self, mesh, order=None, **kwargs) -> Results:
         """An empty :class:`Results` of this scene on ``mesh`` (an ngsolve.Mesh)."""
-        info = MeshInfo(ne=mesh.ne, nv=mesh.nv, order=self.order if order is None else order,
+        ne, nv = parallel.counts(mesh)
+        info = MeshInfo(ne=ne, nv=nv, order=self.order if order is None else order,
                         maxh=self.maxh)
         return Results(scene=self.name, params=self.settings(), units=dict(self.units),
                        metric_units={m: self.metric_unit(m) for m in self.metrics}, mesh=info,

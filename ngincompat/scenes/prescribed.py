@@ -15,13 +15,14 @@ import numpy as np
 from .. import curvature as cv
 from .. import incompatibility as inc
 from .. import postprocess
+from ..errors import require
 from ..growth import check_positive
 from ..kinematics import deformation_gradient, elastic_part
 from ..materials import NeoHookean
 from ..pipeline import solve_stages, timed
 from ..problem import GrowthMechanics, check_formulation
 from ..results import Figure
-from ..solver import NewtonOptions
+from ..solver import LINEAR_SOLVERS, NewtonOptions
 from ..stages import PrescribedGrowthStage
 from .base import Scene, param
 
@@ -112,6 +113,8 @@ class PrescribedScene(Scene):
                              "against volumetric locking as nu -> 0.5; neo-Hookean only)")
     reuse_tangent: bool = param(False, "keep the factorised tangent while Newton contracts "
                                 "tenfold per iteration (cheaper at high order)")
+    linear_solver: str = param("auto", "Newton's linear solver: direct, cg or gmres (BDDC "
+                               "preconditioned); auto: direct serially, cg with MPI")
 
     #: Metrics of every prescribed-growth scene; subclasses add their verification metrics.
     metrics = ("strain_energy", "max_principal_stress", "burgers_max", "G_error_L2_rel",
@@ -121,6 +124,8 @@ class PrescribedScene(Scene):
     def __post_init__(self):
         super().__post_init__()
         # every parameter is checked before anything is computed
+        require(self.linear_solver in LINEAR_SOLVERS, "linear_solver", self.linear_solver,
+                ", ".join(LINEAR_SOLVERS))
         check_formulation(self.make_material(), self.formulation, self.order)
 
     def make_material(self):
@@ -144,7 +149,8 @@ def _solve(case, solution, progress):
             problem = case.mechanics()
         solution.state = problem
         time.Set(0.0)
-        options = NewtonOptions(steps=scene.steps, reuse_tangent=scene.reuse_tangent)
+        options = NewtonOptions(steps=scene.steps, reuse_tangent=scene.reuse_tangent,
+                                linear_solver=scene.linear_solver)
         solve_stages([PrescribedGrowthStage("growth", problem, time, options)], progress,
                      solution)
 
