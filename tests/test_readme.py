@@ -37,6 +37,7 @@ RUN = {
 BENCH = {
     "cube": ["--maxh", "1", "--orders", "1", "2"],
     "accuracy": ["--quick"],
+    "curvature": ["--quick"],
     "stability": ["--quick"],
     "scaling": ["--quick", "--solvers", "sparsecholesky"],
 }
