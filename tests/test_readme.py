@@ -32,6 +32,9 @@ RUN = {
     "cylinder": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
     "custom": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
     "skin": SKIN_COARSE,
+    "atrophy": ["--maxh", "1", "--set", "semi_axes=3,2.5,2", "--set", "gray_thickness=0.5",
+                "--set", "seed=0,0,-2", "--set", "t_end=4", "--set", "dt=1", "--set",
+                "snapshots=1", "--set", "g_order=2"],
 }
 #: Coarse settings of ``ngincompat bench CASE``, by case.
 BENCH = {

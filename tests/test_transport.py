@@ -120,3 +120,24 @@ def test_upwinding_keeps_c_nonnegative_on_a_sheared_mesh():
         minima[monotone] = c_min
     assert minima[False] < -1e-3                  # the plain Galerkin stiffness undershoots
     assert minima[True] >= 0
+
+
+def test_axonal_diffusion_acts_along_the_axons_only():
+    """On a slab where c varies along X1, D = d_ext I + d_axn e1 (x) e1 acts as the isotropic
+    d_ext + d_axn; with axons across the slab (e2) it acts as d_ext alone (up to the
+    discretisation: the tetrahedra make c vary a little across the slab)."""
+    mesh = slab(20.0, 1.0)
+    seed = ngs.exp(-ngs.x ** 2)
+
+    def run(D):
+        p = FisherKPP(mesh, D, 1.0, seed)
+        for _ in range(10):
+            p.step(0.2)
+        return p.c.vec.FV().NumPy().copy()
+
+    along = run(diffusion_tensor(0.5, 0.5, ngs.CF((1, 0, 0))))
+    across = run(diffusion_tensor(0.5, 0.5, ngs.CF((0, 1, 0))))
+    spread = np.max(np.abs(along - across))
+    assert spread > 0.05
+    assert np.max(np.abs(along - run(diffusion_tensor(1.0)))) < 0.1 * spread
+    assert np.max(np.abs(across - run(diffusion_tensor(0.5)))) < 0.1 * spread
