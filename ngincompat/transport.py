@@ -27,8 +27,11 @@ import scipy.sparse.linalg as spla
 
 from .errors import ConvergenceError, require
 
-#: Vertex rules (exact for linear functions): the lumped mass of P1 elements.
+#: Vertex rules (exact for linear, and on hexahedra trilinear, functions): the lumped mass
+#: of lowest-order elements.
 _VERTEX_RULES = {
+    ngs.HEX: ngs.IntegrationRule([(i, j, k) for k in (0, 1) for j in (0, 1) for i in (0, 1)],
+                                 [1 / 8] * 8),
     ngs.TET: ngs.IntegrationRule([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], [1 / 24] * 4),
     ngs.TRIG: ngs.IntegrationRule([(0, 0), (1, 0), (0, 1)], [1 / 6] * 3),
     ngs.SEGM: ngs.IntegrationRule([(0,), (1,)], [1 / 2] * 2),
@@ -59,7 +62,7 @@ class FisherKPP:
     Parameters
     ----------
     mesh : ngsolve.Mesh
-        Tetrahedra (3-D), triangles (2-D) or segments (1-D).
+        Tetrahedra or hexahedra (3-D), triangles (2-D) or segments (1-D).
     D : CoefficientFunction
         Diffusion tensor (dim x dim), e.g. from :func:`diffusion_tensor`.
     alpha : float

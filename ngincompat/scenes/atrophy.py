@@ -29,11 +29,13 @@ tissues (stresses then read in units of mu) and nu = 0.49 (nearly incompressible
 """
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
 
 from geometries import brain
+from geometries.voxel_brain import from_nifti, mni152
 
 from .. import incompatibility as inc
 from .. import postprocess
@@ -53,7 +55,10 @@ from .hemisphere import spherical_basis
 
 TISSUES = ("gray", "white")
 PLANES = ("e1", "e2", "e3")
-GEOMETRIES = ("idealized",)
+GEOMETRIES = ("idealized", "mni152")
+#: Endings of a user's own brain: a NIfTI label image (1 gray, 2 white) or a Netgen mesh
+#: with materials gray and white.
+USER_FILES = (".nii", ".nii.gz", ".vol", ".vol.gz")
 
 
 def parse_vector(name, text, allowed):
@@ -83,7 +88,9 @@ class AtrophyScene(Scene):
     order: int = param(2, "polynomial order of the displacement (>= 2 for mixed)")
     maxh: float = param(1.0, "mesh size", "length")
     g_order: int = param(2, "order of the H1 space that Fg is projected into for Curl Fg")
-    geometry: str = param("idealized", "brain geometry: " + ", ".join(GEOMETRIES))
+    geometry: str = param("idealized", "brain: idealized (ellipsoid), mni152 (MNI ICBM152 "
+                          "template, needs nilearn), or a file: NIfTI labels (1 gray, 2 "
+                          "white) or a Netgen mesh (materials gray, white)")
     semi_axes: str = param("8.5,7.0,6.0", "semi-axes of the idealized brain along e1, e2, e3",
                            "length")
     gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length")
@@ -111,7 +118,9 @@ class AtrophyScene(Scene):
 
     def __post_init__(self):
         super().__post_init__()
-        require(self.geometry in GEOMETRIES, "geometry", self.geometry, ", ".join(GEOMETRIES))
+        require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
+                self.geometry, f"{', '.join(GEOMETRIES)} or a file ending in "
+                f"{', '.join(USER_FILES)}")
         axes = self.axes()
         require(min(axes) > 0, "semi_axes", self.semi_axes, "three lengths > 0")
         require(0 < self.gray_thickness < min(axes) / 2, "gray_thickness",
@@ -122,7 +131,7 @@ class AtrophyScene(Scene):
         require(0 < self.c0 <= 1, "c0", self.c0, "in (0, 1]")
         require(self.seed_radius > 0, "seed_radius", self.seed_radius, "> 0")
         centre = self.seed_centre()
-        if centre is not None:
+        if centre is not None and self.geometry == "idealized":
             inside = sum((x / a) ** 2 for x, a in zip(centre, axes, strict=True))
             require(inside <= 1 + 1e-9, "seed", self.seed,
                     "uniform, or X,Y,Z inside or on the body "
@@ -166,12 +175,36 @@ class AtrophyScene(Scene):
         return moduli
 
     def build(self):
-        mesh = brain(semi_axes=self.axes(), gray=self.gray_thickness, maxh=self.maxh,
-                     curve_order=self.order)
+        mesh = self.mesh()
         missing = set(TISSUES) - set(mesh.GetMaterials())
         if missing:
-            raise ParameterError(f"the brain mesh lacks the materials {', '.join(missing)}")
+            raise ParameterError(f"geometry = {self.geometry}: the brain mesh lacks the "
+                                 f"materials {', '.join(sorted(missing))}")
+        centre = self.seed_centre()
+        if centre is not None and mesh(*centre).nr < 0:
+            box = np.array([v.point for v in mesh.vertices])
+            raise ParameterError(
+                f"seed = {self.seed} is outside the body: allowed uniform, or X,Y,Z inside "
+                f"it (bounding box {np.round(box.min(axis=0), 2).tolist()} to "
+                f"{np.round(box.max(axis=0), 2).tolist()})")
         return AtrophyCase(self, mesh)
+
+    def mesh(self):
+        """The brain: the ellipsoid, the MNI152 template, or the user's file (cm)."""
+        if self.geometry == "idealized":
+            return brain(semi_axes=self.axes(), gray=self.gray_thickness, maxh=self.maxh,
+                         curve_order=self.order)
+        if self.geometry == "mni152":
+            return mni152(self.maxh)
+        if self.geometry.endswith((".nii", ".nii.gz")):
+            return from_nifti(self.geometry, self.maxh)
+        if not Path(self.geometry).is_file():
+            raise ParameterError(f"geometry = {self.geometry}: no such file")
+        try:
+            return ngs.Mesh(self.geometry)
+        except Exception as err:   # Netgen raises its own kinds for unreadable files
+            raise ParameterError(f"geometry = {self.geometry}: not a readable Netgen mesh "
+                                 f"({err})") from None
 
 
 @dataclass(eq=False)
@@ -212,6 +245,8 @@ class AtrophyCase:
                         for k in TISSUES}
         self.volume0["total"] = sum(self.volume0.values())
         self.vertices = np.array([v.point for v in mesh.vertices])
+        #: Largest |X_k| of the body: the extent of the sections and of the profile.
+        self.extent = np.max(np.abs(self.vertices), axis=0)
         self.c_extremes = [self.transport.minimum(), self.transport.maximum()]
         self._record(0.0)
 
@@ -364,8 +399,8 @@ class AtrophyCase:
 
     def _line(self, fields, metrics):
         """The profile from the centre along +X1 to the surface, with the depth of the
-        largest |b| and stress below the surface."""
-        a = self.scene.axes()[0]
+        largest |b| and stress below the surface (the last point of the line in the body)."""
+        a = float(self.extent[0])
         basis = spherical_basis()
         sampled = {"c": fields["c"], "theta": fields["theta"], "burgers": fields["|b|"],
                    **{f"|b_{p}|": fields[f"|b_{p}|"] for p in PLANES}}
@@ -378,16 +413,17 @@ class AtrophyCase:
         s, values = postprocess.sample_line(self.mesh, sampled, (0.0, 0.0, 0.0), (a, 0, 0),
                                             n=401)
         line = {"R": s, **values}
-        metrics["burgers_peak_depth"] = float(a - s[np.nanargmax(values["burgers"])])
+        surface = s[np.flatnonzero(np.isfinite(values["c"]))[-1]]     # last point inside
+        metrics["burgers_peak_depth"] = float(surface - s[np.nanargmax(values["burgers"])])
         if "sigma_max_principal" in values:
             metrics["stress_peak_depth"] = float(
-                a - s[np.nanargmax(values["sigma_max_principal"])])
+                surface - s[np.nanargmax(values["sigma_max_principal"])])
         return line
 
     def _sections(self, fields, n=121):
         """theta, |b| and the max principal stress on the planes X_k = 0, k = 1, 2, 3,
         sampled on n x n grids (NaN outside the mesh)."""
-        axes = self.scene.axes()
+        axes = self.extent
         keys = [k for k in ("theta", "|b|", "sigma_max_principal") if k in fields]
         out = {}
         for k, plane in enumerate(PLANES):
