@@ -59,6 +59,15 @@ def test_label_image_becomes_hexahedra_with_the_voxel_volumes(tmp_path):
     assert pts.min(axis=0) == pytest.approx(-pts.max(axis=0))
 
 
+def test_a_netgen_mesh_file_with_gray_and_white_is_read(tmp_path):
+    path = tmp_path / "brain.vol.gz"
+    from_nifti(write(tmp_path / "brain.nii", labels()), maxh=VOXEL / 10).ngmesh.Save(str(path))
+    case = AtrophyScene(geometry=str(path), seed="0,0,0", outputs="none").build()
+    cm3 = (VOXEL / 10) ** 3
+    assert case.volume0["white"] == pytest.approx(4 * cm3, rel=1e-12)
+    assert case.volume0["total"] == pytest.approx(120 * cm3, rel=1e-12)
+
+
 def test_a_mirrored_image_keeps_hexahedra_positive(tmp_path):
     """A negative x step (radiological orientation) is a reflection: volumes stay positive."""
     affine = np.diag([-VOXEL, VOXEL, VOXEL, 1.0])
