@@ -144,7 +144,6 @@ def test_lumped_hex_mass_is_the_volume_and_exact_for_trilinear(unit_cube_hex):
     assert np.all(kpp.mass > 0)
 
 
-@pytest.mark.slow                          # about 25 s on 2 shared cores
 def test_atrophy_runs_on_hexahedra_from_a_label_image(tmp_path):
     """Transport, atrophy and the mixed equilibrium (order 2) on a voxel brain: 0 <= c <= 1,
     gray loses more volume than white, |b| is non-zero, the body is self-equilibrated."""
