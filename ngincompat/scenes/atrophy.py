@@ -19,6 +19,11 @@ a stage of the pipeline, started from the previous equilibrium with theta ramped
 them), while c and theta are marched with ``dt``. Volumes: total, gray and white volume loss
 1 - int J dV / V0 at the snapshots; 1 - int theta dV / V0 and int c dV at every step.
 
+Geometry: the idealized ellipsoid with a gray shell (tetrahedra), the MNI152 template or a
+user's NIfTI label image (hexahedra on coarsened voxels, :mod:`geometries.voxel_brain`), or a
+user's Netgen mesh with materials gray and white. On a real brain the axons of d_axn are
+still radial from the centre of the bounding box (no tractography); d_axn = 0 by default.
+
 Parameters and their sources (the paper gives none; every value is a choice, see
 docs of the brain scenes): d_ext = 1.5 mm^2/yr and alpha = 0.6 /yr as used in
 reimplementations of Weickenmeier, Jucker, Goriely & Kuhl, J. Mech. Phys. Solids 124 (2019)
