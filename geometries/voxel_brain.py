@@ -35,6 +35,10 @@ _FACES = {(-1, 0, 0): (0, 4, 7, 3), (1, 0, 0): (1, 2, 6, 5), (0, -1, 0): (0, 1, 
           (0, 1, 0): (3, 7, 6, 2), (0, 0, -1): (0, 3, 2, 1), (0, 0, 1): (4, 5, 6, 7)}
 
 
+#: Bumped whenever the meshing rule changes, so that stale cached meshes are not read.
+_CACHE_VERSION = 1
+
+
 def cache_dir():
     """Where built meshes are kept: $NGINCOMPAT_CACHE, else ~/.cache/ngincompat."""
     default = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "ngincompat"
@@ -66,7 +70,7 @@ def mni152(maxh=1.0):
         raise ParameterError("geometry = mni152 needs nilearn: pip install -e \".[brain]\"") \
             from None
     block = int(round(maxh / 0.2))
-    path = cache_dir() / f"mni152_{block * 2}mm.vol.gz"
+    path = cache_dir() / f"mni152_{block * 2}mm_v{_CACHE_VERSION}.vol.gz"
     if path.is_file():
         return ngs.Mesh(str(path))
     gray = datasets.load_mni152_gm_template(resolution=2)
@@ -103,7 +107,10 @@ def from_nifti(path, maxh=1.0):
     except Exception as err:   # nibabel raises many kinds for files it cannot read
         raise ParameterError(f"geometry = {path}: not a readable NIfTI label image "
                              f"({type(err).__name__}: {err})") from None
+    if labels.ndim > 3 and all(n == 1 for n in labels.shape[3:]):
+        labels = labels.reshape(labels.shape[:3])          # (x, y, z, 1): one volume
     require(labels.ndim == 3, "geometry", path, "a 3-D NIfTI label image")
+    labels = np.rint(labels)                               # labels stored as floats
     size = float(np.mean(np.linalg.norm(image.affine[:3, :3], axis=0))) / 10.0   # mm -> cm
     block = max(1, int(round(maxh / size)))
     try:

@@ -59,6 +59,15 @@ def test_label_image_becomes_hexahedra_with_the_voxel_volumes(tmp_path):
     assert pts.min(axis=0) == pytest.approx(-pts.max(axis=0))
 
 
+def test_a_4d_float_label_image_with_one_volume_is_read(tmp_path):
+    lab = labels().astype(np.float32)[..., None] + 1e-4        # (x, y, z, 1), not exact
+    mesh = from_nifti(write(tmp_path / "brain4d.nii", lab), maxh=VOXEL / 10)
+    assert mesh.ne == 120
+    assert volumes(mesh)["white"] == pytest.approx(4 * (VOXEL / 10) ** 3, rel=1e-12)
+    with pytest.raises(ParameterError, match="3-D NIfTI"):
+        from_nifti(write(tmp_path / "two.nii", np.stack([labels()] * 2, axis=-1)))
+
+
 def test_a_netgen_mesh_file_with_gray_and_white_is_read(tmp_path):
     path = tmp_path / "brain.vol.gz"
     from_nifti(write(tmp_path / "brain.nii", labels()), maxh=VOXEL / 10).ngmesh.Save(str(path))
@@ -182,7 +191,7 @@ def test_mni152_is_cached_with_materials_and_brain_volumes(tmp_path, monkeypatch
     assert 800 < vol["gray"] + vol["white"] < 2500                # cm^3
     assert vol["white"] > 0 and vol["gray"] > 0
     files = list(tmp_path.iterdir())
-    assert [f.name for f in files] == ["mni152_20mm.vol.gz"]
+    assert [f.name for f in files] == ["mni152_20mm_v1.vol.gz"]
     again = mni152(2.0)
     assert again.ne == mesh.ne and volumes(again) == pytest.approx(vol)
     with pytest.raises(ParameterError, match="maxh"):
