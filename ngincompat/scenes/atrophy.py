@@ -91,7 +91,8 @@ class AtrophyScene(Scene):
                "theta_min_reached", "G_norm_L2")
 
     order: int = param(2, "polynomial order of the displacement (>= 2 for mixed)")
-    maxh: float = param(1.0, "mesh size", "length")
+    maxh: float = param(1.0, "mesh size (the voxel edge of mni152 and NIfTI brains)",
+                        "length")
     g_order: int = param(2, "order of the H1 space that Fg is projected into for Curl Fg")
     geometry: str = param("idealized", "brain: idealized (ellipsoid), mni152 (MNI ICBM152 "
                           "template, needs nilearn), or a file: NIfTI labels (1 gray, 2 "
