@@ -63,6 +63,10 @@ class Figure:
         into noise.
     profile : str
         Which profile of the results.
+    kind : str
+        "profile": curves against ``x``; "maps": colour maps, one panel per curve, of 2-D
+        arrays keyed "<plane>_<field>" whose axes are the profile's "<plane>_u" and
+        "<plane>_v" (one row per plane, one column per field; ``x`` names the first axis).
     """
 
     file: str
@@ -76,6 +80,7 @@ class Figure:
     floor: float = 0.0
     right_floor: float = 0.0
     profile: str = "line"
+    kind: str = "profile"
 
 
 @dataclass(eq=False)

@@ -32,7 +32,12 @@ RUN = {
     "cylinder": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
     "custom": ["--order", "2", "--maxh", "0.5", "--set", "g_order=3"],
     "skin": SKIN_COARSE,
+    "atrophy": ["--maxh", "1", "--set", "semi_axes=3,2.5,2", "--set", "gray_thickness=0.5",
+                "--set", "seed=0,0,-2", "--set", "t_end=4", "--set", "dt=1", "--set",
+                "snapshots=1", "--set", "g_order=2"],
 }
+#: The real brain coarser still: 2 cm voxels (a few hundred hexahedra), seed inside it.
+RUN_MNI152 = [*RUN["atrophy"], "--maxh", "2"]
 #: Coarse settings of ``ngincompat bench CASE``, by case.
 BENCH = {
     "cube": ["--maxh", "1", "--orders", "1", "2"],
@@ -78,7 +83,8 @@ def coarse(argv, scheduler=None):
     scheduler's address is replaced by ``scheduler``."""
     command = argv[0]
     if command == "run":
-        return [*argv, *RUN[argv[1]], "-q"]
+        rule = RUN_MNI152 if "geometry=mni152" in argv else RUN[argv[1]]
+        return [*argv, *rule, "-q"]
     if command == "paper":
         return [*argv, "--quick", "-q"]
     if command == "expansion":
@@ -153,6 +159,7 @@ def test_readme_command_runs(index, scratch, monkeypatch, capsys, request):
     scheduler = request.getfixturevalue("dask_scheduler") if "--scheduler" in argv else None
     argv = coarse(argv, scheduler)
     monkeypatch.chdir(scratch)
+    monkeypatch.setenv("NGINCOMPAT_CACHE", str(scratch / "cache"))   # built meshes (mni152)
     code = main(argv)
     captured = capsys.readouterr()
     assert code == expected_code(argv, scratch), (argv, captured.err[-2000:])

@@ -1,6 +1,7 @@
 """Scenes: one module per scene, each a frozen dataclass of parameters with ``run(out)``."""
 
 from ..errors import ParameterError
+from .atrophy import AtrophyScene
 from .cube import CubeScene
 from .custom import CustomScene
 from .cylinder import CylinderScene
@@ -9,7 +10,7 @@ from .hemisphere import HemisphereScene
 from .skin import SkinExpansionScene
 
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
-                                    SkinExpansionScene, CustomScene)}
+                                    SkinExpansionScene, CustomScene, AtrophyScene)}
 
 
 def get_scene(name):
@@ -19,5 +20,5 @@ def get_scene(name):
     return SCENES[name]
 
 
-__all__ = ["SCENES", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+__all__ = ["SCENES", "AtrophyScene", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
            "HemisphereScene", "SkinExpansionScene", "get_scene"]
