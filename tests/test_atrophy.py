@@ -115,3 +115,30 @@ def test_bad_input_on_the_command_line_exits_2_with_one_line(capsys, tmp_path):
     assert main(["run", "atrophy", "--out", str(tmp_path / "a"), "--set", "d_ext=-0.1"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "d_ext" in err
+
+
+def test_curvature_of_the_growth_metric_beside_b():
+    """Uniform theta is a constant metric, flat: the verdict is compatible; a seeded front
+    with gray atrophying faster is not, and |Ein|_g is sampled beside |b|."""
+    flat = AtrophyScene(maxh=2.0, seed="uniform", rate_gray=0.03, rate_white=0.03,
+                        **dict(SMALL, outputs="curvature")).run()
+    assert flat.metrics["einstein_norm_L2"] < 1e-8        # 5e-10 measured
+    assert "compatible: a stress-free state exists" in "\n".join(flat.metric_lines())
+    curved = AtrophyScene(maxh=2.0, seed="0,0,-1.5", seed_radius=1.0,
+                          **dict(SMALL, outputs="curvature")).run()
+    m = curved.metrics
+    assert m["einstein_norm_L2"] > 1e6 * flat.metrics["einstein_norm_L2"]     # 0.77
+    assert m["scalar_curvature_min"] < 0 < m["scalar_curvature_max"]
+    assert "incompatible" in "\n".join(curved.metric_lines())
+    line = curved.profile("line")
+    assert np.nanmax(line["einstein_norm_g"]) > 0 and "curvature.png" in [
+        f.file for f in curved.figures]
+
+
+def test_curvature_on_hexahedra_is_refused_before_computing(tmp_path):
+    from test_voxel_brain import labels, write
+    path = tmp_path / "brain.nii.gz"
+    write(path, labels())
+    with pytest.raises(ParameterError, match="needs a tetrahedral mesh"):
+        AtrophyScene(geometry=str(path), maxh=0.5, seed="uniform",
+                     **dict(SMALL, outputs="curvature")).build()

@@ -42,6 +42,7 @@ import numpy as np
 from geometries import brain
 from geometries.voxel_brain import from_nifti, mni152
 
+from .. import curvature as cv
 from .. import incompatibility as inc
 from .. import postprocess
 from ..atrophy import AtrophyLaw, exposure_increment
@@ -88,7 +89,8 @@ class AtrophyScene(Scene):
                "volume_bookkeeping_error", "Je_deviation_max", "burgers_max",
                "burgers_peak_depth", "max_principal_stress", "stress_peak_depth",
                "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
-               "theta_min_reached", "G_norm_L2")
+               "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
+               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
 
     order: int = param(2, "polynomial order of the displacement (>= 2 for mixed)")
     maxh: float = param(1.0, "mesh size (the voxel edge of mni152 and NIfTI brains)",
@@ -193,6 +195,11 @@ class AtrophyScene(Scene):
                 f"seed = {self.seed} is outside the body: allowed uniform, or X,Y,Z inside "
                 f"it (bounding box {np.round(box.min(axis=0), 2).tolist()} to "
                 f"{np.round(box.max(axis=0), 2).tolist()})")
+        if "curvature" in self.output_set() and any(
+                el.type != ngs.ET.TET for el in mesh.Elements(ngs.VOL)):
+            raise ParameterError(f"outputs = {self.outputs}: the curvature of the growth metric "
+                                 f"(Regge elements) needs a tetrahedral mesh; geometry = "
+                                 f"{self.geometry} is meshed with hexahedra")
         return AtrophyCase(self, mesh)
 
     def mesh(self):
@@ -339,6 +346,9 @@ class AtrophyCase:
             with progress.phase("incompatibility"), timed(results.timings, "incompatibility"):
                 fields, inc_metrics = self._incompatibility()
             metrics.update(inc_metrics)
+            if "curvature" in scene.output_set():
+                with progress.phase("curvature"), timed(results.timings, "curvature"):
+                    metrics.update(self._curvature(fields))
             with progress.phase("stresses and profiles"), \
                     timed(results.timings, "postprocess"):
                 metrics.update(self._transport_metrics())
@@ -348,13 +358,15 @@ class AtrophyCase:
                 results.profiles["sections"] = self._sections(fields)
         results.fields = fields
         results.figures = _figures(scene, self.problem is not None and bool(self.snapshots))
+        if "curvature" in scene.output_set():
+            results.figures.append(cv.figure(scene, "R", {"|b| (largest plane)": "burgers"}))
         return results
 
     def _incompatibility(self):
         """G by the projected path (eq. 10) and b on the coordinate planes (eq. 11)."""
         mesh, growth = self.mesh, IsotropicGrowth(self.theta)
-        curl_Fg, _ = inc.curl_projected(growth.Fg, mesh, self.scene.g_order)
-        G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
+        curl_Fg, self.Fg_h = inc.curl_projected(growth.Fg, mesh, self.scene.g_order)
+        self.G = G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
         fields = {"c": self.transport.c, "theta": self.theta, "exposure": self.exposure,
                   "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
         for label, n in zip(PLANES, ((1, 0, 0), (0, 1, 0), (0, 0, 1)), strict=True):
@@ -366,6 +378,14 @@ class AtrophyCase:
         G_norm = ngs.Integrate(ngs.InnerProduct(G, G), mesh, order=2 * self.scene.g_order)
         return fields, {"burgers_max": postprocess.maximum(fields["|b|"], mesh),
                         "G_norm_L2": max(G_norm, 0.0) ** 0.5}
+
+    def _curvature(self, fields):
+        """The curvature of Cg (:mod:`ngincompat.curvature`): theta is computed on the mesh, so
+        the Regge path on the continuous interpolant of Fg that G comes from; adds the fields,
+        returns the metrics."""
+        extra, metrics = cv.measure_growth(self.Fg_h, self.mesh, self.G, exact=False)
+        fields.update(extra)
+        return metrics
 
     def _transport_metrics(self):
         last = {k: v[-1] for k, v in self.series.items()}
@@ -409,7 +429,9 @@ class AtrophyCase:
         a = float(self.extent[0])
         basis = spherical_basis()
         sampled = {"c": fields["c"], "theta": fields["theta"], "burgers": fields["|b|"],
-                   **{f"|b_{p}|": fields[f"|b_{p}|"] for p in PLANES}}
+                   **{f"|b_{p}|": fields[f"|b_{p}|"] for p in PLANES},
+                   **{k: fields[k] for k in ("einstein_norm_g", "scalar_curvature")
+                      if k in fields}}
         if "u" in fields:
             sigma = postprocess.stresses(self.problem.energy_density, self.problem.u)["sigma"]
             sampled.update({
