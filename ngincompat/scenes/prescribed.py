@@ -113,8 +113,9 @@ class PrescribedScene(Scene):
 
     formulation: str = param("displacement", "displacement, or mixed (a condensed pressure "
                              "against volumetric locking as nu -> 0.5; neo-Hookean only)")
-    reuse_tangent: bool = param(False, "keep the factorised tangent while Newton contracts "
-                                "tenfold per iteration (cheaper at high order)")
+    reuse_tangent: bool = param(True, "keep the factorised tangent while Newton contracts "
+                                "tenfold per iteration (the hemisphere: 4 tangents for 10 "
+                                "iterations, 50 s, against 6 for 6, 93 s)")
     linear_solver: str = param("auto", "Newton's linear solver: direct, cg or gmres (BDDC "
                                "preconditioned); auto: direct serially, cg with MPI")
 
