@@ -15,6 +15,11 @@ SKIN_COARSE = ["--set", "maxh=3", "--set", "order=1", "--set", "growth_order=0",
                "g_order=2", "--set", "inflation_steps=2", "--set", "hold_days=0.5",
                "--set", "dt=0.5"]
 
+#: Command-line settings that run the folding scene in seconds: a short, shallow bilayer on
+#: a coarse subcortex, grown in one step to theta_c = 1.08, before the onset (a smoke test).
+FOLDING_COARSE = ["--set", "length=0.5", "--set", "height=0.3", "--set", "maxh=0.15",
+                  "--set", "t_end=10", "--set", "dt=10", "--set", "onset_dt=10"]
+
 
 @pytest.fixture(scope="session")
 def unit_cube_hex():

@@ -16,7 +16,7 @@ import shlex
 from pathlib import Path
 
 import pytest
-from conftest import SKIN_COARSE, peer_stand_in
+from conftest import FOLDING_COARSE, SKIN_COARSE, peer_stand_in
 
 from ngincompat import io
 from ngincompat.cli import EXIT_FAILED_CASES, main
@@ -36,6 +36,7 @@ RUN = {
     "atrophy": ["--maxh", "1", "--set", "semi_axes=3,2.5,2", "--set", "gray_thickness=0.5",
                 "--set", "seed=0,0,-2", "--set", "t_end=4", "--set", "dt=1", "--set",
                 "snapshots=1", "--set", "g_order=2"],
+    "folding": FOLDING_COARSE,
 }
 #: The real brain coarser still: 2 cm voxels (a few hundred hexahedra), seed inside it.
 RUN_MNI152 = [*RUN["atrophy"], "--maxh", "2"]

@@ -6,11 +6,13 @@ from .cube import CubeScene
 from .custom import CustomScene
 from .cylinder import CylinderScene
 from .disc import DiscScene
+from .folding import FoldingScene
 from .hemisphere import HemisphereScene
 from .skin import SkinExpansionScene
 
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
-                                    SkinExpansionScene, CustomScene, AtrophyScene)}
+                                    SkinExpansionScene, FoldingScene, CustomScene,
+                                    AtrophyScene)}
 
 
 def get_scene(name):
@@ -21,4 +23,5 @@ def get_scene(name):
 
 
 __all__ = ["SCENES", "AtrophyScene", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+           "FoldingScene",
            "HemisphereScene", "SkinExpansionScene", "get_scene"]
