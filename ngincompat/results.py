@@ -122,6 +122,9 @@ class Results:
         Name -> ngsolve CoefficientFunction on ``domain`` (not serialised).
     domain : ngsolve.Mesh or None
         The mesh the fields live on (not serialised).
+    frames : list of (float, dict)
+        (time, name -> field) at chosen times of a time-dependent scene, frozen copies on
+        ``domain`` (not serialised): the frames of the ``fields.pvd`` time series.
     """
 
     scene: str
@@ -141,6 +144,8 @@ class Results:
     files: list[str] = field(default_factory=list)
     fields: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
     domain: Any = field(default=None, repr=False, compare=False)
+    frames: list[tuple[float, dict[str, Any]]] = field(default_factory=list, repr=False,
+                                                       compare=False)
 
     @property
     def converged(self) -> bool:

@@ -1,6 +1,7 @@
 """The brain atrophy scene (section 3.5): compatible atrophy is stress free, the released body
 is self-equilibrated, volumes add up, bad input is named."""
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 
@@ -97,6 +98,40 @@ def test_outputs_and_profiles(atrophied):
     back = output.read(out)
     assert back.figures[-1].kind == "maps"
     assert back.profile("sections")["e3_theta"].shape == (121, 121)
+
+
+def test_frames_at_chosen_times_make_a_pvd_time_series(tmp_path):
+    """Frames at t = 4, 7 and the end: the collection names them in order, and each frame
+    holds the state of its time (frozen), not the end's."""
+    scene = AtrophyScene(maxh=2.0, seed="0,0,-1.5", times="7,4",
+                         **dict(SMALL, outputs="vtk"))
+    results = scene.run(tmp_path)
+    assert [t for t, _ in results.frames] == pytest.approx([4.0, 7.0, 10.0])
+    assert list(results.solver) == ["t=4", "t=7", "t=10"]
+    pvd = (tmp_path / "fields.pvd").read_text()
+    names = [f"fields_{k:03d}.vtu" for k in range(3)]
+    for t, name in zip((4.0, 7.0, 10.0), names, strict=True):
+        assert f'timestep="{t!r}"' in pvd and f'file="{name}"' in pvd
+        assert (tmp_path / name).stat().st_size > 0 and name in results.files
+    mesh, series, snaps = results.domain, results.profile("series"), results.profile("snapshots")
+    volume0 = ngs.Integrate(1.0, mesh)
+    for k, (t, frame) in enumerate(results.frames):
+        assert set(frame) == {"c", "theta", "u", "J", "Je", "|b_e1|", "|b_e2|", "|b_e3|",
+                              "sigma_max_principal"}
+        step = int(np.argmin(np.abs(series["t"] - t)))
+        # the series integrates with the lumped mass (vertex rule on curved elements): 3e-3
+        assert ngs.Integrate(frame["c"], mesh) == pytest.approx(series["c_integral"][step],
+                                                                rel=1e-2)
+        loss = 1 - ngs.Integrate(frame["J"], mesh, order=6) / volume0
+        assert loss == pytest.approx(snaps["total_volume_loss"][k], abs=1e-4)
+    losses = snaps["total_volume_loss"]
+    assert 0 < losses[0] < losses[1] < losses[2]
+
+
+@pytest.mark.parametrize("times", ["0,5", "5,11", "a,b"])
+def test_times_outside_the_run_are_refused(times):
+    with pytest.raises(ParameterError, match=r"times.*\(0, t_end = 10\]"):
+        AtrophyScene(times=times, seed="uniform", **SMALL)
 
 
 @pytest.mark.parametrize("setting, match", [

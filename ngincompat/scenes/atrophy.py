@@ -14,10 +14,12 @@ Per time step, staggered and one-way (the mechanics does not act back on the tra
    Je = J / theta (so J -> theta, not 1).
 
 Because the coupling is one-way and the material is hyperelastic, the equilibrium at a time
-depends only on theta at that time: it is solved at ``snapshots`` equally spaced times (each
-a stage of the pipeline, started from the previous equilibrium with theta ramped between
-them), while c and theta are marched with ``dt``. Volumes: total, gray and white volume loss
-1 - int J dV / V0 at the snapshots; 1 - int theta dV / V0 and int c dV at every step.
+depends only on theta at that time: it is solved at ``snapshots`` equally spaced times or at
+the chosen ``times`` (each a stage of the pipeline, started from the previous equilibrium
+with theta ramped between them), while c and theta are marched with ``dt``; with VTK output
+each of these times is also a frame of the time series ``fields.pvd``. Volumes: total,
+gray and white volume loss 1 - int J dV / V0 at the snapshots; 1 - int theta dV / V0 and
+int c dV at every step.
 
 Geometry: the idealized ellipsoid with a gray shell (tetrahedra), the MNI152 template or a
 user's NIfTI label image (hexahedra on coarsened voxels, :mod:`geometries.voxel_brain`), or a
@@ -44,7 +46,7 @@ from geometries.voxel_brain import from_nifti, mni152
 
 from .. import curvature as cv
 from .. import incompatibility as inc
-from .. import postprocess
+from .. import output, postprocess
 from ..atrophy import AtrophyLaw, exposure_increment
 from ..errors import ParameterError, require
 from ..growth import IsotropicGrowth
@@ -61,6 +63,9 @@ from .hemisphere import spherical_basis
 
 TISSUES = ("gray", "white")
 PLANES = ("e1", "e2", "e3")
+#: The fields of a frame of the time series (the end's fields.vtu has more).
+FRAME_FIELDS = ("c", "theta", "u", "J", "Je", *(f"|b_{p}|" for p in PLANES),
+                "sigma_max_principal")
 GEOMETRIES = ("idealized", "mni152")
 #: Endings of a user's own brain: a NIfTI label image (1 gray, 2 white) or a Netgen mesh
 #: with materials gray and white.
@@ -106,7 +111,7 @@ class AtrophyScene(Scene):
     d_axn: float = param(0.0, "axonal diffusivity added along radial axons in white matter",
                          "length^2/time")
     alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time")
-    seed: str = param("0,0,-6", "seed: uniform, or its centre X,Y,Z (in or on the body)",
+    seed: str = param("0,0,-5", "seed: uniform, or its centre X,Y,Z (in or on the body)",
                       "length")
     seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length")
     c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)")
@@ -118,6 +123,8 @@ class AtrophyScene(Scene):
     t_end: float = param(40.0, "duration", "time")
     dt: float = param(0.2, "time step of transport and atrophy", "time")
     snapshots: int = param(4, "equilibria solved at this many equally spaced times")
+    times: str = param("", "times of the equilibria and of the frames of fields.pvd instead: "
+                       "comma list in (0, t_end] (t_end is always one)", "time")
     mu_gray: float = param(1.0, "shear modulus of gray matter", "stress")
     mu_white: float = param(1.0, "shear modulus of white matter", "stress")
     nu: float = param(0.49, "Poisson's ratio of both tissues")
@@ -149,6 +156,7 @@ class AtrophyScene(Scene):
         require(isinstance(self.snapshots, int) and 1 <= self.snapshots <= self.n_steps(),
                 "snapshots", self.snapshots, f"an integer in [1, {self.n_steps()}] (the "
                 "number of time steps)")
+        self.snapshot_steps()
         for law in self.laws().values():
             law.check_step(self.t_end / self.n_steps())
         self.material_moduli()
@@ -168,6 +176,21 @@ class AtrophyScene(Scene):
     def n_steps(self):
         """Number of equal time steps, of length t_end / n <= dt."""
         return max(1, int(np.ceil(self.t_end / self.dt - 1e-9)))
+
+    def snapshot_steps(self):
+        """The steps (counted from 0) after which the equilibrium is solved and a frame of the
+        time series taken: ``times`` rounded to the nearest step, else ``snapshots`` equally
+        spaced ones; the last step always."""
+        n = self.n_steps()
+        if not str(self.times).strip():
+            return [round(k * n / self.snapshots) for k in range(1, self.snapshots + 1)]
+        allowed = f"a comma list of times in (0, t_end = {self.t_end:g}]"
+        try:
+            times = [float(v) for v in str(self.times).split(",")]
+        except ValueError:
+            times = [np.nan]
+        require(all(0 < t <= self.t_end + 1e-9 for t in times), "times", self.times, allowed)
+        return sorted({max(1, round(t / self.t_end * n)) for t in times} | {n})
 
     def laws(self):
         """The atrophy law of each tissue."""
@@ -229,6 +252,8 @@ class AtrophyCase:
     mesh: ngs.Mesh
     series: dict = field(default_factory=dict)
     snapshots: dict = field(default_factory=dict)
+    #: (t, fields) at the snapshot times, frozen (:func:`ngincompat.output.interpolated`).
+    frames: list = field(default_factory=list)
 
     def __post_init__(self):
         scene, mesh = self.scene, self.mesh
@@ -266,10 +291,9 @@ class AtrophyCase:
     def stages(self):
         """One stage per snapshot time."""
         scene = self.scene
-        n = scene.n_steps()
-        ends = [round(k * n / scene.snapshots) for k in range(1, scene.snapshots + 1)]
+        ends = scene.snapshot_steps()
         starts = [0] + ends[:-1]
-        dt = scene.t_end / n
+        dt = scene.t_end / scene.n_steps()
         return [AtrophyStage(f"t={e * dt:g}", self, s, e, dt)
                 for s, e in zip(starts, ends, strict=True)]
 
@@ -334,6 +358,7 @@ class AtrophyCase:
         if self.problem is not None:
             results.mesh.ndof = self.problem.ndof
         results.profiles = {"series": {k: np.array(v) for k, v in self.series.items()}}
+        results.frames = list(self.frames)
         if self.snapshots:
             results.profiles["snapshots"] = {k: np.array(v) for k, v in self.snapshots.items()}
         return results
@@ -362,10 +387,19 @@ class AtrophyCase:
             results.figures.append(cv.figure(scene, "R", {"|b| (largest plane)": "burgers"}))
         return results
 
-    def _incompatibility(self):
+    def take_frame(self):
+        """Freeze the fields of :data:`FRAME_FIELDS` now: a frame of the time series."""
+        fields = self._incompatibility_fields()
+        if self.problem is not None:
+            fields.update(self._mechanics_fields())
+        order = min(self.scene.order, output.VTK_ORDER)
+        self.frames.append((self.transport.t, output.interpolated(
+            {k: fields[k] for k in FRAME_FIELDS if k in fields}, self.mesh, order, copy=True)))
+
+    def _incompatibility_fields(self):
         """G by the projected path (eq. 10) and b on the coordinate planes (eq. 11)."""
-        mesh, growth = self.mesh, IsotropicGrowth(self.theta)
-        curl_Fg, self.Fg_h = inc.curl_projected(growth.Fg, mesh, self.scene.g_order)
+        growth = IsotropicGrowth(self.theta)
+        curl_Fg, self.Fg_h = inc.curl_projected(growth.Fg, self.mesh, self.scene.g_order)
         self.G = G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
         fields = {"c": self.transport.c, "theta": self.theta, "exposure": self.exposure,
                   "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
@@ -375,8 +409,14 @@ class AtrophyCase:
             fields[f"|b_{label}|"] = ngs.Norm(b)
         fields["|b|"] = _larger(_larger(fields["|b_e1|"], fields["|b_e2|"]),
                                 fields["|b_e3|"])
-        G_norm = ngs.Integrate(ngs.InnerProduct(G, G), mesh, order=2 * self.scene.g_order)
-        return fields, {"burgers_max": postprocess.maximum(fields["|b|"], mesh),
+        return fields
+
+    def _incompatibility(self):
+        """The fields of :meth:`_incompatibility_fields`, the largest |b| and ||G||_L2."""
+        fields = self._incompatibility_fields()
+        G_norm = ngs.Integrate(ngs.InnerProduct(self.G, self.G), self.mesh,
+                               order=2 * self.scene.g_order)
+        return fields, {"burgers_max": postprocess.maximum(fields["|b|"], self.mesh),
                         "G_norm_L2": max(G_norm, 0.0) ** 0.5}
 
     def _curvature(self, fields):
@@ -397,6 +437,14 @@ class AtrophyCase:
             metrics["front_radius"] = last["front_radius"]
         return metrics
 
+    def _mechanics_fields(self):
+        """u, J, Je and the max principal Cauchy stress of the last equilibrium."""
+        problem = self.problem
+        sigma = postprocess.stresses(problem.energy_density, problem.u)["sigma"]
+        J = ngs.Det(deformation_gradient(problem.u))
+        return {"u": problem.u, "J": J, "Je": J / self.theta,
+                "sigma_max_principal": postprocess.principal_values(sigma)[2]}
+
     def _mechanics(self, fields):
         """Stresses and volumes of the last equilibrium; adds the fields, returns metrics."""
         mesh, problem = self.mesh, self.problem
@@ -404,8 +452,7 @@ class AtrophyCase:
         F = deformation_gradient(problem.u)
         J = ngs.Det(F)
         sigma = stress["sigma"]
-        fields.update({"u": problem.u, "J": J, "Je": J / self.theta,
-                       "sigma_max_principal": postprocess.principal_values(sigma)[2]})
+        fields.update(self._mechanics_fields())
         order = 2 * self.scene.order + 2
         total = ngs.Integrate(stress["P"] * F.trans, mesh, order=order)
         size = ngs.Integrate(ngs.Norm(sigma) * J, mesh, order=order)
@@ -485,9 +532,11 @@ class AtrophyStage:
     def run(self, progress: Progress) -> SolverHistory:
         case = self.case
         case.advance(self.last - self.first, self.dt)
-        if not case.scene.mechanics:
-            return SolverHistory(converged=True, t_reached=1.0)
-        return case.equilibrium(progress, self.name)
+        history = (case.equilibrium(progress, self.name) if case.scene.mechanics
+                   else SolverHistory(converged=True, t_reached=1.0))
+        if history.converged and "vtk" in case.scene.output_set():
+            case.take_frame()
+        return history
 
 
 def _larger(a, b):
