@@ -36,6 +36,10 @@ def test_brain_semi_axes_lie_along_e1_e2_e3():
 def test_registered_with_units():
     assert get_scene("atrophy") is AtrophyScene
     assert AtrophyScene.unit_of(AtrophyScene.parameters()["d_ext"][2]) == "cm^2/yr"
+    units = {m: AtrophyScene.metric_unit(m) for m in ("front_radius", "c_integral",
+                                                     "burgers_max", "volume_loss")}
+    assert units == {"front_radius": "cm", "c_integral": "cm^3", "burgers_max": "1/cm",
+                     "volume_loss": "-"}
 
 
 def test_equal_rates_and_uniform_c_are_compatible():

@@ -96,6 +96,9 @@ class AtrophyScene(Scene):
                "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
                "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
                "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
+    metric_quantities = {**Scene.metric_quantities, "front_radius": "length",
+                         "burgers_peak_depth": "length", "stress_peak_depth": "length",
+                         "c_integral": "length^3"}
 
     order: int = param(2, "polynomial order of the displacement (>= 2 for mixed)")
     maxh: float = param(1.0, "mesh size (the voxel edge of mni152 and NIfTI brains)",
@@ -387,13 +390,13 @@ class AtrophyCase:
             results.figures.append(cv.figure(scene, "R", {"|b| (largest plane)": "burgers"}))
         return results
 
-    def take_frame(self):
-        """Freeze the fields of :data:`FRAME_FIELDS` now: a frame of the time series."""
+    def take_frame(self, t):
+        """Freeze the fields of :data:`FRAME_FIELDS` now: the frame of time ``t``."""
         fields = self._incompatibility_fields()
         if self.problem is not None:
             fields.update(self._mechanics_fields())
         order = min(self.scene.order, output.VTK_ORDER)
-        self.frames.append((self.transport.t, output.interpolated(
+        self.frames.append((t, output.interpolated(
             {k: fields[k] for k in FRAME_FIELDS if k in fields}, self.mesh, order, copy=True)))
 
     def _incompatibility_fields(self):
@@ -535,7 +538,7 @@ class AtrophyStage:
         history = (case.equilibrium(progress, self.name) if case.scene.mechanics
                    else SolverHistory(converged=True, t_reached=1.0))
         if history.converged and "vtk" in case.scene.output_set():
-            case.take_frame()
+            case.take_frame(self.last * self.dt)
         return history
 
 
