@@ -198,95 +198,81 @@ class GrowthMechanics:
         is only anchored at one dof against its constant.
         """
         if self._fit_inverse is None:
-            if parallel.distributed(self.mesh):
-                self._fit_inverse = _DistributedLaplaceInverse(self.space)
-            else:
-                self._fit_inverse = _ComponentLaplaceInverse(self.space, self.order)
+            self._fit_inverse = _ComponentLaplaceInverse(self.space)
         return self._fit_inverse.solve(load)
-
-
-class _DistributedLaplaceInverse:
-    """The inverse of the vector Laplacian on a distributed VectorH1, by CG preconditioned with
-    BDDC (the component-wise factorisations of :class:`_ComponentLaplaceInverse` need a direct
-    solver, which a distributed mesh does not have). Free dofs as in ``fes``; a component
-    without fixed dofs is anchored against its constant at the vertex with the
-    lexicographically smallest coordinates (the anchor only shifts the fit by a translation)."""
-
-    def __init__(self, fes):
-        mesh = fes.mesh
-        w, v = fes.TnT()
-        lap = ngs.BilinearForm(fes, symmetric=True)
-        lap += ngs.InnerProduct(ngs.Grad(w), ngs.Grad(v)) * ngs.dx
-        bddc = ngs.Preconditioner(lap, "bddc")
-        lap.Assemble()
-        free = ngs.BitArray(fes.FreeDofs())
-        mask = np.array(free, dtype=bool)
-        n = len(mask) // 3
-        pts = np.array([p.point for p in mesh.vertices]).reshape(-1, 3)
-        corner = np.unique(parallel.gather_rows(mesh, pts), axis=0)[0]
-        here = [i for i, p in enumerate(pts) if np.array_equal(p, corner)]
-        for c in range(3):
-            if parallel.total(mesh, np.count_nonzero(~mask[c * n:(c + 1) * n])) == 0:
-                for i in here:
-                    free.Clear(fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, i))[c])
-        self._fixed = ~np.array(free, dtype=bool)
-        project = ngs.Projector(free, True)
-        self.inverse = CGSolver(lap.mat, project @ bddc.mat @ project, tol=1e-10,
-                                maxiter=2000)
-
-    def solve(self, load):
-        """w = L^-1 load on the free dofs, zero on the others."""
-        rhs = load.CreateVector()
-        rhs.data = load
-        rhs.FV().NumPy()[self._fixed] = 0.0
-        w = load.CreateVector()
-        w.data = self.inverse * rhs
-        return w
 
 
 class _ComponentLaplaceInverse:
     """The inverse of the vector Laplacian on VectorH1, applied component by component with
-    factorisations of one scalar H1 stiffness matrix: free dofs per component as in ``fes``,
-    and a component without fixed dofs anchored at its first vertex."""
+    one scalar H1 stiffness matrix of the same order: in a serial run by its sparse Cholesky
+    factorisations (one per distinct set of free dofs, reused), on a distributed mesh, which
+    has no direct solver, by CG preconditioned with BDDC (whose element matrices on the
+    scalar space are a ninth of the vector space's). Free dofs per component as in ``fes``; a
+    component without fixed dofs is anchored against its constant at one vertex (the first,
+    or on a distributed mesh the one with the lexicographically smallest coordinates; the
+    anchor only shifts the fit by a translation)."""
 
-    def __init__(self, fes, order):
+    def __init__(self, fes):
         mesh = fes.mesh
-        scalar = ngs.H1(mesh, order=order)
+        self.distributed = parallel.distributed(mesh)
+        scalar = ngs.H1(mesh, order=fes.globalorder)
         self.n = scalar.ndof
         require(3 * self.n == fes.ndof, "displacement space", fes,
                 "VectorH1 of three H1 components")
         s, t = scalar.TnT()
         lap = ngs.BilinearForm(scalar, symmetric=True)
         lap += ngs.grad(s) * ngs.grad(t) * ngs.dx
+        bddc = ngs.Preconditioner(lap, "bddc") if self.distributed else None
         lap.Assemble()
-        free = np.array(fes.FreeDofs(), dtype=bool)
-        vertex = scalar.GetDofNrs(ngs.NodeId(ngs.VERTEX, 0))[0]
-        self.inverses = []
-        factorised = {}
+        mask = np.array(fes.FreeDofs(), dtype=bool)
+        anchor = self._anchor(mesh, scalar)
+        self.inverses, self._fixed, made = [], [], {}
         for c in range(3):
-            mask = free[c * self.n:(c + 1) * self.n].copy()
-            if mask.all():
-                mask[vertex] = False
-            key = mask.tobytes()
-            if key not in factorised:
+            free = mask[c * self.n:(c + 1) * self.n].copy()
+            if parallel.total(mesh, np.count_nonzero(~free)) == 0:
+                free[anchor] = False
+            key = free.tobytes()
+            if key not in made:
                 bits = ngs.BitArray(self.n)
                 bits.Clear()
-                for i in np.flatnonzero(mask):
+                for i in np.flatnonzero(free):
                     bits.Set(int(i))
-                factorised[key] = lap.mat.Inverse(bits, inverse="sparsecholesky")
-            self.inverses.append(factorised[key])
-        self._rhs = ngs.BaseVector(self.n)
-        self._sol = ngs.BaseVector(self.n)
+                if self.distributed:
+                    project = ngs.Projector(bits, True)
+                    made[key] = CGSolver(lap.mat, project @ bddc.mat @ project, tol=1e-10,
+                                         maxiter=2000)
+                else:
+                    made[key] = lap.mat.Inverse(bits, inverse="sparsecholesky")
+            self.inverses.append(made[key])
+            self._fixed.append(~free)
+        self._rhs = lap.mat.CreateColVector()
+        self._sol = lap.mat.CreateColVector()
+
+    def _anchor(self, mesh, scalar):
+        """The scalar dofs of the anchor vertex on this rank (none if it is elsewhere)."""
+        if not self.distributed:
+            return [scalar.GetDofNrs(ngs.NodeId(ngs.VERTEX, 0))[0]]
+        pts = np.array([p.point for p in mesh.vertices]).reshape(-1, 3)
+        corner = np.unique(parallel.gather_rows(mesh, pts), axis=0)[0]
+        return [scalar.GetDofNrs(ngs.NodeId(ngs.VERTEX, i))[0]
+                for i, p in enumerate(pts) if np.array_equal(p, corner)]
 
     def solve(self, load):
-        """w = L^-1 load, with the components of ``load`` solved one at a time."""
+        """w = L^-1 load on the free dofs, zero on the others, one component at a time."""
         w = load.CreateVector()
         f, x = load.FV().NumPy(), w.FV().NumPy()
         for c, inverse in enumerate(self.inverses):
             block = slice(c * self.n, (c + 1) * self.n)
             self._rhs.FV().NumPy()[:] = f[block]
+            self._rhs.FV().NumPy()[self._fixed[c]] = 0.0
+            if self.distributed:
+                self._rhs.SetParallelStatus(load.GetParallelStatus())
             self._sol.data = inverse * self._rhs
+            if self.distributed:
+                self._sol.Cumulate()
             x[block] = self._sol.FV().NumPy()
+        if self.distributed:
+            w.SetParallelStatus(self._sol.GetParallelStatus())
         return w
 
 
