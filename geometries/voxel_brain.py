@@ -33,6 +33,12 @@ _CORNERS = np.array([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
                      (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)])
 _FACES = {(-1, 0, 0): (0, 4, 7, 3), (1, 0, 0): (1, 2, 6, 5), (0, -1, 0): (0, 1, 5, 4),
           (0, 1, 0): (3, 7, 6, 2), (0, 0, -1): (0, 3, 2, 1), (0, 0, 1): (4, 5, 6, 7)}
+#: The six tetrahedra of a voxel (Kuhn): the paths from corner 0 = (0,0,0) to 6 = (1,1,1)
+#: along the axes in every order. Every voxel is split alike, so the split is conforming: on
+#: each voxel face the diagonal runs from its lowest to its highest corner.
+_KUHN = ((0, 1, 2, 6), (0, 1, 5, 6), (0, 3, 2, 6), (0, 3, 7, 6), (0, 4, 5, 6), (0, 4, 7, 6))
+#: Element shapes of a voxel mesh.
+ELEMENTS = ("hex", "tet")
 
 
 #: Bumped whenever the meshing rule changes, so that stale cached meshes are not read.
@@ -45,8 +51,9 @@ def cache_dir():
     return Path(os.environ.get("NGINCOMPAT_CACHE", default))
 
 
-def mni152(maxh=1.0):
-    """The adult brain of the MNI ICBM152 2009 template, meshed with hexahedra.
+def mni152(maxh=1.0, elements="hex"):
+    """The adult brain of the MNI ICBM152 2009 template, meshed with hexahedra (or each
+    voxel split into six tetrahedra).
 
     The gray- and white-matter probability maps (2 mm) ship inside the ``nilearn`` wheel
     (``pip install -e ".[brain]"``): nothing is downloaded. The mesh is cached in
@@ -56,27 +63,30 @@ def mni152(maxh=1.0):
     ----------
     maxh : float
         Voxel edge in cm, rounded to a multiple of the template's 0.2 cm, in [0.4, 2].
+    elements : str
+        ``hex`` or ``tet`` (:data:`ELEMENTS`).
 
     Returns
     -------
     ngsolve.Mesh
-        Hexahedra with materials ``gray`` and ``white``; boundaries ``surface`` and
-        ``interface``.
+        Hexahedra (tetrahedra) with materials ``gray`` and ``white``; boundaries
+        ``surface`` and ``interface``.
     """
     require(0.4 <= maxh <= 2.0, "maxh", maxh, "in [0.4, 2] cm for the mni152 brain")
+    require(elements in ELEMENTS, "elements", elements, " or ".join(ELEMENTS))
     try:
         from nilearn import datasets
     except ImportError:
         raise ParameterError("geometry = mni152 needs nilearn: pip install -e \".[brain]\"") \
             from None
     block = int(round(maxh / 0.2))
-    path = cache_dir() / f"mni152_{block * 2}mm_v{_CACHE_VERSION}.vol.gz"
+    path = cache_dir() / f"mni152_{block * 2}mm_{elements}_v{_CACHE_VERSION}.vol.gz"
     if path.is_file():
         return ngs.Mesh(str(path))
     gray = datasets.load_mni152_gm_template(resolution=2)
     white = datasets.load_mni152_wm_template(resolution=2)
     mesh = voxel_mesh(np.asarray(gray.get_fdata()), np.asarray(white.get_fdata()),
-                      gray.affine, block)
+                      gray.affine, block, elements)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.vol.gz")
     mesh.ngmesh.Save(str(tmp))
@@ -84,10 +94,10 @@ def mni152(maxh=1.0):
     return mesh
 
 
-def from_nifti(path, maxh=1.0):
+def from_nifti(path, maxh=1.0, elements="hex"):
     """A brain from a user's NIfTI label image: 1 = gray matter, 2 = white matter, other
     values outside; coarsened to voxels of about ``maxh`` cm (an integer number of the
-    image's voxels).
+    image's voxels), each a hexahedron or six tetrahedra (``elements``).
 
     Raises
     ------
@@ -115,13 +125,14 @@ def from_nifti(path, maxh=1.0):
     block = max(1, int(round(maxh / size)))
     try:
         return voxel_mesh((labels == 1).astype(float), (labels == 2).astype(float),
-                          image.affine, block)
+                          image.affine, block, elements)
     except ParameterError as err:
         raise ParameterError(f"geometry = {path}: {err}") from None
 
 
-def voxel_mesh(gray, white, affine, block=1):
-    """Hexahedra on the voxels of a brain given as gray/white fractions or probabilities.
+def voxel_mesh(gray, white, affine, block=1, elements="hex"):
+    """Hexahedra (or six tetrahedra each) on the voxels of a brain given as gray/white
+    fractions or probabilities.
 
     Parameters
     ----------
@@ -131,7 +142,10 @@ def voxel_mesh(gray, white, affine, block=1):
         4x4 voxel -> world (mm) transform of the images.
     block : int
         Voxels per coarse voxel edge (block averages).
+    elements : str
+        ``hex`` or ``tet`` (:data:`ELEMENTS`).
     """
+    require(elements in ELEMENTS, "elements", elements, " or ".join(ELEMENTS))
     require(gray.shape == white.shape, "segmentation", gray.shape, "gray and white images "
             "of one shape")
     g, w = _coarsen(gray, block), _coarsen(white, block)
@@ -143,7 +157,7 @@ def voxel_mesh(gray, white, affine, block=1):
         if not (label == value).any():
             raise ParameterError(f"the segmentation has no {tissue} voxels after coarsening "
                                  f"to blocks of {block}")
-    return _hex_mesh(label, np.asarray(affine, float)[:3, :3] * block)
+    return _voxel_ngmesh(label, np.asarray(affine, float)[:3, :3] * block, elements)
 
 
 def _coarsen(a, block):
@@ -163,26 +177,31 @@ def _largest_part(mask):
     return parts == 1 + int(np.argmax(sizes))
 
 
-def _hex_mesh(label, step):
-    """The Netgen hexahedral mesh of the labelled voxels (1 gray, 2 white), in cm, centred
-    (so the images' origin does not matter); ``step`` maps voxel indices to mm."""
+def _voxel_ngmesh(label, step, elements):
+    """The Netgen mesh of the labelled voxels (1 gray, 2 white), in cm, centred (so the
+    images' origin does not matter); ``step`` maps voxel indices to mm. Hexahedra are kept
+    positively oriented, tetrahedra (:data:`_KUHN`) negatively, as Netgen has them; the
+    boundary faces point out of the tissue they bound (triangles: split along the same
+    diagonal as the tetrahedra)."""
     cells = np.argwhere(label > 0)
     corners = (cells[:, None, :] + _CORNERS[None, :, :]).reshape(-1, 3)
     nodes, index = np.unique(corners, axis=0, return_inverse=True)
     index = index.reshape(-1, 8)
     world = (nodes @ step.T) / 10.0 @ _AXES.T                  # mm -> cm, axes
     world -= (world.min(axis=0) + world.max(axis=0)) / 2
-    if np.linalg.det(step @ _AXES.T) < 0:       # keep hexahedra positively oriented
-        index = index[:, [0, 3, 2, 1, 4, 7, 6, 5]]
-        faces = {k: v[::-1] for k, v in _FACES.items()}
+    mirrored = np.linalg.det(step @ _AXES.T) < 0
+    faces = {k: v[::-1] for k, v in _FACES.items()} if mirrored else _FACES
+    if elements == "hex":
+        volumes = [[0, 3, 2, 1, 4, 7, 6, 5] if mirrored else list(range(8))]
     else:
-        faces = _FACES
+        volumes = [_oriented(tet, negative=not mirrored) for tet in _KUHN]
     m = NetgenMesh(dim=3)
     points = [m.Add(MeshPoint(Pnt(*p))) for p in world]
     m.SetMaterial(1, "gray")
     m.SetMaterial(2, "white")
     for (i, j, k), ids in zip(cells, index, strict=True):
-        m.Add(Element3D(int(label[i, j, k]), [points[n] for n in ids]))
+        for local in volumes:
+            m.Add(Element3D(int(label[i, j, k]), [points[ids[c]] for c in local]))
     m.Add(FaceDescriptor(surfnr=1, domin=1, domout=0, bc=1))
     m.Add(FaceDescriptor(surfnr=2, domin=2, domout=0, bc=1))
     m.Add(FaceDescriptor(surfnr=3, domin=1, domout=2, bc=2))
@@ -197,6 +216,23 @@ def _hex_mesh(label, step):
             if other == own or (own == 2 and other == 1):
                 continue                       # inner face, or the gray side's copy
             fd = 1 + (own - 1) if other == 0 else 3
-            m.Add(Element2D(fd, [points[ids[c]] for c in face]))
+            for part in (_triangles(face) if elements == "tet" else [face]):
+                m.Add(Element2D(fd, [points[ids[c]] for c in part]))
     return ngs.Mesh(m)
 
+
+def _oriented(tet, negative):
+    """The tetrahedron's local corners ordered so that its volume in voxel coordinates has
+    the sign asked for."""
+    a, b, c, d = (_CORNERS[v] for v in tet)
+    if (np.linalg.det(np.array([b - a, c - a, d - a])) < 0) == negative:
+        return list(tet)
+    return [tet[0], tet[2], tet[1], tet[3]]
+
+
+def _triangles(face):
+    """A voxel face (corners in cyclic order) as two triangles of the same orientation, cut
+    along the diagonal from its lowest to its highest corner (that of :data:`_KUHN`)."""
+    low = min(range(4), key=lambda k: _CORNERS[face[k]].sum())
+    a, b, c, d = (face[(low + k) % 4] for k in range(4))
+    return [(a, b, c), (a, c, d)]

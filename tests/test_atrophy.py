@@ -174,6 +174,23 @@ def test_curvature_of_the_growth_metric_beside_b():
         f.file for f in curved.figures]
 
 
+def test_curvature_on_a_tetrahedral_voxel_brain(tmp_path):
+    """The voxel brain split into tetrahedra: equal rates with a uniform c stay compatible
+    (flat metric, no stress) through the staircase surface and interface; gray atrophying
+    faster is not."""
+    from test_voxel_brain import labels, write
+    path = str(write(tmp_path / "brain.nii.gz", labels()))
+    settings = dict(SMALL, geometry=path, elements="tet", maxh=0.5, outputs="curvature")
+    flat = AtrophyScene(seed="uniform", rate_gray=0.03, rate_white=0.03, **settings).run()
+    m = flat.metrics
+    assert m["einstein_norm_L2"] < 1e-8 and m["burgers_max"] < 1e-10
+    assert m["Je_deviation_max"] < 1e-10
+    assert "compatible: a stress-free state exists" in "\n".join(flat.metric_lines())
+    curved = AtrophyScene(seed="uniform", **settings).run()
+    assert curved.metrics["einstein_norm_L2"] > 1e6 * max(m["einstein_norm_L2"], 1e-16)
+    assert "incompatible" in "\n".join(curved.metric_lines())
+
+
 def test_curvature_on_hexahedra_is_refused_before_computing(tmp_path):
     from test_voxel_brain import labels, write
     path = tmp_path / "brain.nii.gz"

@@ -59,6 +59,35 @@ def test_label_image_becomes_hexahedra_with_the_voxel_volumes(tmp_path):
     assert pts.min(axis=0) == pytest.approx(-pts.max(axis=0))
 
 
+@pytest.mark.parametrize("mirror", [1.0, -1.0])
+def test_voxels_split_into_conforming_tetrahedra_of_the_same_volumes(tmp_path, mirror):
+    """Six tetrahedra per voxel, all oriented as Netgen's (negative volume), each face shared
+    by at most two of them, the surface and the interface made of their faces."""
+    affine = np.diag([mirror * VOXEL, VOXEL, VOXEL, 1.0])
+    path = write(tmp_path / "brain.nii.gz", labels(), affine)
+    hexes, tets = (from_nifti(path, maxh=VOXEL / 10, elements=e) for e in ("hex", "tet"))
+    assert {el.type for el in tets.Elements(ngs.VOL)} == {ngs.TET} and tets.ne == 6 * hexes.ne
+    for key, value in volumes(hexes).items():
+        assert volumes(tets)[key] == pytest.approx(value, rel=1e-12)
+    for name in ("surface", "interface"):
+        areas = [ngs.Integrate(1, m, ngs.BND, definedon=m.Boundaries(name)) for m in (hexes, tets)]
+        assert areas[1] == pytest.approx(areas[0], rel=1e-12)
+    ngmesh = tets.ngmesh
+    points = np.array([[p[0], p[1], p[2]] for p in ngmesh.Points()])
+    faces, signs = {}, []
+    for el in ngmesh.Elements3D():
+        v = [p.nr - 1 for p in el.vertices]
+        signs.append(np.sign(np.linalg.det(points[v[1:]] - points[v[0]])))
+        for f in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)):
+            key = tuple(sorted(v[i] for i in f))
+            faces[key] = faces.get(key, 0) + 1
+    assert set(signs) == {-1.0}
+    assert max(faces.values()) == 2
+    surface = {tuple(sorted(p.nr - 1 for p in el.vertices)) for el in ngmesh.Elements2D()}
+    outer = {f for f, n in faces.items() if n == 1}
+    assert outer <= surface and all(faces.get(f) in (1, 2) for f in surface)
+
+
 def test_a_4d_float_label_image_with_one_volume_is_read(tmp_path):
     lab = labels().astype(np.float32)[..., None] + 1e-4        # (x, y, z, 1), not exact
     mesh = from_nifti(write(tmp_path / "brain4d.nii", lab), maxh=VOXEL / 10)

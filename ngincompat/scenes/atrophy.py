@@ -22,7 +22,8 @@ gray and white volume loss 1 - int J dV / V0 at the snapshots; 1 - int theta dV 
 int c dV at every step.
 
 Geometry: the idealized ellipsoid with a gray shell (tetrahedra), the MNI152 template or a
-user's NIfTI label image (hexahedra on coarsened voxels, :mod:`geometries.voxel_brain`), or a
+user's NIfTI label image (hexahedra on coarsened voxels, or six tetrahedra per voxel with
+``elements = tet``, :mod:`geometries.voxel_brain`), or a
 user's Netgen mesh with materials gray and white. On a real brain the axons of d_axn are
 still radial from the centre of the bounding box (no tractography); d_axn = 0 by default.
 
@@ -42,7 +43,7 @@ import ngsolve as ngs
 import numpy as np
 
 from geometries import brain
-from geometries.voxel_brain import from_nifti, mni152
+from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
 
 from .. import curvature as cv
 from .. import incompatibility as inc
@@ -107,6 +108,8 @@ class AtrophyScene(Scene):
     geometry: str = param("idealized", "brain: idealized (ellipsoid), mni152 (MNI ICBM152 "
                           "template, needs nilearn), or a file: NIfTI labels (1 gray, 2 "
                           "white) or a Netgen mesh (materials gray, white)")
+    elements: str = param("hex", "elements of a voxel brain (mni152, NIfTI): hex, or tet (six "
+                          "per voxel, as the curvature output needs)")
     semi_axes: str = param("8.5,7.0,6.0", "semi-axes of the idealized brain along e1, e2, e3",
                            "length")
     gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length")
@@ -139,6 +142,7 @@ class AtrophyScene(Scene):
         require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
                 self.geometry, f"{', '.join(GEOMETRIES)} or a file ending in "
                 f"{', '.join(USER_FILES)}")
+        require(self.elements in ELEMENTS, "elements", self.elements, " or ".join(ELEMENTS))
         axes = self.axes()
         require(min(axes) > 0, "semi_axes", self.semi_axes, "three lengths > 0")
         require(0 < self.gray_thickness < min(axes) / 2, "gray_thickness",
@@ -225,7 +229,8 @@ class AtrophyScene(Scene):
                 el.type != ngs.ET.TET for el in mesh.Elements(ngs.VOL)):
             raise ParameterError(f"outputs = {self.outputs}: the curvature of the growth metric "
                                  f"(Regge elements) needs a tetrahedral mesh; geometry = "
-                                 f"{self.geometry} is meshed with hexahedra")
+                                 f"{self.geometry} is meshed with hexahedra (a voxel brain "
+                                 f"takes --set elements=tet)")
         return AtrophyCase(self, mesh)
 
     def mesh(self):
@@ -234,9 +239,9 @@ class AtrophyScene(Scene):
             return brain(semi_axes=self.axes(), gray=self.gray_thickness, maxh=self.maxh,
                          curve_order=self.order)
         if self.geometry == "mni152":
-            return mni152(self.maxh)
+            return mni152(self.maxh, self.elements)
         if self.geometry.endswith((".nii", ".nii.gz")):
-            return from_nifti(self.geometry, self.maxh)
+            return from_nifti(self.geometry, self.maxh, self.elements)
         if not Path(self.geometry).is_file():
             raise ParameterError(f"geometry = {self.geometry}: no such file")
         try:
