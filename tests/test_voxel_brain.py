@@ -220,8 +220,11 @@ def test_mni152_is_cached_with_materials_and_brain_volumes(tmp_path, monkeypatch
     assert 800 < vol["gray"] + vol["white"] < 2500                # cm^3
     assert vol["white"] > 0 and vol["gray"] > 0
     files = list(tmp_path.iterdir())
-    assert [f.name for f in files] == ["mni152_20mm_v1.vol.gz"]
+    assert [f.name for f in files] == ["mni152_20mm_hex_v1.vol.gz"]
     again = mni152(2.0)
     assert again.ne == mesh.ne and volumes(again) == pytest.approx(vol)
+    tets = mni152(2.0, elements="tet")           # its own cache file, the same brain
+    assert tets.ne == 6 * mesh.ne and volumes(tets) == pytest.approx(vol, rel=1e-12)
+    assert len(list(tmp_path.iterdir())) == 2
     with pytest.raises(ParameterError, match="maxh"):
         mni152(0.1)
