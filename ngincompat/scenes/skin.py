@@ -152,9 +152,13 @@ class SkinCase:
             stages.append(CoupledStage("inflation", problem, t_end=1.0,
                                        dt=1.0 / scene.inflation_steps, grow=False,
                                        volume=(0.0, scene.volume)))
+        # A hold step changes the tangent little: reusing it while Newton contracts took the
+        # square's hold from 66 s to 31 s (43 iterations on 9 tangents, not 22 on 22); the
+        # inflation got slower with it (29 tangents for 63 iterations) and keeps fresh ones.
         stages.append(CoupledStage("hold", problem, t_end=scene.hold_days, dt=scene.dt,
                                    t_start=t_hold or 0.0, volume=(scene.volume, scene.volume),
-                                   options=NewtonOptions(max_iter=20, max_step=scene.dt),
+                                   options=NewtonOptions(max_iter=20, max_step=scene.dt,
+                                                         reuse_tangent=True),
                                    checkpoint=checkpoint, unit="days"))
         ramped = AreaGrowth(1 + (problem.theta - 1) * self.ramp, self.N0)
         for stage, bcs in (("clamped", CLAMP), ("released", {})):
