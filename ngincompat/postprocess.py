@@ -97,6 +97,12 @@ def _locatable(mesh, pts):
 
 def maximum(cf, mesh, order=4):
     """Largest value of a scalar CF over the integration points and vertices of the mesh
-    (of all ranks of a distributed mesh)."""
+    (of all ranks of a distributed mesh).
+
+    Points where the CF is undefined (NaN) are left out: a vertex can sit on a cone point of
+    an analytic growth field, e.g. the centre of theta = 1 + R t / 4, a vertex of the quarter
+    hemisphere. NaN only if the CF is undefined at every point."""
     values = np.asarray(cf(element_points(mesh, order))) if mesh.ne else np.empty(0)
-    return parallel.maximum(mesh, np.max(values, initial=-np.inf))
+    defined = values[~np.isnan(values)]
+    local = np.nan if values.size and not defined.size else np.max(defined, initial=-np.inf)
+    return parallel.maximum(mesh, local)
