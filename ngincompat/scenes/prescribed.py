@@ -224,10 +224,12 @@ def _curvature_figure(scene, coord, case):
 def _mechanics(case, problem, fields):
     """Stress fields and metrics of the solved body; adds the fields, returns the metrics."""
     stress = postprocess.stresses(problem.energy_density, problem.u)
-    fields.update({"u": problem.u, "Psi": stress["W"] / case.growth.Jg,
-                   "sigma_max_principal": postprocess.principal_values(stress["sigma"])[2]})
+    # compiled: the stress is evaluated once per point for the VTK interpolants (the disc's
+    # sigma_r in 0.03 s instead of 0.4 s)
+    fields.update({"u": problem.u, "Psi": (stress["W"] / case.growth.Jg).Compile(),
+                   "sigma_max_principal": postprocess.largest_principal_value(stress["sigma"])})
     for label, (tensor, a, b) in case.components.items():
-        fields[label] = postprocess.component(stress[tensor], a, b)
+        fields[label] = postprocess.component(stress[tensor], a, b).Compile()
     return {"strain_energy": case.mirror * problem.strain_energy(),
             "max_principal_stress": postprocess.maximum(fields["sigma_max_principal"],
                                                         case.mesh)}
