@@ -55,6 +55,7 @@ def test_quarter_hemisphere_is_the_full_one_with_mirror_planes():
             for model in ("full", "quarter")}
     full, quarter = runs["full"], runs["quarter"]
     assert quarter.mesh.ne < full.mesh.ne
+    assert len(HemisphereScene(model="quarter", order=2).build().mechanics().pinned) == 1
     assert quarter.metrics["strain_energy"] == pytest.approx(full.metrics["strain_energy"],
                                                              rel=2e-3)
     assert np.isfinite(quarter.metrics["burgers_max"])
