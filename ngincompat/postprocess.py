@@ -42,6 +42,25 @@ def principal_values(T):
     return ngs.CF((eig[9], eig[10], eig[11]))
 
 
+def largest_principal_value(T):
+    """The largest eigenvalue of a symmetric 3x3 CoefficientFunction in closed form (the
+    trigonometric solution of the characteristic cubic): with q = tr T / 3,
+    p = sqrt(|T - q I|^2 / 6) and r = det((T - q I) / p) / 2 in [-1, 1],
+
+        lambda_max = q + 2 p cos(arccos(r) / 3),
+
+    and q where p = 0 (T = q I). A few dozen flops per point against the iterative ``Eig``
+    (0.1 s instead of 3.5 s for the stress field of the disc); the two agree to round-off
+    amplified by arccos near double eigenvalues (1e-8 relative to p at worst)."""
+    q = ngs.Trace(T) / 3
+    D = T - q * ngs.Id(3)
+    p = ngs.sqrt(ngs.InnerProduct(D, D) / 6)
+    safe = ngs.IfPos(p - 1e-300, p, 1.0)
+    r = ngs.Det(D / safe) / 2
+    r = ngs.IfPos(r - 1, 1.0, ngs.IfPos(-1 - r, -1.0, r))
+    return (q + 2 * p * ngs.cos(ngs.acos(r) / 3)).Compile()
+
+
 def component(T, a, b=None):
     """The component a . T b of a tensor in a local basis (b defaults to a)."""
     return ngs.InnerProduct(a, T * (a if b is None else b))
@@ -97,6 +116,12 @@ def _locatable(mesh, pts):
 
 def maximum(cf, mesh, order=4):
     """Largest value of a scalar CF over the integration points and vertices of the mesh
-    (of all ranks of a distributed mesh)."""
+    (of all ranks of a distributed mesh).
+
+    Points where the CF is undefined (NaN) are left out: a vertex can sit on a cone point of
+    an analytic growth field, e.g. the centre of theta = 1 + R t / 4, a vertex of the quarter
+    hemisphere. NaN only if the CF is undefined at every point."""
     values = np.asarray(cf(element_points(mesh, order))) if mesh.ne else np.empty(0)
-    return parallel.maximum(mesh, np.max(values, initial=-np.inf))
+    defined = values[~np.isnan(values)]
+    local = np.nan if values.size and not defined.size else np.max(defined, initial=-np.inf)
+    return parallel.maximum(mesh, local)
