@@ -36,12 +36,6 @@ def stresses(energy_density, u):
     return {"P": P, "S": ngs.Inv(F) * P, "sigma": (1.0 / ngs.Det(F)) * P * F.trans, "W": W}
 
 
-def principal_values(T):
-    """Eigenvalues of a symmetric 3x3 CoefficientFunction, ascending, as a 3-vector CF."""
-    eig = T.Eig()
-    return ngs.CF((eig[9], eig[10], eig[11]))
-
-
 def largest_principal_value(T):
     """The largest eigenvalue of a symmetric 3x3 CoefficientFunction in closed form (the
     trigonometric solution of the characteristic cubic): with q = tr T / 3,

@@ -451,7 +451,7 @@ class AtrophyCase:
         sigma = postprocess.stresses(problem.energy_density, problem.u)["sigma"]
         J = ngs.Det(deformation_gradient(problem.u))
         return {"u": problem.u, "J": J, "Je": J / self.theta,
-                "sigma_max_principal": postprocess.principal_values(sigma)[2]}
+                "sigma_max_principal": postprocess.largest_principal_value(sigma)}
 
     def _mechanics(self, fields):
         """Stresses and volumes of the last equilibrium; adds the fields, returns metrics."""

@@ -230,7 +230,7 @@ class SkinCase:
             if f"deflation_{stage}" not in solution.histories:
                 continue
             sigma = postprocess.stresses(relaxed.energy_density, relaxed.u)["sigma"]
-            flds[f"sigma_max_{stage}"] = postprocess.principal_values(sigma)[2]
+            flds[f"sigma_max_{stage}"] = postprocess.largest_principal_value(sigma)
             flds[f"u_{stage}"] = relaxed.u
             metrics[f"max_principal_stress_{stage}"] = postprocess.maximum(
                 flds[f"sigma_max_{stage}"], mesh)
