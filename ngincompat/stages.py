@@ -70,16 +70,20 @@ class CoupledStage:
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
     unit: str = ""
+    _loaded: float = field(default=float("inf"), init=False, repr=False)
 
     def load(self, t: float) -> None:
-        """Set the loads of time ``t``: the volume target and, if frozen, dt = 0."""
+        """Set the loads of time ``t``: the volume target and, if frozen, dt = 0. Moving
+        forward from the last converged time (not back to it after a failed step), the state
+        is lifted with an expander (:meth:`~ngincompat.problem.CoupledGrowth.set_volume_target`)."""
         if not self.grow:
             self.problem.dt.Set(0.0)
         if self.volume is not None:
             v0, v1 = self.volume
             span = self.t_end - self.t_start
             s = 1.0 if span <= 0 else (t - self.t_start) / span
-            self.problem.volume_target.Set(v0 + (v1 - v0) * s)
+            self.problem.set_volume_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
+        self._loaded = t
 
     def save(self, t: float) -> None:
         """Write the state at time ``t`` to the checkpoint, if there is one."""

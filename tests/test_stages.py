@@ -36,8 +36,16 @@ def test_growth_in_two_stages_reaches_the_state_of_one():
 
 def _coupled_stub(mesh, order=1):
     space = ngs.H1(mesh, order=order)
-    return SimpleNamespace(dt=ngs.Parameter(0.25), volume_target=ngs.Parameter(0.0),
-                           state=ngs.GridFunction(space), theta_old=ngs.GridFunction(space))
+    stub = SimpleNamespace(dt=ngs.Parameter(0.25), volume_target=ngs.Parameter(0.0),
+                           state=ngs.GridFunction(space), theta_old=ngs.GridFunction(space),
+                           lifts=[])
+
+    def set_volume_target(volume, lift=False):
+        stub.volume_target.Set(volume)
+        stub.lifts.append(lift)
+
+    stub.set_volume_target = set_volume_target
+    return stub
 
 
 def test_coupled_stage_drives_the_volume_linearly_and_freezes_growth():
@@ -48,6 +56,9 @@ def test_coupled_stage_drives_the_volume_linearly_and_freezes_growth():
         stage.load(t)
         assert problem.volume_target.Get() == pytest.approx(expected)
     assert problem.dt.Get() == 0.0
+    # the state moves with the expander only going forward, not back after a failed step
+    stage.load(2.0)
+    assert problem.lifts == [False, True, True, True, False]
     growing = _coupled_stub(cube(maxh=1.0))
     CoupledStage("hold", growing, t_end=7.0, dt=0.5).load(3.0)
     assert growing.dt.Get() == 0.25 and growing.volume_target.Get() == 0.0
