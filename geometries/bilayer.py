@@ -7,7 +7,8 @@ from ngincompat.errors import require
 from ._common import check_mesh_args, mesh_shape
 
 
-def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_order=1):
+def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_order=1,
+            cortex_maxh=None):
     """A thin bilayer slab (cm): X1 in [0, length], X2 in [0, depth] (out of plane),
     X3 in [0, height]; the top ``cortex`` of it is the cortex, the rest the subcortex.
 
@@ -21,6 +22,10 @@ def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_or
         Cortical thickness (cm), in (0, height). Default 0.05.
     maxh, curve_order
         As for every builder.
+    cortex_maxh : float, optional
+        Mesh size in the cortex and on the interface (default ``maxh``); the mesh grades
+        from it to ``maxh`` below, so a fine cortex (buckling needs several elements across
+        it) does not refine the whole subcortex.
 
     Returns
     -------
@@ -33,6 +38,8 @@ def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_or
     require(depth > 0, "depth", depth, "> 0")
     require(0 < cortex < height, "cortex", cortex, f"in (0, height = {height:g})")
     check_mesh_args(maxh, curve_order, max(length, height))
+    cortex_maxh = maxh if cortex_maxh is None else cortex_maxh
+    require(0 < cortex_maxh <= maxh, "cortex_maxh", cortex_maxh, f"in (0, maxh = {maxh:g}]")
     split = height - cortex
     sub = Box(Pnt(0, 0, 0), Pnt(length, depth, split))
     top = Box(Pnt(0, 0, split), Pnt(length, depth, height))
@@ -45,4 +52,6 @@ def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_or
     sub.faces.Max(Z).name = "interface"
     top.faces.Max(Z).name = "top"
     top.faces.Min(Z).name = "interface"
+    top.solids.maxh = cortex_maxh
+    sub.faces.Max(Z).maxh = cortex_maxh
     return mesh_shape(Glue([sub, top]), maxh, curve_order)

@@ -127,13 +127,15 @@ def _cmd_expansion(args):
 
 
 def _cmd_bench(args):
-    from . import bench, peer, scaling, stability
+    from . import bench, curvature_rates, peer, scaling, stability
     if args.case == "peer":
         lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
     elif args.case == "cube":
         lines = bench.cube_main(args.maxh, args.orders, out=args.out)
     elif args.case == "accuracy":
         lines = bench.accuracy_main(out=args.out, quick=args.quick)
+    elif args.case == "curvature":
+        lines = curvature_rates.main(out=args.out, quick=args.quick)
     elif args.case == "stability":
         lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
     else:
@@ -164,7 +166,7 @@ def _cmd_sweep_plot(args):
 
 
 def _add_bench(sub):
-    """``bench cube | accuracy | peer | stability | scaling`` and their options."""
+    """``bench cube | accuracy | curvature | peer | stability | scaling`` and their options."""
     from .scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
@@ -186,6 +188,10 @@ def _add_bench(sub):
                          "cylinder, with a plot and the cheapest setting per target")
     p.add_argument("--quick", action="store_true",
                    help="only coarse cube and cylinder settings (seconds)")
+    p = case("curvature", "the curvature of the growth metric on Regge elements against the "
+                          "exact one: errors, cost and rates under h- and p-refinement")
+    p.add_argument("--quick", action="store_true",
+                   help="only the coarse hemisphere, k = 1, 2 (seconds)")
     p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
                      "alternate runs, the ratio of solve times and both energy errors")
     p.add_argument("--peer", metavar="DIR",

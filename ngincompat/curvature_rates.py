@@ -14,9 +14,12 @@ curvature (:func:`ngincompat.curvature.growth_curvature`) in three measures:
 
 Meshes are refined uniformly (every tetrahedron split in eight, new boundary points on the
 geometry), so h halves exactly; rates are log2 of the ratio of successive errors.
+
+``ngincompat bench curvature [--quick] [--out DIR]`` runs the study (:func:`main`).
 """
 
 import time
+from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
@@ -24,13 +27,15 @@ import numpy as np
 from geometries import disc, hemisphere
 
 from . import curvature as cv
-from . import fields, regge
+from . import fields, plots, regge, tables
 from .growth import AreaGrowth, IsotropicGrowth
 
 #: Columns of :func:`rate_table` and their units.
 COLUMNS = ("body", "k", "level", "ne", "pairing", "lift", "elementwise", "seconds")
 UNITS = {"pairing": "-", "lift": "-", "elementwise": "-",
          "seconds": "s"}
+#: What ``--quick`` runs (seconds): the coarse hemisphere for k = 1, 2, no refinement.
+QUICK = {"names": ("hemisphere",), "orders": (1, 2), "levels": 1}
 #: Published rates in h for Regge degree k (distributional Einstein in H^-2, element-wise
 #: curvature in L2).
 PUBLISHED = {"pairing": lambda k: k + 1, "elementwise": lambda k: k - 1}
@@ -116,3 +121,27 @@ def rate_summary(rows):
                             "rates": ", ".join(f"{v:.2f}" for v in values),
                             "published": "-" if published is None else published(k)})
     return summary
+
+
+def main(out=None, quick=False):
+    """``ngincompat bench curvature``: the error of the discrete path against its cost, and
+    the rates against the published ones; returns the lines to print. With ``out``: the
+    tables ``curvature_rates`` and ``curvature_rate_summary`` (markdown, CSV, JSON) and one
+    plot per body of the lifted Einstein tensor's error against computing time per k."""
+    rows = rate_table(**QUICK) if quick else rate_table()
+    summary = rate_summary(rows)
+    lines = [tables.markdown(rows, list(COLUMNS), UNITS)]
+    if any(row["rates"] for row in summary):
+        lines += ["", tables.markdown(summary)]
+    if out is not None:
+        tables.write(out, "curvature_rates", rows, list(COLUMNS), UNITS)
+        tables.write(out, "curvature_rate_summary", summary)
+        for body in dict.fromkeys(row["body"] for row in rows):
+            curves = {f"k = {k}": sorted((row["seconds"], row["lift"]) for row in rows
+                                         if row["body"] == body and row["k"] == k)
+                      for k in sorted({row["k"] for row in rows})}
+            plots.error_against_time(Path(out) / f"curvature_{body}.png", curves,
+                                     title=f"{body}: lifted Einstein tensor, error against "
+                                           "time")
+        lines.append(f"plots and tables written to {out}")
+    return lines

@@ -122,3 +122,20 @@ def axons(kind, interface=0.95, length=3.0, focus_depth=3.0):
     if kind == "curved":
         return DirectionField(fan.cf, "axons curved")
     return DirectionField(ngs.Cross(constant("e2").cf, fan.cf), "axons concentric")
+
+
+def by_region(mesh, directions, name):
+    """A direction field made of one field per region of the mesh (the cortex's e1 above the
+    subcortex's axons), e.g. ``by_region(mesh, {"cortex": constant("e1"), ...}, "f0")``.
+
+    Every region of the mesh needs a field; the result is constant only if all the fields
+    are the same constant.
+    """
+    regions = set(mesh.GetMaterials())
+    if set(directions) != regions:
+        raise ParameterError(f"directions for {sorted(directions)} are out of range: allowed "
+                             f"one for each region: {', '.join(sorted(regions))}")
+    vectors = {d.vector for d in directions.values()}
+    vector = vectors.pop() if len(vectors) == 1 else None
+    cf = mesh.MaterialCF({r: d.cf for r, d in directions.items()})
+    return DirectionField(cf, name, vector)

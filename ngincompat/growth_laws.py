@@ -117,6 +117,55 @@ class HillLaw:
         return self.k * sn / (self.K ** self.n + sn) * room
 
 
+@dataclass(frozen=True)
+class ConstantRateLaw:
+    """Growth at a prescribed constant rate, independent of the mechanics:
+
+    rate = r,  so theta(t) = 1 + r t
+
+    (the cortex of section 3.7, "not mechanically coupled"). Implicit Euler integrates it
+    exactly; r = 0 freezes growth.
+
+    Parameters
+    ----------
+    r : float
+        d theta / dt, >= 0 (1 / time unit of the scene).
+    """
+
+    r: float
+
+    def __post_init__(self):
+        require(self.r >= 0, "rate", self.r, ">= 0")
+
+    def rate(self, theta: CF, theta_e: CF) -> CF:
+        return ngs.CF(self.r)
+
+
+@dataclass(frozen=True, eq=False)
+class RegionalLaw:
+    """One growth law per region of the mesh (a prescribed cortex on a stretch-driven
+    subcortex): the rate in region r is that of ``laws[r]``.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+    laws : dict
+        Region name -> :class:`GrowthLaw`; every region of the mesh needs one.
+    """
+
+    mesh: ngs.Mesh
+    laws: dict
+
+    def __post_init__(self):
+        regions = set(self.mesh.GetMaterials())
+        require(set(self.laws) == regions, "laws", sorted(self.laws),
+                f"one law for each region: {', '.join(sorted(regions))}")
+
+    def rate(self, theta: CF, theta_e: CF) -> CF:
+        return self.mesh.MaterialCF({r: law.rate(theta, theta_e)
+                                     for r, law in self.laws.items()})
+
+
 def euler_residual(law: GrowthLaw, theta: CF, theta_old: CF, dt: CF | float,
                    theta_total: CF) -> CF:
     """R^g of eq. (48) with theta_e = theta_total / theta."""

@@ -126,6 +126,20 @@ def write_vtk(path, mesh, fields, subdivision=1):
     return path
 
 
+def write_pvd(path, datasets):
+    """Write a ParaView collection (``path`` ends in ``.pvd``) atomically: a time series of
+    VTK files given as (time, file name relative to the collection's folder)."""
+    lines = ['<?xml version="1.0"?>',
+             '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+             "  <Collection>",
+             *(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file="{name}"/>'
+               for t, name in datasets),
+             "  </Collection>", "</VTKFile>"]
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n")
+    return Path(path)
+
+
 def write_vtk_parallel(stem, mesh, fields, subdivision=1):
     """Write CoefficientFunctions on a distributed mesh: every rank writes its part; the
     collection ``stem.pvd`` names the parts. Collective: call on every rank.

@@ -13,6 +13,7 @@ defining the class registers it, so :func:`make_material` finds it by that name 
 uniform parameters (mu, nu, k1, k2, kappa) of its classmethod ``from_parameters``.
 """
 
+import dataclasses
 from collections.abc import KeysView, Sequence
 from dataclasses import dataclass
 from typing import ClassVar, Protocol, Self, runtime_checkable
@@ -126,9 +127,9 @@ class NeoHookean(MaterialKind):
 
     Parameters
     ----------
-    mu : float
-        Shear modulus, > 0.
-    lam : float
+    mu : float or CoefficientFunction
+        Shear modulus, > 0; a CoefficientFunction for moduli per region (:meth:`by_region`).
+    lam : float or CoefficientFunction
         Lame's first parameter, > -2 mu / 3.
 
     Notes
@@ -143,13 +144,23 @@ class NeoHookean(MaterialKind):
     needs_fibers = False
 
     def __post_init__(self):
-        _check_lame(self.mu, self.lam)
+        if not isinstance(self.mu, CF):     # moduli per region are checked by by_region
+            _check_lame(self.mu, self.lam)
 
     @classmethod
     def from_nu(cls, mu: float, nu: float) -> Self:
         """From the shear modulus and Poisson's ratio nu in (-1, 0.5)."""
         require(mu > 0, "mu", mu, "> 0 (shear modulus)")
         return cls(mu, lame_lambda(mu, nu))
+
+    @classmethod
+    def by_region(cls, mesh, moduli: dict[str, tuple[float, float]]) -> Self:
+        """One neo-Hookean material with moduli per mesh region (material name), given as
+        region -> (mu, nu); mu and lam become piecewise constant CoefficientFunctions (the
+        energy is linear in both)."""
+        parts = {region: cls.from_nu(mu, nu) for region, (mu, nu) in moduli.items()}
+        return cls(mesh.MaterialCF({r: m.mu for r, m in parts.items()}),
+                   mesh.MaterialCF({r: m.lam for r, m in parts.items()}))
 
     @classmethod
     def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
@@ -256,3 +267,50 @@ def make_material(name: str, mu: float, nu: float, k1: float = 0.0, k2: float = 
         For an unknown name (listing the registered ones) or parameters out of range.
     """
     return material_kind(name).from_parameters(mu, nu, k1, k2, kappa)
+
+
+@dataclass(frozen=True, eq=False)
+class Regional:
+    """One material kind whose parameters differ between regions of the mesh (a stiff
+    cortex on a soft subcortex).
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+        The mesh whose materials (regions) are keys of ``materials``.
+    materials : dict
+        Region name -> a material (validated dataclass, e.g. :class:`NeoHookean`), all of
+        one class; every region of the mesh needs one.
+
+    Notes
+    -----
+    Psi(Fe) = Psi(Fe; p_r) in region r: the energy of the common class with each parameter
+    a domain-wise CoefficientFunction p(X) = p_r. (A domain-wise energy, one expression per
+    region, gives the same values but its tangent assembled three times slower.)
+    """
+
+    mesh: ngs.Mesh
+    materials: dict
+    name = "regional"
+
+    def __post_init__(self):
+        regions = set(self.mesh.GetMaterials())
+        require(set(self.materials) == regions, "materials", sorted(self.materials),
+                f"one material for each region: {', '.join(sorted(regions))}")
+        kinds = {type(m) for m in self.materials.values()}
+        require(len(kinds) == 1, "materials", sorted(k.__name__ for k in kinds),
+                "materials of one class")
+
+    @property
+    def needs_fibers(self) -> bool:
+        return any(m.needs_fibers for m in self.materials.values())
+
+    def energy(self, Fe: CF, fibers: Sequence[CF] = ()) -> CF:
+        """Psi of the common material class with domain-wise parameters."""
+        kind = type(next(iter(self.materials.values())))
+        # every region's parameters were validated when its material was made
+        material = object.__new__(kind)
+        for f in dataclasses.fields(kind):
+            values = {r: getattr(m, f.name) for r, m in self.materials.items()}
+            object.__setattr__(material, f.name, self.mesh.MaterialCF(values))
+        return material.energy(Fe, fibers)

@@ -46,10 +46,15 @@ def cases(quick=False):
     ]
 
 
+#: Phases of a run whose wall time the summary shows (results.json has them all).
+PHASES = ("mesh", "growth", "incompatibility", "postprocess", "output")
+
 #: Columns of the summary table and their units.
 COLUMNS = ("case", "status", "ndof", "newton", "load_steps", "newton_per_step", "seconds",
-           "strain_energy", "burgers_max", "max_principal_stress", *CHECKS)
-UNITS = {"seconds": "s", **{k: CubeScene.metric_unit(k) for k in COLUMNS[7:]}}
+           "strain_energy", "burgers_max", "max_principal_stress", *CHECKS,
+           *(f"t_{p}" for p in PHASES))
+UNITS = {"seconds": "s", **{k: CubeScene.metric_unit(k) for k in COLUMNS[7:-len(PHASES)]},
+         **{f"t_{p}": "s" for p in PHASES}}
 
 
 def row(label, results, seconds):
@@ -65,6 +70,7 @@ def row(label, results, seconds):
         "burgers_max": m.get("burgers_max"),
         "max_principal_stress": m.get("max_principal_stress"),
         **{k: m[k] for k in CHECKS if k in m},
+        **{f"t_{p}": round(results.timings[p], 2) for p in PHASES if p in results.timings},
     }
 
 

@@ -63,6 +63,10 @@ class Figure:
         into noise.
     profile : str
         Which profile of the results.
+    kind : str
+        "profile": curves against ``x``; "maps": colour maps, one panel per curve, of 2-D
+        arrays keyed "<plane>_<field>" whose axes are the profile's "<plane>_u" and
+        "<plane>_v" (one row per plane, one column per field; ``x`` names the first axis).
     """
 
     file: str
@@ -76,6 +80,7 @@ class Figure:
     floor: float = 0.0
     right_floor: float = 0.0
     profile: str = "line"
+    kind: str = "profile"
 
 
 @dataclass(eq=False)
@@ -117,6 +122,9 @@ class Results:
         Name -> ngsolve CoefficientFunction on ``domain`` (not serialised).
     domain : ngsolve.Mesh or None
         The mesh the fields live on (not serialised).
+    frames : list of (float, dict)
+        (time, name -> field) at chosen times of a time-dependent scene, frozen copies on
+        ``domain`` (not serialised): the frames of the ``fields.pvd`` time series.
     """
 
     scene: str
@@ -136,6 +144,8 @@ class Results:
     files: list[str] = field(default_factory=list)
     fields: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
     domain: Any = field(default=None, repr=False, compare=False)
+    frames: list[tuple[float, dict[str, Any]]] = field(default_factory=list, repr=False,
+                                                       compare=False)
 
     @property
     def converged(self) -> bool:

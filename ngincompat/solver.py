@@ -421,7 +421,8 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
     schedule : callable, optional
         ``schedule(t)`` sets time-dependent loads (e.g. the volume target) for time t.
     on_step : callable, optional
-        ``on_step(t)`` after every converged step, e.g. to write a checkpoint.
+        ``on_step(t)`` after every converged step, e.g. to write a checkpoint; if it returns
+        True, the march ends there (e.g. where an instability was detected).
     progress : Progress
         Where steps and cuts are reported, under the name ``stage`` with time ``unit``.
 
@@ -445,8 +446,7 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
 
     def accept(t):
         problem.accept_step()
-        if on_step is not None:
-            on_step(t)
+        return on_step is not None and on_step(t)
 
     return _march(problem, options, t_start, t_end, dt, advance, restore, accept,
                   progress.march(stage, t_start, t_end, unit))
@@ -456,7 +456,7 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, report):
     """The adaptive stepping loop: a failed step is undone and retried at half the size.
 
     ``report`` (a :class:`~ngincompat.progress.StageProgress`) hears of every converged and
-    every cut step as it happens."""
+    every cut step as it happens; ``accept(t)`` returning True ends the march at t."""
     solver = NewtonSolver(problem, options)
     history = SolverHistory(t_reached=t)
     saved = problem.state.vec.CreateVector()
@@ -474,11 +474,12 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, report):
                 if record.converged:
                     t += dt
                     history.t_reached = t
-                    if accept is not None:
-                        accept(t)
+                    stop = accept is not None and accept(t)
                     saved.data = problem.state.vec
                     report.step(t, dt, record.iterations)
                     log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
+                    if stop:
+                        break
                     if record.iterations <= 4:
                         dt = min(2 * dt, options.max_step)
                     continue

@@ -13,6 +13,7 @@ Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -56,6 +57,9 @@ class CoupledStage:
         Target of the constrained volume at ``t_start`` and ``t_end``, linear in between.
     checkpoint : Path, optional
         File that receives the state after every converged step (atomically).
+    observe : callable, optional
+        ``observe(t)`` after every converged step (after the checkpoint): measures the state;
+        returning True ends the stage there.
     unit : str
         Unit of the marching parameter, for the progress report.
     """
@@ -69,6 +73,7 @@ class CoupledStage:
     volume: tuple[float, float] | None = None
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
+    observe: Callable[[float], bool] | None = None
     unit: str = ""
     _loaded: float = field(default=float("inf"), init=False, repr=False)
 
@@ -90,11 +95,16 @@ class CoupledStage:
         if self.checkpoint is not None:
             save_checkpoint(self.problem, self.checkpoint, t)
 
+    def after_step(self, t: float) -> bool:
+        """Checkpoint and observe the state of time ``t``; True ends the stage."""
+        self.save(t)
+        return self.observe is not None and bool(self.observe(t))
+
     def run(self, progress: Progress) -> SolverHistory:
         self.load(self.t_start)
         self.save(self.t_start)
         return solve_coupled(self.problem, self.t_end, self.dt, self.options,
-                             t_start=self.t_start, schedule=self.load, on_step=self.save,
+                             t_start=self.t_start, schedule=self.load, on_step=self.after_step,
                              progress=progress, stage=self.name, unit=self.unit)
 
 

@@ -15,6 +15,11 @@ SKIN_COARSE = ["--set", "maxh=3", "--set", "order=1", "--set", "growth_order=0",
                "g_order=2", "--set", "inflation_steps=2", "--set", "hold_days=0.5",
                "--set", "dt=0.5"]
 
+#: Command-line settings that run the folding scene in seconds: a short, shallow bilayer on
+#: a coarse subcortex, grown in one step to theta_c = 1.08, before the onset (a smoke test).
+FOLDING_COARSE = ["--set", "length=0.5", "--set", "height=0.3", "--set", "maxh=0.15",
+                  "--set", "t_end=10", "--set", "dt=10", "--set", "onset_dt=10"]
+
 
 @pytest.fixture(scope="session")
 def unit_cube_hex():
@@ -50,3 +55,22 @@ def cube_problem(a=0.25, maxh=0.5, order=2, elements="hex", condense=True):
     mesh = cube(maxh=maxh, elements=elements)
     material = NeoHookean.paper_idealized()
     return GrowthMechanics(mesh, growth, material, order=order, condense=condense), time
+
+
+def peer_stand_in(folder):
+    """A folder laid out like the FEniCSx peer's whose script only prints a RESULT line, with
+    a known energy and solve time (the benchmark's arithmetic, not the peer, is tested);
+    returns the folder and the record its script prints."""
+    import json
+    import sys
+
+    from ngincompat import peer
+    from ngincompat.bench import CUBE_ENERGY
+    (folder / "debroot").mkdir(parents=True)
+    (folder / peer.PEER_ENV).write_text(f'PY="{sys.executable}"\n')
+    record = {"version": "0.5.2", "cell": "tet", "degree": 4, "N": 4, "solver": "lu",
+              "dofs": 14739, "newton_its": 3, "t_solve": 7.5, "W": CUBE_ENERGY * (1 + 5e-2)}
+    (folder / peer.PEER_SCRIPT).write_text(
+        "import sys\nassert sys.argv[1:] == ['--N', '4', '--degree', '4', '--quiet']\n"
+        f"print('noise')\nprint('RESULT ' + {json.dumps(json.dumps(record))})\n")
+    return folder, record

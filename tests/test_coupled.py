@@ -135,3 +135,17 @@ def test_G_of_a_computed_growth_field_meets_its_target():
     assert _computed_growth_G_error(0.25, 2, 3) > 1e-3
     coarse, fine = _computed_growth_G_error(0.5, 2, 3), _computed_growth_G_error(0.25, 2, 3)
     assert fine < 0.3 * coarse
+
+
+def test_a_march_ends_where_on_step_says_so():
+    """on_step returning True (an instability detected) ends the march there, converged."""
+    problem = _stretched_bar(LAW)
+    seen = []
+
+    def on_step(t):
+        seen.append(t)
+        return t >= 0.5
+
+    history = solve_coupled(problem, t_end=2.0, dt=0.25, on_step=on_step)
+    assert history.converged and history.t_reached == pytest.approx(0.5)
+    assert seen == pytest.approx([0.25, 0.5])

@@ -1,6 +1,8 @@
 """Curvature of the growth metric: exact path against closed forms, Kröner's linearisation,
 the paper's cylinder; the discrete (Regge) path against the exact one."""
 
+import json
+
 import ngsolve as ngs
 import numpy as np
 import pytest
@@ -249,3 +251,15 @@ def test_skin_reports_discrete_curvature_beside_b():
     assert m["scalar_curvature_min"] < m["scalar_curvature_max"]
     assert "einstein_norm_g" in results.profiles["line"]
     assert any(f.file == "curvature.png" for f in results.figures)
+
+
+def test_curvature_benchmark_writes_error_against_cost(tmp_path):
+    from ngincompat import curvature_rates
+    lines = curvature_rates.main(out=tmp_path, quick=True)
+    rows = json.loads((tmp_path / "curvature_rates.json").read_text())["rows"]
+    assert [(r["body"], r["k"]) for r in rows] == [("hemisphere", 1), ("hemisphere", 2)]
+    # p-refinement: every error measure falls from k = 1 to k = 2
+    for measure in ("pairing", "lift", "elementwise"):
+        assert rows[1][measure] < 0.5 * rows[0][measure]
+    assert (tmp_path / "curvature_hemisphere.png").stat().st_size > 0
+    assert lines[-1] == f"plots and tables written to {tmp_path}"

@@ -4,6 +4,7 @@ import json
 import sys
 
 import pytest
+from conftest import peer_stand_in
 
 from ngincompat import peer
 from ngincompat.bench import CUBE_ENERGY
@@ -23,16 +24,7 @@ def test_missing_peer_is_one_clear_line(monkeypatch, tmp_path, capsys):
 
 @pytest.fixture
 def stand_in(tmp_path):
-    """A folder laid out like the peer's whose script only prints a RESULT line, with a
-    known energy and solve time (the benchmark's arithmetic, not the peer, is tested)."""
-    (tmp_path / "debroot").mkdir()
-    (tmp_path / peer.PEER_ENV).write_text(f'PY="{sys.executable}"\n')
-    record = {"version": "0.5.2", "cell": "tet", "degree": 4, "N": 4, "solver": "lu",
-              "dofs": 14739, "newton_its": 3, "t_solve": 7.5, "W": CUBE_ENERGY * (1 + 5e-2)}
-    (tmp_path / peer.PEER_SCRIPT).write_text(
-        "import sys\nassert sys.argv[1:] == ['--N', '4', '--degree', '4', '--quiet']\n"
-        f"print('noise')\nprint('RESULT ' + {json.dumps(json.dumps(record))})\n")
-    return tmp_path, record
+    return peer_stand_in(tmp_path)
 
 
 def test_ratio_of_solve_times_and_energy_errors(stand_in, tmp_path):

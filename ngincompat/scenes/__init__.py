@@ -1,15 +1,18 @@
 """Scenes: one module per scene, each a frozen dataclass of parameters with ``run(out)``."""
 
 from ..errors import ParameterError
+from .atrophy import AtrophyScene
 from .cube import CubeScene
 from .custom import CustomScene
 from .cylinder import CylinderScene
 from .disc import DiscScene
+from .folding import FoldingScene
 from .hemisphere import HemisphereScene
 from .skin import SkinExpansionScene
 
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
-                                    SkinExpansionScene, CustomScene)}
+                                    SkinExpansionScene, FoldingScene, CustomScene,
+                                    AtrophyScene)}
 
 
 def get_scene(name):
@@ -19,5 +22,6 @@ def get_scene(name):
     return SCENES[name]
 
 
-__all__ = ["SCENES", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+__all__ = ["SCENES", "AtrophyScene", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+           "FoldingScene",
            "HemisphereScene", "SkinExpansionScene", "get_scene"]

@@ -60,7 +60,8 @@ class Scene:
     order: int = param(4, "polynomial order of the displacement")
     maxh: float = param(0.25, "mesh size", "length")
     steps: int = param(1, "initial number of load steps (adaptive: cut on failure)")
-    g_order: int = param(6, "order of the H1 space that Fg is projected into for Curl Fg")
+    g_order: int = param(6, "order of the H1 space that Fg given as data is projected into "
+                            "for Curl Fg (analytic growth is differentiated exactly)")
     outputs: str = param("vtk,figures", "files besides results.json: comma list of "
                                         "vtk, figures, growth (mesh.vol + growth.npz), "
                                         "curvature (of the growth metric); or none")

@@ -42,11 +42,11 @@ class HemisphereScene(prescribed.PrescribedScene):
         "b_radial_rel", "b_meridional_off_circumferential", "b_circumferential_off_meridional",
         "radial_sigma_rr_error", "radial_sigma_thetatheta_error", "radial_sigma_phiphi_error",)
 
-    order: int = param(4, "polynomial order of the displacement")
-    maxh: float = param(0.3, "mesh size", "length")
+    order: int = param(5, "polynomial order of the displacement")
+    maxh: float = param(0.5, "mesh size", "length")
     steps: int = param(2, "initial number of load steps (two take 4 Newton iterations each, "
                             "one 7-9)")
-    centre_maxh: float = param(0.02, "mesh size at the centre (theta has a cone point there)",
+    centre_maxh: float = param(0.05, "mesh size at the centre (theta has a cone point there)",
                                "length")
     R0: float = param(1.0, "radius", "length")
     profile: str = param("linear", "growth profile f: linear, concave or convex")

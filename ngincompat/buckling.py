@@ -1,0 +1,111 @@
+"""Stability of a grown equilibrium: the smallest eigenvalues of the elastic tangent at frozen
+growth, where they cross zero, and the wavelength of a buckling mode.
+
+An equilibrium u of the energy Pi(u) = int Jg Psi(F Fg^-1) dV (section 2.4) at a given growth
+is stable while the Hessian K = d^2 Pi / du^2 is positive definite on the admissible
+displacements. A perfect growing bilayer stays on its flat (homogeneous) branch past the
+critical growth, where Newton's method still converges; the instability shows only in K: its
+smallest eigenvalue crosses zero, and the eigenvector there is the buckling mode. The
+eigenvalues are those of the pencil
+
+    K w = omega M w,      M = int w . v dV  (the L2 mass matrix),
+
+so omega has the unit stress / length^2 and does not depend on the mesh; growth is held fixed
+(the instability of the mechanical equilibrium at the current growth), so K is the symmetric
+Hessian even when the growth is coupled to the stretch.
+"""
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import eigsh
+
+from .errors import require
+from .kinematics import deformation_gradient
+
+
+def _scipy(matrix, free):
+    rows, cols, vals = matrix.COO()
+    n = matrix.height
+    full = sp.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
+    return full[free][:, free]
+
+
+def smallest_eigenpairs(problem, count=1):
+    """The ``count`` smallest eigenvalues omega of K w = omega M w and their modes.
+
+    Parameters
+    ----------
+    problem : GrowthMechanics or CoupledGrowth
+        Its displacement ``u`` (the current state), ``energy_density(F)`` at the current
+        growth, and the dofs it holds (Dirichlet and symmetry conditions, rigid-body pins).
+    count : int
+        How many, >= 1.
+
+    Returns
+    -------
+    values : numpy.ndarray
+        The eigenvalues in ascending order (stress / length^2).
+    modes : list of ngsolve.GridFunction
+        The eigenvectors in the displacement space, each of unit L2 norm.
+
+    Notes
+    -----
+    Shift-invert Lanczos (ARPACK through ``scipy.sparse.linalg.eigsh``) about omega = 0 finds
+    the eigenvalues nearest zero; on a stable or barely unstable branch these are the smallest.
+    """
+    require(isinstance(count, int) and count >= 1, "count", count, "an integer >= 1")
+    V = problem.u.space
+    free = np.array(V.FreeDofs(), dtype=bool)
+    free[list(problem.pinned)] = False
+    u, v = V.TnT()
+    stiffness = ngs.BilinearForm(V)
+    stiffness += ngs.Variation(problem.energy_density(deformation_gradient(u)).Compile()
+                               * ngs.dx)
+    mass = ngs.BilinearForm(V)
+    mass += ngs.InnerProduct(u, v) * ngs.dx
+    with ngs.TaskManager():
+        stiffness.AssembleLinearization(problem.u.vec)
+        mass.Assemble()
+    K, M = _scipy(stiffness.mat, free), _scipy(mass.mat, free)
+    K = (K + K.T) / 2                    # symmetric up to round-off; ARPACK wants it exactly
+    values, vectors = eigsh(K, k=count, M=M, sigma=0.0, which="LM")
+    order = np.argsort(values)
+    modes = []
+    for i in order:
+        mode = ngs.GridFunction(V, name="buckling mode")
+        mode.vec.FV().NumPy()[free] = vectors[:, i]
+        mode.vec.data *= 1.0 / np.sqrt(ngs.Integrate(ngs.InnerProduct(mode, mode), V.mesh))
+        modes.append(mode)
+    return values[order], modes
+
+
+def zero_crossing(loads, values):
+    """The load at which ``values`` (sampled at increasing ``loads``) first turns negative,
+    linearly interpolated between the last positive sample and the first negative one; None if
+    it never does.
+
+    Only the bracketing pair is used: the smallest eigenvalue passes from one mode to another
+    as the load grows (a slowly falling long mode, then the steeply falling wrinkles), so
+    samples further back may belong to another mode's curve."""
+    loads, values = np.asarray(loads, float), np.asarray(values, float)
+    negative = np.flatnonzero(values < 0)
+    if len(negative) == 0 or negative[0] == 0:
+        return None
+    i = negative[0]
+    a, b = values[i - 1], values[i]
+    return float(loads[i - 1] + a / (a - b) * (loads[i] - loads[i - 1]))
+
+
+def wavelength(x, w):
+    """The wavelength of an undulation w(x) sampled at increasing x: twice the mean distance
+    between its consecutive zero crossings (linearly interpolated); NaN with fewer than two.
+
+    For w = cos(k x) it is 2 pi / k, whatever the phase and the sampling, up to the
+    interpolation error of the crossings."""
+    x, w = np.asarray(x, float), np.asarray(w, float)
+    i = np.flatnonzero(np.sign(w[:-1]) * np.sign(w[1:]) < 0)
+    if len(i) < 2:
+        return float("nan")
+    crossings = x[i] - w[i] * (x[i + 1] - x[i]) / (w[i + 1] - w[i])
+    return float(2 * (crossings[-1] - crossings[0]) / (len(crossings) - 1))

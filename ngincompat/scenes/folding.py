@@ -1,0 +1,245 @@
+"""Cortical folding (section 3.7, Fig. 7): a growing cortex buckles on a subcortex whose axons
+grow when stretched; then the constraints are released.
+
+Axes: the bilayer (:func:`geometries.bilayer`) has X1 along the 3 cm length, X2 out of plane
+(the 0.05 cm slab) and X3 vertical. The paper's e1 is X1, its vertical e2 is X3 and its
+out-of-plane e3 is X2: the paper's "plane normal to n = e3" is the plane normal to our e2.
+
+Growth is fiber growth, eq. (23), Fg = I + (theta - 1) f0 (x) f0, with
+
+* in the cortex f0 = e1 and theta_c = 1 + r_c t, prescribed (not mechanically coupled);
+* in the subcortex f0 the axon field (curved outward, concentric, straight = normal to the
+  interface, or none) and stretch-driven growth, eq. (45) with gamma = 0:
+  d theta_a / dt = G_axn <lambda_e - lambda_crit>, lambda = |F f0|, lambda_e = lambda / theta_a,
+
+both in one :class:`~ngincompat.problem.CoupledGrowth` (implicit Euler at the integration points
+with the consistent tangent), the cortex through a constant-rate law. Both layers are
+neo-Hookean (eq. 36) with lambda / mu = ``lam_ratio`` (100 by default: nearly incompressible,
+as the bifurcation oracle :mod:`ngincompat.bifurcation` assumes) and mu_cortex / mu_subcortex =
+``mu_ratio`` = 3.
+
+Boundary conditions while growing: u1 = 0 at both ends, u3 = 0 at the bottom, u2 = 0 on both
+faces of the slab (plane strain). Stages:
+
+1. **perfect**: the perfect bilayer grows on its flat branch; after every step the smallest
+   eigenvalue of the elastic tangent (:mod:`ngincompat.buckling`) is computed. Where it
+   crosses zero the bilayer buckles: ``onset_growth`` (theta_c there, interpolated) and
+   ``onset_wavelength`` (the eigenmode's, along the top surface, reference length) are
+   measured, and the stage ends.
+"""
+
+from dataclasses import dataclass, field
+
+import ngsolve as ngs
+import numpy as np
+
+from geometries import bilayer
+
+from .. import buckling, fields, postprocess
+from ..errors import require
+from ..growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
+from ..materials import NeoHookean, Regional
+from ..pipeline import Solution, solve_stages
+from ..problem import CoupledGrowth
+from ..progress import Progress
+from ..results import Figure, Results
+from ..solver import NewtonOptions
+from ..stages import CoupledStage
+from .base import Scene, param
+
+#: The axon fields of Fig. 7 (left to right), and "none": no axon growth.
+AXONS = (*fields.AXONS, "none")
+
+#: Eigenpairs computed per step: Lanczos asked for one alone can settle on another of the
+#: cluster of nearly equal wrinkling modes and miss the smallest (seen: 10.8 after 3.5).
+EIGENPAIRS = 6
+
+#: Boundary conditions while growing: ends on rollers, bottom on rollers, plane strain.
+GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
+
+
+@dataclass(frozen=True)
+class FoldingScene(Scene):
+    """A 3 x 1 cm cortex-subcortex bilayer growing between fixed ends (section 3.7)."""
+
+    name = "folding"
+    summary = "section 3.7: cortical folding, a growing cortex on a subcortex with axon growth"
+    variant = ("axons",)
+    metrics = ("onset_growth", "onset_wavelength", "onset_time")
+    metric_quantities = {**Scene.metric_quantities, "onset_wavelength": "length",
+                         "onset_time": "time"}
+    units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
+
+    order: int = param(2, "polynomial order of the displacement")
+    maxh: float = param(0.15, "mesh size in the subcortex", "length")
+    cortex_maxh: float = param(0.025, "mesh size in the cortex and on the interface "
+                                      "(>= 2 quadratic elements across the cortex)", "length")
+    g_order: int = param(3, "order of the H1 space that Fg is projected into for Curl Fg")
+    growth_order: int = param(1, "order of the (L2) growth field theta")
+    length: float = param(3.0, "length of the bilayer (X1)", "length")
+    height: float = param(1.0, "height of the bilayer (X3)", "length")
+    depth: float = param(0.05, "thickness of the slab (X2, out of plane)", "length")
+    cortex_thickness: float = param(0.05, "thickness of the cortex", "length")
+    mu_white: float = param(1.0, "shear modulus of the subcortex (white matter)", "stress")
+    mu_ratio: float = param(3.0, "mu_gray / mu_white")
+    lam_ratio: float = param(100.0, "lambda / mu in both layers (nearly incompressible)")
+    cortex_rate: float = param(0.008, "cortex growth rate: theta_c = 1 + cortex_rate t",
+                               "1/time")
+    axon_rate: float = param(0.08, "G_axn of d theta_a/dt = G_axn <lambda_e - "
+                                   "stretch_crit>", "1/time")
+    stretch_crit: float = param(1.0, "axon stretch lambda_e below which axons do not grow")
+    axon_max: float = param(3.0, "saturation of axon growth (eq. 45, gamma = 0)")
+    axons: str = param("curved", "axon field: " + ", ".join(AXONS))
+    t_end: float = param(75.0, "end of growth", "time")
+    dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
+                      "time")
+    onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
+                                  "the onset)", "time")
+
+    def __post_init__(self):
+        super().__post_init__()
+        require(self.order >= 2, "order", self.order, ">= 2 (quadratic elements across the "
+                "cortex)")
+        require(self.length > 0, "length", self.length, "> 0")
+        require(self.height > 0, "height", self.height, "> 0")
+        require(self.depth > 0, "depth", self.depth, "> 0")
+        require(0 < self.cortex_thickness < self.height, "cortex_thickness",
+                self.cortex_thickness, f"in (0, height = {self.height:g})")
+        require(0 < self.cortex_maxh <= self.maxh, "cortex_maxh", self.cortex_maxh,
+                f"in (0, maxh = {self.maxh:g}]")
+        require(self.cortex_maxh <= self.cortex_thickness / 2, "cortex_maxh",
+                self.cortex_maxh, f"<= cortex_thickness / 2 = {self.cortex_thickness / 2:g} "
+                "(two quadratic elements across the cortex)")
+        require(self.mu_white > 0, "mu_white", self.mu_white, "> 0")
+        require(self.mu_ratio > 0, "mu_ratio", self.mu_ratio, "> 0")
+        require(self.lam_ratio > 0, "lam_ratio", self.lam_ratio, "> 0")
+        require(self.cortex_rate > 0, "cortex_rate", self.cortex_rate, "> 0")
+        require(self.axons in AXONS, "axons", self.axons, ", ".join(AXONS))
+        require(self.t_end > 0, "t_end", self.t_end, "> 0")
+        require(self.dt > 0, "dt", self.dt, "> 0")
+        require(self.onset_dt > 0, "onset_dt", self.onset_dt, "> 0")
+        self.axon_law()
+
+    def axon_law(self):
+        """The subcortex's law: stretch-driven (eq. 45, gamma = 0) or, without axons, none."""
+        if self.axons == "none":
+            return ConstantRateLaw(0.0)
+        return StrainDrivenLaw(tau=1.0 / self.axon_rate, theta_max=self.axon_max, gamma=0.0,
+                               theta_crit=self.stretch_crit)
+
+    @property
+    def mu_gray(self):
+        return self.mu_ratio * self.mu_white
+
+    def build(self):
+        mesh = bilayer(length=self.length, height=self.height, depth=self.depth,
+                       cortex=self.cortex_thickness, maxh=self.maxh,
+                       cortex_maxh=self.cortex_maxh)
+        return FoldingCase(self, mesh)
+
+
+@dataclass(eq=False)
+class FoldingCase:
+    """The folding scene's case: the coupled bilayer and the observations of its growth.
+
+    ``series`` holds, per converged step of the perfect branch, the time, the cortex growth,
+    the smallest tangent eigenvalue and the fold amplitude (half the peak-to-peak u3 along the
+    top surface).
+    """
+
+    scene: FoldingScene
+    mesh: ngs.Mesh
+    noted: dict = field(default_factory=dict)
+    series: dict = field(default_factory=lambda: {"t": [], "theta_c": [], "eigenvalue": [],
+                                                  "amplitude": []})
+
+    def __post_init__(self):
+        scene, mesh = self.scene, self.mesh
+        lam = scene.lam_ratio
+        self.material = Regional(mesh, {
+            "cortex": NeoHookean(scene.mu_gray, lam * scene.mu_gray),
+            "subcortex": NeoHookean(scene.mu_white, lam * scene.mu_white)})
+        axons = (fields.constant("e3") if scene.axons == "none" else
+                 fields.axons(scene.axons, interface=scene.height - scene.cortex_thickness,
+                              length=scene.length))
+        self.f0 = fields.by_region(mesh, {"cortex": fields.constant("e1"),
+                                          "subcortex": axons}, "f0")
+        law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
+                                 "subcortex": scene.axon_law()})
+        self.problem = CoupledGrowth(mesh, "fiber", self.f0, law, self.material,
+                                     order=scene.order, growth_order=scene.growth_order,
+                                     symmetry=GROWING)
+        self.mode = None
+
+    def top_profile(self, u, n=301):
+        """X1 and u3 along the middle of the top surface."""
+        s = self.scene
+        x, values = postprocess.sample_line(
+            self.mesh, {"u3": u[2]}, (0.0, s.depth / 2, s.height),
+            (s.length, s.depth / 2, s.height), n=n)
+        return x, values["u3"]
+
+    def _observe_perfect(self, t):
+        """Record the step; at the first negative eigenvalue measure the onset and stop."""
+        values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS)
+        _, u3 = self.top_profile(self.problem.u)
+        for key, value in (("t", t), ("theta_c", 1 + self.scene.cortex_rate * t),
+                           ("eigenvalue", values[0]), ("amplitude", np.ptp(u3) / 2)):
+            self.series[key].append(float(value))
+        if values[0] >= 0:
+            return False
+        rate = self.scene.cortex_rate
+        onset = buckling.zero_crossing(self.series["theta_c"], self.series["eigenvalue"])
+        self.mode = modes[0]
+        x, w = self.top_profile(self.mode)
+        self.noted.update(onset_growth=onset, onset_time=(onset - 1) / rate,
+                          onset_wavelength=buckling.wavelength(x, w))
+        return True
+
+    def stages(self):
+        scene = self.scene
+        # Plain Newton steps: the residual norm mixes the growth residual (small: dt r times
+        # element volumes) with forces, and the first full step, quadratically convergent
+        # after it, raises it; a line search on it backtracks to 1/16 steps (measured: 17
+        # iterations against 3 for a step of dt = 5). A failed step is cut instead.
+        options = NewtonOptions(max_iter=12, max_step=scene.onset_dt, line_search=False)
+        return [CoupledStage("perfect", self.problem, t_end=scene.t_end, dt=scene.dt,
+                             options=options,
+                             observe=self._observe_perfect, unit="days")]
+
+    def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
+        solution.state = self.problem
+        solve_stages(self.stages(), progress, solution)
+
+    def interrupted(self, solution: Solution) -> Results:
+        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
+                                    solver=dict(solution.histories))
+        results.mesh.ndof = self.problem.ndof
+        results.metrics = dict(self.noted)
+        return results
+
+    def measure(self, solution: Solution, progress: Progress) -> Results:
+        results = self.interrupted(solution)
+        results.profiles = {"perfect": {k: np.array(v) for k, v in self.series.items()}}
+        sigma = postprocess.stresses(self.problem.energy_density, self.problem.u)["sigma"]
+        flds = {"u": self.problem.u, "theta": self.problem.theta, "sigma": sigma,
+                "sigma_max": postprocess.principal_values(sigma)[2]}
+        if self.mode is not None:
+            flds["buckling_mode"] = self.mode
+            x, w = self.top_profile(self.mode)
+            results.profiles["mode"] = {"X1": x, "u3": w}
+        results.fields = flds
+        results.figures = _figures(self.scene)
+        return results
+
+
+def _figures(scene):
+    L, title = scene.units["length"], scene.title()
+    return [
+        Figure("eigenvalue.png", "theta_c", "cortex growth theta_c [-]",
+               {"smallest eigenvalue": "eigenvalue"},
+               f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
+               f"{title}: perfect branch", profile="perfect"),
+        Figure("mode.png", "X1", f"X1 [{L}]", {"u3 on top": "u3"}, "buckling mode u3 [-]",
+               f"{title}: first buckling mode", profile="mode"),
+    ]

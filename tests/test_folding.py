@@ -1,0 +1,165 @@
+"""The cortical-folding scene (section 3.7): the growth laws at one point, the flat branch in
+closed form, and the onset of buckling against the independent bifurcation analysis."""
+
+import functools
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from geometries import bilayer, cube
+from ngincompat import buckling
+from ngincompat.bifurcation import Bilayer, critical_growth, onset, prebuckled_cortex
+from ngincompat.errors import ParameterError
+from ngincompat.growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual
+from ngincompat.materials import NeoHookean, Regional
+from ngincompat.pipeline import Solution
+from ngincompat.progress import SILENT
+from ngincompat.scenes.folding import FoldingScene
+
+#: A short, shallow bilayer that buckles like the long one (its substrate is still many
+#: cortical thicknesses deep) on a coarse but adequate mesh: two quadratic elements across
+#: the cortex.
+SMALL = dict(length=1.0, height=0.5, maxh=0.1, cortex_maxh=0.025, axons="none",
+             outputs="none")
+
+
+@functools.cache
+def _point():
+    """One integration point to evaluate the laws at (the values do not depend on it)."""
+    mesh = cube(maxh=1.0)
+    return mesh, mesh(0.5, 0.5, 0.5)
+
+
+def axon_update(theta_old, stretch, dt, rate=0.08):
+    """One implicit-Euler step of the axon law (eq. 45, gamma = 0) at a held fiber stretch,
+    solved for theta from the residual the coupled problem assembles."""
+    law = StrainDrivenLaw(tau=1 / rate, theta_max=3.0, gamma=0.0, theta_crit=1.0)
+    point = _point()
+    theta = ngs.Parameter(1.0)
+
+    def residual(value):
+        theta.Set(value)
+        return euler_residual(law, theta, theta_old, dt, stretch)(point[1])
+
+    return brentq(residual, theta_old, stretch, xtol=1e-15)
+
+
+def test_axon_growth_one_step_matches_the_closed_form_update():
+    """theta_{n+1} = (b + sqrt(b^2 + 4 dt G lambda)) / 2, b = theta_n - dt G lambda_crit."""
+    assert axon_update(1.0, 1.2, 1.0) == pytest.approx(1.014617, abs=1e-6)
+    b = 1.0 - 0.08
+    assert axon_update(1.0, 1.2, 1.0) == pytest.approx((b + np.sqrt(b * b + 4 * 0.08 * 1.2)) / 2,
+                                                       rel=1e-12)
+
+
+def test_axon_growth_at_held_stretch_converges_at_first_order():
+    """The ODE's solution at a held stretch lambda = 1.2: t(theta) = [(1 - theta) +
+    lambda ln((lambda - 1) / (lambda - theta))] / G; implicit Euler approaches it as dt."""
+    stretch, rate, t_end = 1.2, 0.08, 9.147
+    exact = brentq(lambda th: ((1 - th) + stretch * np.log((stretch - 1) / (stretch - th)))
+                   / rate - t_end, 1.0, 1.1999)
+    errors = []
+    for steps in (8, 16, 32):
+        theta = 1.0
+        for _ in range(steps):
+            theta = axon_update(theta, stretch, t_end / steps, rate)
+        errors.append(abs(theta - exact))
+    rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert exact == pytest.approx(1.10, abs=1e-3)
+    np.testing.assert_allclose(rates, 1.0, atol=0.1)
+
+
+def test_regional_material_and_law_need_every_region():
+    mesh = bilayer(maxh=1.0)
+    with pytest.raises(ParameterError, match="materials.*cortex, subcortex"):
+        Regional(mesh, {"cortex": NeoHookean(1.0, 1.0)})
+    with pytest.raises(ParameterError, match="laws.*cortex, subcortex"):
+        RegionalLaw(mesh, {"subcortex": ConstantRateLaw(0.1)})
+    with pytest.raises(ParameterError, match="rate = -1"):
+        ConstantRateLaw(-1.0)
+
+
+@pytest.mark.parametrize("setting, message", [
+    (dict(axons="wavy"), "axons = 'wavy'.*curved, concentric, straight, none"),
+    (dict(cortex_maxh=0.04), "cortex_maxh = 0.04.*<= cortex_thickness / 2"),
+    (dict(order=1), "order = 1.*>= 2"),
+    (dict(cortex_thickness=1.0), "cortex_thickness = 1.0.*in \\(0, height = 1\\)"),
+    (dict(cortex_rate=0.0), "cortex_rate = 0.0.*> 0"),
+])
+def test_bad_settings_name_the_parameter_and_its_range(setting, message):
+    with pytest.raises(ParameterError, match=message):
+        FoldingScene(**setting)
+
+
+def test_zero_crossing_and_wavelength_of_sampled_data():
+    assert buckling.zero_crossing([1.0, 1.1, 1.2], [2.0, 1.0, -1.0]) == pytest.approx(1.15)
+    assert buckling.zero_crossing([1.0, 1.1], [2.0, 1.0]) is None
+    x = np.linspace(0, 3, 400)
+    assert buckling.wavelength(x, np.cos(2 * np.pi * x / 0.35 + 0.3)) == pytest.approx(
+        0.35, rel=2e-3)
+    assert np.isnan(buckling.wavelength(x, 1 + x))
+
+
+@pytest.fixture(scope="module")
+def onset_run():  # about 5 minutes on 2 busy cores
+    """The small perfect bilayer grown until its tangent loses positive definiteness."""
+    scene = FoldingScene(**SMALL, dt=5.0, onset_dt=5.0)
+    case = scene.build()
+    solution = Solution()
+    case.solve(solution, SILENT, None)
+    return scene, case, solution
+
+
+@pytest.mark.slow
+def test_onset_matches_the_bifurcation_oracle(onset_run):
+    """Critical growth and wavelength against the Stroh analysis of the same bilayer (roller
+    ends: modes k = n pi / L). The growth to 1 %; the minimum over n is flat (here n = 5, 6, 7
+    buckle at 1.2837, 1.2803, 1.2867), so the mode found must be one with k = n pi / L whose
+    critical growth in the analysis is within 1 % of the onset found."""
+    scene, case, solution = onset_run
+    assert solution.converged
+    bilayer = Bilayer(scene.height, scene.cortex_thickness, scene.mu_gray,
+                      scene.lam_ratio * scene.mu_gray, scene.mu_white,
+                      scene.lam_ratio * scene.mu_white)
+    oracle = onset(bilayer, length=scene.length)
+    found = case.noted["onset_growth"]
+    assert found == pytest.approx(oracle.growth, rel=0.01)
+    n = 2 * scene.length / case.noted["onset_wavelength"]
+    assert n == pytest.approx(round(n), abs=0.05)
+    assert critical_growth(bilayer, round(n) * np.pi / scene.length) == pytest.approx(
+        found, rel=0.01)
+
+
+@pytest.mark.slow
+def test_perfect_branch_stays_flat_before_the_onset(onset_run):
+    """Every step before the onset: no undulation of the top, a positive tangent."""
+    _, case, _ = onset_run
+    series = case.series
+    assert len(series["t"]) >= 3
+    assert series["eigenvalue"][-1] < 0 < min(series["eigenvalue"][:-1])
+    # the top only rises uniformly: its undulation is round-off next to the rise
+    assert max(series["amplitude"][:-1]) < 1e-8
+
+
+def test_flat_branch_is_the_homogeneous_state_in_closed_form():
+    """Before the onset (theta_c = 1.08): the subcortex unstrained, stress-free and not
+    growing (lambda_e = 1 along the curved axons), the cortex in the state F = diag(1, 1,
+    lambda3) with sigma33 = 0 (:func:`prebuckled_cortex`), to 1e-6 of mu_gray."""
+    scene = FoldingScene(**{**SMALL, "length": 0.5, "height": 0.3, "maxh": 0.15,
+                            "axons": "curved"}, t_end=10.0, dt=10.0)
+    results = scene.run()
+    theta_c = 1 + scene.cortex_rate * scene.t_end
+    state = prebuckled_cortex(theta_c, scene.mu_gray, scene.lam_ratio * scene.mu_gray)
+    mesh, sigma, theta = results.domain, results.fields["sigma"], results.fields["theta"]
+    for x1 in (0.05, 0.25, 0.45):
+        cortex = mesh(x1, 0.02, 0.28)
+        s = np.reshape(sigma(cortex), (3, 3))
+        np.testing.assert_allclose(np.diag(s), [state.sigma11, state.sigma22, 0.0],
+                                   atol=1e-6 * scene.mu_gray)
+        assert theta(cortex) == pytest.approx(theta_c, abs=1e-10)
+        sub = mesh(x1, 0.02, 0.1)
+        np.testing.assert_allclose(sigma(sub), 0.0, atol=1e-6 * scene.mu_white)
+        assert theta(sub) == pytest.approx(1.0, abs=1e-10)
+    assert "onset_growth" not in results.metrics
