@@ -5,7 +5,9 @@
 * :class:`CoupledStage`: mechanically coupled growth marched in time
   (:func:`~ngincompat.solver.solve_coupled`), with growth on or frozen and the enclosed volume
   driven linearly between two targets (inflation, hold), checkpointed after every step when
-  given a checkpoint file.
+  given a checkpoint file;
+* :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
+  until the volume under the skin is the target.
 
 Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 :class:`~ngincompat.pipeline.Stage` protocol).
@@ -17,12 +19,20 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import ngsolve as ngs
 import numpy as np
 
 from . import io
-from .errors import ParameterError
+from .errors import ConvergenceError, ParameterError
 from .progress import Progress
-from .solver import NewtonOptions, SolverHistory, solve_coupled, solve_growth
+from .solver import (
+    NewtonOptions,
+    NewtonSolver,
+    SolverHistory,
+    StepRecord,
+    solve_coupled,
+    solve_growth,
+)
 
 
 @dataclass(eq=False)
@@ -108,12 +118,72 @@ class CoupledStage:
                              progress=progress, stage=self.name, unit=self.unit)
 
 
+@dataclass(eq=False)
+class ContactControlStage:
+    """Volume control of an expander in contact (:class:`~ngincompat.problem.CoupledGrowth`
+    with an expander, growth frozen): the expander's own volume V_e is corrected until the
+    volume V under the skin is ``target`` to ``rtol``.
+
+    Each round solves the equilibrium (Newton) and, unless V is within tolerance, takes a
+    secant step on V(V_e) = target (the first one V_e target / V: the volume under the skin
+    is nearly proportional to the expander's), the skin lifted with the expander. The
+    record's ``t`` is the round.
+
+    Raises
+    ------
+    ConvergenceError
+        Newton fails in a round, or ``max_rounds`` rounds do not reach the tolerance.
+    """
+
+    name: str
+    problem: object
+    target: float
+    rtol: float = 1e-4
+    max_rounds: int = 20
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=30))
+
+    def run(self, progress: Progress) -> SolverHistory:
+        problem = self.problem
+        problem.dt.Set(0.0)
+        solver = NewtonSolver(problem, self.options)
+        history = SolverHistory()
+        previous = None
+        for k in range(1, self.max_rounds + 1):
+            record = StepRecord(t=float(k), dt=1.0, converged=False)
+            with ngs.TaskManager():
+                record.converged = solver.minimise(record)
+            history.steps.append(record)
+            if not record.converged:
+                raise ConvergenceError(f"round {k}: {record.reason}", history=history,
+                                       t_converged=history.t_reached)
+            history.t_reached = float(k)
+            expander, volume = problem.volume_target.Get(), problem.volume()
+            progress.line(f"{self.name}: round {k}, {record.iterations} Newton iterations, "
+                          f"volume {volume:.7g} (target {self.target:g}, expander "
+                          f"{expander:.7g})")
+            if abs(volume - self.target) <= self.rtol * self.target:
+                history.converged = True
+                return history
+            slope = volume / expander
+            if previous is not None and volume != previous[1]:
+                secant = (volume - previous[1]) / (expander - previous[0])
+                slope = secant if 0.2 * slope < secant < 5 * slope else slope
+            previous = expander, volume
+            problem.set_volume_target(expander + (self.target - volume) / slope, lift=True)
+        raise ConvergenceError(f"the volume is not within {self.rtol:g} of {self.target:g} "
+                               f"after {self.max_rounds} rounds", history=history,
+                               t_converged=history.t_reached)
+
+
 def save_checkpoint(problem, path: Path, t: float) -> None:
-    """Write the state of a coupled problem (unknowns and previous growth) atomically."""
+    """Write the state of a coupled problem (unknowns, previous growth, volume target)
+    atomically."""
+    arrays = {"t": t, "state": problem.state.vec.FV().NumPy(),
+              "theta_old": problem.theta_old.vec.FV().NumPy(),
+              "volume_target": problem.volume_target.Get()}
     with io.atomic_path(path) as tmp:
         with open(tmp, "wb") as f:
-            np.savez(f, t=t, state=problem.state.vec.FV().NumPy(),
-                     theta_old=problem.theta_old.vec.FV().NumPy())
+            np.savez(f, **arrays)
 
 
 def restore_checkpoint(problem, path: Path) -> float | None:
@@ -132,4 +202,6 @@ def restore_checkpoint(problem, path: Path) -> float | None:
                              "with the settings of the interrupted run, or without resume)")
     problem.state.vec.FV().NumPy()[:] = data["state"]
     problem.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
+    if "volume_target" in data:             # older checkpoints: the hold sets it
+        problem.volume_target.Set(float(data["volume_target"]))
     return float(data["t"])

@@ -70,11 +70,13 @@ def test_checkpoint_restores_the_state_and_refuses_another_mesh(tmp_path):
     rng = np.random.default_rng(0)
     problem.state.vec.FV().NumPy()[:] = rng.normal(size=problem.state.space.ndof)
     problem.theta_old.vec.FV().NumPy()[:] = 1 + rng.uniform(size=problem.theta_old.space.ndof)
+    problem.volume_target.Set(41.5)
     path = tmp_path / "checkpoint.npz"
     assert restore_checkpoint(problem, path) is None
     save_checkpoint(problem, path, 2.5)
     fresh = _coupled_stub(mesh)
     assert restore_checkpoint(fresh, path) == 2.5
+    assert fresh.volume_target.Get() == 41.5     # an expander's controlled size
     np.testing.assert_array_equal(fresh.state.vec.FV().NumPy(), problem.state.vec.FV().NumPy())
     np.testing.assert_array_equal(fresh.theta_old.vec.FV().NumPy(),
                                   problem.theta_old.vec.FV().NumPy())

@@ -5,10 +5,11 @@ Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 1. **inflation** to ``volume`` cc, volume-controlled: with ``expander=pressure`` the
    expander pressure is the unknown conjugate to the volume under the footprint, so the
    target is met, not guessed; with ``expander=contact`` the expander is a rigid dome
-   (:mod:`ngincompat.contact`) whose own volume is the target and on which the skin rests
-   (penalty contact, frictionless);
-2. **hold** for ``hold_days`` at that volume while the skin grows in area about its normal
-   N0 = e3 (Hill law, eq. 46, implicit Euler, eq. 48);
+   (:mod:`ngincompat.contact`) on which the skin rests (penalty contact, frictionless),
+   raised until its own volume is the target, then (stage ``contact``) resized by secant
+   steps until the volume under the skin is the target to 1e-4;
+2. **hold** for ``hold_days`` at that volume (the contact model: at that expander) while the
+   skin grows in area about its normal N0 = e3 (Hill law, eq. 46, implicit Euler, eq. 48);
 3. **deflation**: the pressure is removed, the periphery still clamped: residual stress of the
    clamped patch;
 4. **release**: the clamp is removed too (rigid-body constraints only): what stress remains is
@@ -18,9 +19,9 @@ The patch lies on its base: outside the footprint the bottom face keeps X3 = 0 (
 which also keeps the footprint's edge in the plane, so the enclosed volume is exactly
 int x3 det(dx_a/dX_b) dA over the footprint. The pressure model pushes the footprint with a
 uniform pressure (the expander's shape is not modelled); the contact model lifts a dome of the
-footprint's shape under the skin, and the volume under the skin then exceeds the dome's where
-the skin bridges it and falls short by the penetration. Every footprint has the base area
-``footprint_area`` (the paper's comparison of shapes).
+footprint's shape under the skin, and the volume under the skin exceeds the dome's where the
+skin bridges it and falls short by the penetration, hence the volume control. Every
+footprint has the base area ``footprint_area`` (the paper's comparison of shapes).
 
 Parameters and their sources:
 
@@ -54,7 +55,7 @@ from ..problem import CoupledGrowth, GrowthMechanics
 from ..progress import Progress
 from ..results import Figure, Results
 from ..solver import NewtonOptions
-from ..stages import CoupledStage, PrescribedGrowthStage, restore_checkpoint
+from ..stages import ContactControlStage, CoupledStage, PrescribedGrowthStage, restore_checkpoint
 from .base import Scene, param
 
 CHECKPOINT = "checkpoint.npz"
@@ -156,8 +157,10 @@ CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
 class SkinCase:
     """The skin scene's case: the coupled problem and the stages it walks.
 
-    Stages: ``inflation`` (volume 0 -> V, growth frozen), ``hold`` (V held, Hill-law area
-    growth for ``hold_days``, checkpointed), ``deflation_clamped`` and
+    Stages: ``inflation`` (volume 0 -> V, growth frozen), with an expander in contact
+    ``contact`` (the expander resized until the volume under the skin is V), ``hold`` (V, or
+    the expander, held, Hill-law area growth for ``hold_days``, checkpointed),
+    ``deflation_clamped`` and
     ``deflation_released`` (the grown field applied to the unloaded patch in load steps
     from u = 0, clamped, then free: the path the prescribed-growth solver is built for;
     starting from the inflated dome instead, Newton could not find the released state of
@@ -188,8 +191,12 @@ class SkinCase:
             stages.append(CoupledStage("inflation", problem, t_end=1.0,
                                        dt=1.0 / scene.inflation_steps, grow=False,
                                        volume=(0.0, scene.volume)))
+            if problem.expander is not None:
+                stages.append(ContactControlStage("contact", problem, scene.volume))
+        # the contact model's expander keeps the size that gave the volume
+        held = None if problem.expander is not None else (scene.volume, scene.volume)
         stages.append(CoupledStage("hold", problem, t_end=scene.hold_days, dt=scene.dt,
-                                   t_start=t_hold or 0.0, volume=(scene.volume, scene.volume),
+                                   t_start=t_hold or 0.0, volume=held,
                                    options=NewtonOptions(max_iter=20, max_step=scene.dt),
                                    checkpoint=checkpoint, unit="days"))
         ramped = AreaGrowth(1 + (problem.theta - 1) * self.ramp, self.N0)
@@ -218,7 +225,7 @@ class SkinCase:
                                "run again with --set resume=true)")
 
     def _note(self, stage):
-        if stage.name == "inflation":
+        if stage.name == ("inflation" if self.problem.expander is None else "contact"):
             self._note_inflated()
         elif stage.name == "hold":
             self.noted.update(self._loads("end_of_hold"))
