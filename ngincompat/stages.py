@@ -121,13 +121,15 @@ class CoupledStage:
 @dataclass(eq=False)
 class ContactControlStage:
     """Volume control of an expander in contact (:class:`~ngincompat.problem.CoupledGrowth`
-    with an expander, growth frozen): the expander's own volume V_e is corrected until the
-    volume V under the skin is ``target`` to ``rtol``.
+    with an expander, growth frozen), from an equilibrium (the end of the inflation): the
+    expander's own volume V_e is corrected until the volume V under the skin is ``target``
+    to ``rtol``.
 
-    Each round solves the equilibrium (Newton) and, unless V is within tolerance, takes a
-    secant step on V(V_e) = target (the first one V_e target / V: the volume under the skin
-    is nearly proportional to the expander's), the skin lifted with the expander. The
-    record's ``t`` is the round.
+    Each round that finds V out of tolerance takes a secant step on V(V_e) = target (the
+    first one V_e target / V: the volume under the skin is nearly proportional to the
+    expander's), lifts the skin with the expander and solves the equilibrium (Newton). The
+    converged start is not solved again (at 50 cc such a Newton step from the inflation's
+    converged end failed: no acceptable step). The record's ``t`` is the round.
 
     Raises
     ------
@@ -148,28 +150,31 @@ class ContactControlStage:
         solver = NewtonSolver(problem, self.options)
         history = SolverHistory()
         previous = None
-        for k in range(1, self.max_rounds + 1):
-            record = StepRecord(t=float(k), dt=1.0, converged=False)
-            with ngs.TaskManager():
-                record.converged = solver.minimise(record)
-            history.steps.append(record)
-            if not record.converged:
-                raise ConvergenceError(f"round {k}: {record.reason}", history=history,
-                                       t_converged=history.t_reached)
-            history.t_reached = float(k)
+        for k in range(self.max_rounds + 1):
             expander, volume = problem.volume_target.Get(), problem.volume()
-            progress.line(f"{self.name}: round {k}, {record.iterations} Newton iterations, "
-                          f"volume {volume:.7g} (target {self.target:g}, expander "
-                          f"{expander:.7g})")
+            progress.line(f"{self.name}: round {k}, volume {volume:.7g} (target "
+                          f"{self.target:g}, expander {expander:.7g})")
             if abs(volume - self.target) <= self.rtol * self.target:
                 history.converged = True
                 return history
+            if k == self.max_rounds:
+                break
             slope = volume / expander
             if previous is not None and volume != previous[1]:
                 secant = (volume - previous[1]) / (expander - previous[0])
                 slope = secant if 0.2 * slope < secant < 5 * slope else slope
             previous = expander, volume
             problem.set_volume_target(expander + (self.target - volume) / slope, lift=True)
+            record = StepRecord(t=float(k + 1), dt=1.0, converged=False)
+            with ngs.TaskManager():
+                record.converged = solver.minimise(record)
+            history.steps.append(record)
+            if not record.converged:
+                raise ConvergenceError(f"round {k + 1}: {record.reason}", history=history,
+                                       t_converged=history.t_reached)
+            history.t_reached = float(k + 1)
+            progress.line(f"{self.name}: round {k + 1} in {record.iterations} Newton "
+                          "iterations")
         raise ConvergenceError(f"the volume is not within {self.rtol:g} of {self.target:g} "
                                f"after {self.max_rounds} rounds", history=history,
                                t_converged=history.t_reached)
