@@ -127,9 +127,10 @@ class ContactControlStage:
 
     Each round that finds V out of tolerance takes a secant step on V(V_e) = target (the
     first one V_e target / V: the volume under the skin is nearly proportional to the
-    expander's), lifts the skin with the expander and solves the equilibrium (Newton). The
-    converged start is not solved again (at 50 cc such a Newton step from the inflation's
-    converged end failed: no acceptable step). The record's ``t`` is the round.
+    expander's), lifts the skin with the expander and solves the equilibrium (Newton),
+    halving the step where Newton fails (at most ``max_cuts`` times). The converged start is
+    not solved again (at 50 cc such a Newton step from the inflation's converged end failed:
+    no acceptable step). The record's ``t`` is the round, its ``dt`` the expander's change.
 
     Raises
     ------
@@ -142,7 +143,8 @@ class ContactControlStage:
     target: float
     rtol: float = 1e-4
     max_rounds: int = 20
-    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=30))
+    max_cuts: int = 5
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
 
     def run(self, progress: Progress) -> SolverHistory:
         problem = self.problem
@@ -164,19 +166,33 @@ class ContactControlStage:
                 secant = (volume - previous[1]) / (expander - previous[0])
                 slope = secant if 0.2 * slope < secant < 5 * slope else slope
             previous = expander, volume
-            problem.set_volume_target(expander + (self.target - volume) / slope, lift=True)
-            record = StepRecord(t=float(k + 1), dt=1.0, converged=False)
+            self._resize(solver, history, k + 1, expander, (self.target - volume) / slope)
+            progress.line(f"{self.name}: round {k + 1} in {history.steps[-1].iterations} "
+                          "Newton iterations")
+        raise ConvergenceError(f"the volume is not within {self.rtol:g} of {self.target:g} "
+                               f"after {self.max_rounds} rounds", history=history,
+                               t_converged=history.t_reached)
+
+    def _resize(self, solver, history, k, expander, change):
+        """Round ``k``: the expander's volume from ``expander`` by ``change``, halved (from
+        the round's start) until Newton converges, at most ``max_cuts`` times."""
+        problem = self.problem
+        saved = problem.state.vec.CreateVector()
+        saved.data = problem.state.vec
+        for _ in range(self.max_cuts + 1):
+            problem.set_volume_target(expander + change, lift=True)
+            record = StepRecord(t=float(k), dt=change, converged=False)
             with ngs.TaskManager():
                 record.converged = solver.minimise(record)
             history.steps.append(record)
-            if not record.converged:
-                raise ConvergenceError(f"round {k + 1}: {record.reason}", history=history,
-                                       t_converged=history.t_reached)
-            history.t_reached = float(k + 1)
-            progress.line(f"{self.name}: round {k + 1} in {record.iterations} Newton "
-                          "iterations")
-        raise ConvergenceError(f"the volume is not within {self.rtol:g} of {self.target:g} "
-                               f"after {self.max_rounds} rounds", history=history,
+            if record.converged:
+                history.t_reached = float(k)
+                return
+            problem.state.vec.data = saved
+            problem.set_volume_target(expander)
+            change /= 2
+        raise ConvergenceError(f"round {k}: {record.reason}, also after {self.max_cuts} "
+                               "halvings of the resize", history=history,
                                t_converged=history.t_reached)
 
 
