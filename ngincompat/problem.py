@@ -422,6 +422,12 @@ class CoupledGrowth:
     realcompile : bool or None
         Compile the residual to C++ (:func:`compiled`); None: from
         :data:`REALCOMPILE_NDOF` dofs on.
+    expander : ngincompat.contact.Expander, optional
+        With ``volume``: instead of a pressure, an expander under the boundary, in contact
+        with it (the penalty of :mod:`ngincompat.contact`), whose own volume
+        H int phi dA is ``volume_target``: its height H follows the target, so there is no
+        extra unknown, and the volume under the boundary is measured (it exceeds the
+        expander's where the skin leaves it and falls short by the penetration).
     """
 
     has_energy = False
@@ -432,8 +438,10 @@ class CoupledGrowth:
                  order: int = 2, growth_order: int | None = None,
                  fibers: Sequence[DirectionField] = (), dirichlet: str = "",
                  symmetry: Mapping[str, str] | None = None, volume: str | None = None,
-                 condense: bool = True, realcompile: bool | None = None):
+                 condense: bool = True, realcompile: bool | None = None, expander=None):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
+        require(expander is None or volume, "expander", expander,
+                "None without a volume boundary (the expander holds the volume)")
         ensure_heap(order)
         growth_order = max(order - 1, 0) if growth_order is None else growth_order
         symmetry = dict(symmetry or {})
@@ -444,7 +452,7 @@ class CoupledGrowth:
         self.fibers = tuple(fibers)
         V = displacement_space(mesh, order, dirichlet, symmetry)
         Q = ngs.L2(mesh, order=growth_order)
-        spaces = [V, Q] + ([ngs.NumberSpace(mesh)] if volume else [])
+        spaces = [V, Q] + ([ngs.NumberSpace(mesh)] if volume and not expander else [])
         self.fes = ngs.FESpace(spaces)
         self.state = ngs.GridFunction(self.fes)
         self.u = self.state.components[0]
@@ -455,6 +463,7 @@ class CoupledGrowth:
         self.dt = ngs.Parameter(0.0)
         self.volume_target = ngs.Parameter(0.0)
         self.volume_region = volume
+        self.expander = expander
         self.freedofs = self.fes.FreeDofs(coupling=condense)
         self.pinned = () if (dirichlet or volume) else rigid_pins(mesh, self.fes)
         for dof in self.pinned:
@@ -470,7 +479,12 @@ class CoupledGrowth:
         if realcompile is None:
             realcompile = self.fes.ndof >= REALCOMPILE_NDOF
         self.form += compiled(W.Diff(u, v) + growth_residual * eta, realcompile) * ngs.dx
-        if volume:
+        if expander is not None:    # the penalty's kink needs more integration points
+            self.base_integral = ngs.Integrate(expander.shape(ngs.x, ngs.y)[0], mesh, ngs.BND,
+                                               definedon=mesh.Boundaries(volume), order=8)
+            contact = expander.energy(self._position(u), self._height()).Diff(u, v)
+            self.form += contact.Compile() * ngs.ds(volume, bonus_intorder=2)
+        elif volume:
             p, q = trials[2], tests[2]
             dV = self._volume_density(u)
             area = ngs.Integrate(1, mesh, ngs.BND, definedon=mesh.Boundaries(volume))
@@ -495,6 +509,11 @@ class CoupledGrowth:
         return growth.Jg * self.material.energy(Fe, tuple(pushed))
 
     @staticmethod
+    def _position(u):
+        """The current position x = X + u."""
+        return ngs.CoefficientFunction((ngs.x, ngs.y, ngs.z)) + u
+
+    @staticmethod
     def _volume_density(u):
         Fs = ngs.Id(3) + ngs.Grad(u).Trace()
         x3 = ngs.z + u[2]
@@ -511,10 +530,39 @@ class CoupledGrowth:
 
     def pressure(self):
         """The pressure that holds the volume (the multiplier, with the sign of a pressure
-        pushing on the constrained boundary); 0 without a volume constraint."""
-        if not self.volume_region:
+        pushing on the constrained boundary); 0 without a volume constraint or with an
+        expander (see :meth:`contact_pressure`)."""
+        if not self.volume_region or self.expander:
             return 0.0
         return -self.state.components[2].vec[0]
+
+    def _height(self):
+        """The expander's height H (a CF) whose volume H int phi dA is the target."""
+        return self.volume_target / self.base_integral
+
+    def set_volume_target(self, volume, lift=False):
+        """Set the volume target; with an expander and ``lift``, the state moves with the
+        expander's top (u += dH phi(X) e3, dH its change of height): a predictor that puts
+        the skin onto the expander's new shape, for Newton to start close to contact."""
+        change = volume - self.volume_target.Get()
+        self.volume_target.Set(volume)
+        if lift and self.expander is not None and change != 0:
+            phi = self.expander.shape(ngs.x, ngs.y)[0]
+            step = ngs.GridFunction(self.u.space)
+            step.Set(ngs.CoefficientFunction((0, 0, change / self.base_integral * phi)))
+            self.u.vec.data += step.vec
+
+    def expander_height(self):
+        """The expander's height H at the current volume target."""
+        return self.volume_target.Get() / self.base_integral
+
+    def gap(self):
+        """The contact gap g of the current state (a CF; negative: penetration)."""
+        return self.expander.gap(self._position(self.u), self._height())
+
+    def contact_pressure(self):
+        """The contact pressure of the current state (a CF, per unit reference area)."""
+        return self.expander.pressure(self._position(self.u), self._height())
 
     def strain_energy(self):
         return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
