@@ -14,10 +14,10 @@ from .cube import cube
 from .cylinder import cylinder
 from .disc import disc
 from .hemisphere import hemisphere
-from .skin_patch import FOOTPRINTS, footprint_area, skin_patch
+from .skin_patch import FOOTPRINTS, footprint_area, footprint_size, skin_patch
 
 BUILDERS = {"cube": cube, "hemisphere": hemisphere, "disc": disc, "cylinder": cylinder,
             "skin_patch": skin_patch, "bilayer": bilayer, "brain": brain}
 
 __all__ = ["BUILDERS", "FOOTPRINTS", "bilayer", "brain", "cube", "cylinder", "disc",
-           "footprint_area", "hemisphere", "skin_patch"]
+           "footprint_area", "footprint_size", "hemisphere", "skin_patch"]

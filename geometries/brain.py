@@ -1,6 +1,6 @@
 """An idealised adult brain: an ellipsoid of white matter inside a shell of gray matter."""
 
-from netgen.occ import Axes, Ellipsoid, Glue, Pnt, Z
+from netgen.occ import Axes, Ellipsoid, Glue, Pnt, X, Y
 
 from ngincompat.errors import require
 
@@ -30,7 +30,7 @@ def brain(semi_axes=(8.5, 7.0, 6.0), gray=0.3, maxh=1.0, curve_order=2):
     require(0 < gray < min(a) / 2, "gray", gray, f"in (0, {min(a) / 2:g}) (half the smallest "
             "semi-axis)")
     check_mesh_args(maxh, curve_order, max(a))
-    axes = Axes(Pnt(0, 0, 0), Z)
+    axes = Axes(Pnt(0, 0, 0), n=X, h=Y)  # OCC's first semi-axis lies along n
     outer = Ellipsoid(axes, *a)
     inner = Ellipsoid(axes, *(v - gray for v in a))
     shell = outer - inner

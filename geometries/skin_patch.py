@@ -9,9 +9,11 @@ from ngincompat.errors import require
 from ._common import check_mesh_args, mesh_shape
 
 FOOTPRINTS = ("rectangle", "circle", "square", "crescent")
+#: The paper's patch: 10 x 10 cm, 0.3 cm thick.
+SIDE, THICKNESS = 10.0, 0.3
 
 
-def skin_patch(side=10.0, thickness=0.3, footprint="rectangle", footprint_size=None,
+def skin_patch(side=SIDE, thickness=THICKNESS, footprint="rectangle", footprint_size=None,
                maxh=1.0, curve_order=2, material="skin"):
     """A square patch of skin [-side/2, side/2]^2 x [0, thickness] (cm), with the footprint of
     a tissue expander marked on its bottom face.
@@ -73,6 +75,14 @@ def footprint_area(footprint, size):
     d = size / 2  # lens of two discs of radius r whose centres are d apart
     lens = 2 * r * r * math.acos(d / (2 * r)) - d / 2 * math.sqrt(4 * r * r - d * d)
     return math.pi * r * r - lens
+
+
+def footprint_size(footprint, area):
+    """The size parameter (cm) of ``footprint`` whose base has ``area`` (cm^2): every shape
+    scales with its size, so the area is quadratic in it."""
+    require(footprint in FOOTPRINTS, "footprint", footprint, ", ".join(FOOTPRINTS))
+    require(area > 0, "footprint_area", area, "> 0")
+    return math.sqrt(area / footprint_area(footprint, 1.0))
 
 
 def _footprint_column(footprint, size, thickness):

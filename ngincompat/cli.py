@@ -19,6 +19,7 @@ import argparse
 import logging
 import sys
 
+from . import parallel
 from .errors import ConvergenceError, Interrupted, ParameterError
 from .progress import Progress
 
@@ -35,20 +36,23 @@ def _settings(pairs, option="--set"):
     return out
 
 
-OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures")
+#: --outputs: what to compute (incompatibility always, mechanics optionally), then the
+#: optional outputs of a scene, :data:`ngincompat.output.OUTPUTS` (spelled out here: the
+#: command line does not import NGSolve before it needs to).
+OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures", "growth", "curvature")
 
 
 def _outputs(text):
     """--outputs LIST -> the scene settings ``mechanics`` and ``outputs``.
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
-    energy; vtk and figures add files."""
+    energy; the scene's optional outputs (:data:`ngincompat.output.OUTPUTS`) are passed on."""
     items = {item.strip() for item in text.split(",") if item.strip()}
     unknown = items - set(OUTPUT_NAMES)
     if unknown or not items:
         raise ParameterError(f"--outputs {text!r}: allowed a comma list of "
                              f"{', '.join(OUTPUT_NAMES)}")
-    files = [name for name in ("vtk", "figures") if name in items]
+    files = [name for name in OUTPUT_NAMES[2:] if name in items]
     return {"mechanics": "mechanics" in items, "outputs": ",".join(files) or "none"}
 
 
@@ -74,13 +78,16 @@ def _cmd_run(args):
     if args.outputs is not None:
         settings.update(_outputs(args.outputs))
     scene = cls.from_settings(settings)
+    root = parallel.is_root()       # with MPI, rank 0 alone reports
     try:
         results = scene.run(args.out, overwrite=args.overwrite,
-                            progress=Progress(quiet=args.quiet))
+                            progress=Progress(quiet=args.quiet or not root))
     except ConvergenceError as err:
-        _print_run(err.results, args.out)
+        if root:
+            _print_run(err.results, args.out)
         raise
-    _print_run(results, args.out)
+    if root:
+        _print_run(results, args.out)
     return EXIT_OK
 
 
@@ -120,11 +127,15 @@ def _cmd_expansion(args):
 
 
 def _cmd_bench(args):
-    from . import bench, scaling, stability
-    if args.case == "cube":
+    from . import bench, curvature_rates, peer, scaling, stability
+    if args.case == "peer":
+        lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
+    elif args.case == "cube":
         lines = bench.cube_main(args.maxh, args.orders, out=args.out)
     elif args.case == "accuracy":
         lines = bench.accuracy_main(out=args.out, quick=args.quick)
+    elif args.case == "curvature":
+        lines = curvature_rates.main(out=args.out, quick=args.quick)
     elif args.case == "stability":
         lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
     else:
@@ -155,7 +166,7 @@ def _cmd_sweep_plot(args):
 
 
 def _add_bench(sub):
-    """``bench cube | accuracy | stability | scaling`` and their options."""
+    """``bench cube | accuracy | curvature | peer | stability | scaling`` and their options."""
     from .scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
@@ -177,6 +188,19 @@ def _add_bench(sub):
                          "cylinder, with a plot and the cheapest setting per target")
     p.add_argument("--quick", action="store_true",
                    help="only coarse cube and cylinder settings (seconds)")
+    p = case("curvature", "the curvature of the growth metric on Regge elements against the "
+                          "exact one: errors, cost and rates under h- and p-refinement")
+    p.add_argument("--quick", action="store_true",
+                   help="only the coarse hemisphere, k = 1, 2 (seconds)")
+    p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
+                     "alternate runs, the ratio of solve times and both energy errors")
+    p.add_argument("--peer", metavar="DIR",
+                   help="the peer's folder (env_dolfinx.sh, fenicsx_growth.py; default: "
+                        "$NGINCOMPAT_PEER)")
+    p.add_argument("--pairs", type=int, default=3,
+                   help="alternating (peer, ours) runs (default 3)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="a parameter of our cube (repeatable; default: the scene's defaults)")
     p = case("stability", "the numerical stress-test matrix and the locking study (see "
                           "ngincompat.stability)")
     p.add_argument("--quick", action="store_true",

@@ -2,9 +2,11 @@
 one summary table.
 
 Each expander runs into its own folder ``out/<footprint>``; the summary (``summary.md``,
-``.csv``, ``.json``) has one row per expander with the volume and pressure after inflation,
-growth (largest, mean over the footprint, at the apex), incompatibility (largest |b|, at the
-apex, the distance of the largest from the centre) and the largest residual stress after
+``.csv``, ``.json``) has one row per expander with the volume and pressure after inflation
+(with ``--set expander=contact``: the expander's height, the contact area, the largest
+penetration, the largest and mean contact pressure), growth (largest, mean over the
+footprint, at the apex), incompatibility (largest |b|, at the apex, the distance of the
+largest from the centre) and the largest residual stress after
 deflation (clamped, then released). An expander whose run fails is a row with its status;
 the others still run.
 """
@@ -19,9 +21,13 @@ from .progress import SILENT
 from .scenes.skin import SkinExpansionScene
 
 COLUMNS = ("footprint", "status", "ndof", "seconds", "volume_inflated", "pressure_inflated",
-           "theta_max", "theta_mean_footprint", "theta_apex", "burgers_max", "burgers_apex",
+           "expander_height_inflated", "contact_area_inflated", "penetration_max_inflated",
+           "contact_pressure_max_inflated", "contact_pressure_mean_inflated", "theta_max",
+           "theta_mean_footprint", "theta_apex", "burgers_max", "burgers_apex",
            "burgers_max_radius", "max_principal_stress_clamped",
            "max_principal_stress_released")
+#: The columns that one expander model does not fill.
+UNUSED = {"pressure": COLUMNS[6:11], "contact": COLUMNS[5:6]}
 UNITS = {"seconds": "s", **{k: SkinExpansionScene.metric_unit(k) for k in COLUMNS[4:]}}
 
 
@@ -35,6 +41,8 @@ def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, *
               for f in footprints}
     if out is not None:
         out = output.prepare(out, overwrite=overwrite)
+    model = next(iter(scenes.values())).expander if scenes else "pressure"
+    columns = [c for c in COLUMNS if c not in UNUSED[model]]
     rows = []
     for footprint, scene in scenes.items():
         start = time.perf_counter()
@@ -45,13 +53,13 @@ def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, *
             r = err.results
         rows.append({"footprint": footprint, "status": r.status, "ndof": r.mesh.ndof,
                      "seconds": round(time.perf_counter() - start, 1),
-                     **{k: r.metrics.get(k) for k in COLUMNS[4:]}})
+                     **{k: r.metrics.get(k) for k in columns[4:]}})
     if out is not None:
         files = [*scenes, "summary.md", "summary.csv", "summary.json"]
-        tables.write(out, "summary", rows, list(COLUMNS), UNITS, files=files)
+        tables.write(out, "summary", rows, columns, UNITS, files=files)
     return rows
 
 
 def summary_markdown(rows):
-    """The summary table in markdown, with units."""
-    return tables.markdown(rows, list(COLUMNS), UNITS)
+    """The summary table in markdown, with units (the columns of the rows' model)."""
+    return tables.markdown(rows, [c for c in COLUMNS if rows and c in rows[0]], UNITS)

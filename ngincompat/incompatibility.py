@@ -91,6 +91,23 @@ def incompatibility_tensor(Fg, curl_Fg):
     return (1.0 / ngs.Det(Fg)) * (Fg * curl_Fg)
 
 
+def inverse_elastic_gradient(Fg, dFg, F, dF):
+    """Fe^-1 = Fg F^-1 and its reference gradient from those of Fg and F (no projection).
+
+    ``dFg[j, a, k] = d(Fg)_ja / dX_k``, ``dF[b, c, k] = d F_bc / dX_k`` (for F = I + Grad u the
+    second derivatives of u); with d(F^-1)/dX_k = -F^-1 (dF/dX_k) F^-1,
+
+        d(Fe^-1)_js / dX_k = dFg[j, a, k] (F^-1)_as - Fg_ja (F^-1)_ab dF[b, c, k] (F^-1)_cs.
+
+    Returns (Fe^-1, its gradient in index order [j, s, k]), as
+    :func:`incompatibility_from_elastic` takes them.
+    """
+    F_inv = ngs.Inv(F)
+    dFe_inv = (ngs.fem.Einsum("jak,as->jsk", dFg, F_inv)
+               - ngs.fem.Einsum("ja,ab,bck,cs->jsk", Fg, F_inv, dF, F_inv))
+    return Fg * F_inv, dFe_inv
+
+
 def incompatibility_from_elastic(Fe_inv, dFe_inv, F):
     """G from the elastic deformation alone, eq. (12): G = Je Fe^-1 curl Fe^-1.
 

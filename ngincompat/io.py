@@ -126,6 +126,45 @@ def write_vtk(path, mesh, fields, subdivision=1):
     return path
 
 
+def write_pvd(path, datasets):
+    """Write a ParaView collection (``path`` ends in ``.pvd``) atomically: a time series of
+    VTK files given as (time, file name relative to the collection's folder)."""
+    lines = ['<?xml version="1.0"?>',
+             '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+             "  <Collection>",
+             *(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file="{name}"/>'
+               for t, name in datasets),
+             "  </Collection>", "</VTKFile>"]
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n")
+    return Path(path)
+
+
+def write_vtk_parallel(stem, mesh, fields, subdivision=1):
+    """Write CoefficientFunctions on a distributed mesh: every rank writes its part; the
+    collection ``stem.pvd`` names the parts. Collective: call on every rank.
+
+    Returns
+    -------
+    list of str
+        The files written, relative to the folder of ``stem`` (on every rank).
+    """
+    import ngsolve as ngs
+
+    stem = Path(stem)
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    vtk = ngs.VTKOutput(mesh, coefs=list(fields.values()), names=list(fields.keys()),
+                        filename=str(stem), subdivision=subdivision, legacy=False)
+    vtk.Do()
+    comm = mesh.comm.mpi4py
+    comm.Barrier()
+    names = None
+    if comm.rank == 0:
+        names = sorted(p.name for p in stem.parent.glob(f"{stem.name}*")
+                       if p.suffix in (".pvd", ".vtu"))
+    return comm.bcast(names, root=0)
+
+
 def provenance():
     """What produced a result: package versions and the command line."""
     return {"versions": versions(), "argv": sys.argv}

@@ -127,9 +127,9 @@ class NeoHookean(MaterialKind):
 
     Parameters
     ----------
-    mu : float
-        Shear modulus, > 0.
-    lam : float
+    mu : float or CoefficientFunction
+        Shear modulus, > 0; a CoefficientFunction for moduli per region (:meth:`by_region`).
+    lam : float or CoefficientFunction
         Lame's first parameter, > -2 mu / 3.
 
     Notes
@@ -144,13 +144,23 @@ class NeoHookean(MaterialKind):
     needs_fibers = False
 
     def __post_init__(self):
-        _check_lame(self.mu, self.lam)
+        if not isinstance(self.mu, CF):     # moduli per region are checked by by_region
+            _check_lame(self.mu, self.lam)
 
     @classmethod
     def from_nu(cls, mu: float, nu: float) -> Self:
         """From the shear modulus and Poisson's ratio nu in (-1, 0.5)."""
         require(mu > 0, "mu", mu, "> 0 (shear modulus)")
         return cls(mu, lame_lambda(mu, nu))
+
+    @classmethod
+    def by_region(cls, mesh, moduli: dict[str, tuple[float, float]]) -> Self:
+        """One neo-Hookean material with moduli per mesh region (material name), given as
+        region -> (mu, nu); mu and lam become piecewise constant CoefficientFunctions (the
+        energy is linear in both)."""
+        parts = {region: cls.from_nu(mu, nu) for region, (mu, nu) in moduli.items()}
+        return cls(mesh.MaterialCF({r: m.mu for r, m in parts.items()}),
+                   mesh.MaterialCF({r: m.lam for r, m in parts.items()}))
 
     @classmethod
     def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
-from . import output
+from . import output, parallel
 from .errors import ConvergenceError, Interrupted
 from .progress import SILENT, Progress
 from .results import DONE, INTERRUPTED, NOT_CONVERGED, Results
@@ -138,7 +138,8 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
         the exception's ``results`` holds it.
     """
     if out is not None:
-        out = output.prepare(out, overwrite=overwrite, resume=scene.resumes(out))
+        out = parallel.on_root(output.prepare, out, overwrite=overwrite,
+                               resume=scene.resumes(out))
     with progress.case(label or scene.name):
         timings: dict[str, float] = {}
         with progress.phase("meshing"), timed(timings, "mesh"):

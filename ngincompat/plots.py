@@ -101,11 +101,46 @@ def draw(results, spec, path):
 def figure(results, spec):
     """The matplotlib Figure of ``spec`` drawn from the profiles of ``results``."""
     p = results.profiles[spec.profile]
+    if spec.kind == "maps":
+        return maps_figure(p, spec.curves, spec.xlabel, spec.title)
     return profile_figure(p[spec.x], {label: p[k] for label, k in spec.curves.items()},
                           spec.xlabel, spec.ylabel, spec.title,
                           right={label: p[k] for label, k in spec.right.items()},
                           right_label=spec.right_label, floor=spec.floor,
                           right_floor=spec.right_floor)
+
+
+def maps_figure(profile, maps, label, title=None):
+    """Colour maps of 2-D fields on planar sections, each with its colour bar.
+
+    Parameters
+    ----------
+    profile : dict
+        Holds, for every key "<plane>_<field>" of ``maps``, a 2-D array of values (NaN
+        outside the body) and the grid's axes "<plane>_u" (columns) and "<plane>_v" (rows).
+    maps : dict
+        Panel title -> key; one row per plane, one column per field, in order.
+    label : str
+        Unit of the in-plane coordinates, for the axes.
+    """
+    keys = list(maps.values())
+    planes = list(dict.fromkeys(k.split("_", 1)[0] for k in keys))
+    ncols = len(keys) // len(planes)
+    fig = Figure(figsize=(4.2 * ncols, 3.4 * len(planes)), dpi=110)
+    axes = np.atleast_2d(fig.subplots(len(planes), ncols, squeeze=False))
+    for ax, (panel, key) in zip(axes.ravel(), maps.items(), strict=True):
+        plane = key.split("_", 1)[0]
+        u, v = profile[f"{plane}_u"], profile[f"{plane}_v"]
+        image = ax.imshow(np.ma.masked_invalid(profile[key]), origin="lower", cmap="viridis",
+                          extent=(u[0], u[-1], v[0], v[-1]), interpolation="nearest")
+        fig.colorbar(image, ax=ax, shrink=0.85)
+        ax.set_title(panel, fontsize="small")
+        ax.set_xlabel(label, fontsize="small")
+        ax.tick_params(labelsize="x-small")
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    fig.tight_layout()
+    return fig
 
 
 def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):

@@ -11,7 +11,7 @@ import ngsolve as ngs
 import numpy as np
 from netgen.libngpy._meshing import NgException
 
-from . import kinematics
+from . import kinematics, parallel
 from .sampling import element_points
 
 
@@ -36,10 +36,23 @@ def stresses(energy_density, u):
     return {"P": P, "S": ngs.Inv(F) * P, "sigma": (1.0 / ngs.Det(F)) * P * F.trans, "W": W}
 
 
-def principal_values(T):
-    """Eigenvalues of a symmetric 3x3 CoefficientFunction, ascending, as a 3-vector CF."""
-    eig = T.Eig()
-    return ngs.CF((eig[9], eig[10], eig[11]))
+def largest_principal_value(T):
+    """The largest eigenvalue of a symmetric 3x3 CoefficientFunction in closed form (the
+    trigonometric solution of the characteristic cubic): with q = tr T / 3,
+    p = sqrt(|T - q I|^2 / 6) and r = det((T - q I) / p) / 2 in [-1, 1],
+
+        lambda_max = q + 2 p cos(arccos(r) / 3),
+
+    and q where p = 0 (T = q I). A few dozen flops per point against the iterative ``Eig``
+    (0.1 s instead of 3.5 s for the stress field of the disc); the two agree to round-off
+    amplified by arccos near double eigenvalues (1e-8 relative to p at worst)."""
+    q = ngs.Trace(T) / 3
+    D = T - q * ngs.Id(3)
+    p = ngs.sqrt(ngs.InnerProduct(D, D) / 6)
+    safe = ngs.IfPos(p - 1e-300, p, 1.0)
+    r = ngs.Det(D / safe) / 2
+    r = ngs.IfPos(r - 1, 1.0, ngs.IfPos(-1 - r, -1.0, r))
+    return (q + 2 * p * ngs.cos(ngs.acos(r) / 3)).Compile()
 
 
 def component(T, a, b=None):
@@ -56,7 +69,8 @@ def sample_line(mesh, cfs, start, end, n=101):
         The arc-length coordinate of the points, from 0.
     values : dict
         name -> ndarray of shape (n,) for scalars or (n, k) for vector/matrix fields; NaN at
-        points the mesh does not cover.
+        points the mesh does not cover. On a distributed mesh, each point's values are those
+        of the lowest rank whose part holds it, on every rank.
     """
     start, end = np.asarray(start, float), np.asarray(end, float)
     s = np.linspace(0.0, 1.0, n)
@@ -67,7 +81,8 @@ def sample_line(mesh, cfs, start, end, n=101):
     for name, cf in cfs.items():
         size = int(np.prod(cf.dims))
         v = np.array([np.full(size, np.nan) if p is None else np.atleast_1d(cf(p))
-                      for p in points], dtype=float)
+                      for p in points], dtype=float).reshape(n, size)
+        v = parallel.first_found(mesh, v)
         values[name] = v[:, 0] if v.shape[1] == 1 else v
     return s * np.linalg.norm(end - start), values
 
@@ -94,5 +109,13 @@ def _locatable(mesh, pts):
 
 
 def maximum(cf, mesh, order=4):
-    """Largest value of a scalar CF over the integration points and vertices of the mesh."""
-    return float(np.max(np.asarray(cf(element_points(mesh, order)))))
+    """Largest value of a scalar CF over the integration points and vertices of the mesh
+    (of all ranks of a distributed mesh).
+
+    Points where the CF is undefined (NaN) are left out: a vertex can sit on a cone point of
+    an analytic growth field, e.g. the centre of theta = 1 + R t / 4, a vertex of the quarter
+    hemisphere. NaN only if the CF is undefined at every point."""
+    values = np.asarray(cf(element_points(mesh, order))) if mesh.ne else np.empty(0)
+    defined = values[~np.isnan(values)]
+    local = np.nan if values.size and not defined.size else np.max(defined, initial=-np.inf)
+    return parallel.maximum(mesh, local)

@@ -63,6 +63,10 @@ class Figure:
         into noise.
     profile : str
         Which profile of the results.
+    kind : str
+        "profile": curves against ``x``; "maps": colour maps, one panel per curve, of 2-D
+        arrays keyed "<plane>_<field>" whose axes are the profile's "<plane>_u" and
+        "<plane>_v" (one row per plane, one column per field; ``x`` names the first axis).
     """
 
     file: str
@@ -76,6 +80,7 @@ class Figure:
     floor: float = 0.0
     right_floor: float = 0.0
     profile: str = "line"
+    kind: str = "profile"
 
 
 @dataclass(eq=False)
@@ -117,6 +122,9 @@ class Results:
         Name -> ngsolve CoefficientFunction on ``domain`` (not serialised).
     domain : ngsolve.Mesh or None
         The mesh the fields live on (not serialised).
+    frames : list of (float, dict)
+        (time, name -> field) at chosen times of a time-dependent scene, frozen copies on
+        ``domain`` (not serialised): the frames of the ``fields.pvd`` time series.
     """
 
     scene: str
@@ -136,6 +144,8 @@ class Results:
     files: list[str] = field(default_factory=list)
     fields: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
     domain: Any = field(default=None, repr=False, compare=False)
+    frames: list[tuple[float, dict[str, Any]]] = field(default_factory=list, repr=False,
+                                                       compare=False)
 
     @property
     def converged(self) -> bool:
@@ -163,9 +173,14 @@ class Results:
                 f"total {total:.2f} s")
 
     def metric_lines(self) -> list[str]:
-        """One line per metric: name, value and unit."""
-        return [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
-                for key, value in self.metrics.items()]
+        """One line per metric: name, value and unit; then the compatibility verdict when the
+        curvature of the growth metric was measured (:func:`ngincompat.curvature.verdict`)."""
+        lines = [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
+                 for key, value in self.metrics.items()]
+        if "einstein_norm_L2" in self.metrics:
+            from .curvature import verdict  # curvature imports this module
+            lines.append(f"  {verdict(self.metrics)}")
+        return lines
 
     def profile(self, name: str = "line") -> dict[str, np.ndarray]:
         """A sampled profile by name."""

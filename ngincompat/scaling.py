@@ -224,6 +224,7 @@ def run_task(path):
     from pyngcore import GetNumThreads
 
     row = {"load": os.getloadavg()[0]}
+    ngs.SetNumThreads(int(os.environ.get("NGS_NUM_THREADS") or os.cpu_count() or 1))
     start = _time.perf_counter()
     try:
         with ngs.TaskManager():

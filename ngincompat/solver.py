@@ -25,7 +25,9 @@ from typing import Protocol
 
 import ngsolve as ngs
 import numpy as np
+from ngsolve.krylovspace import CGSolver, GMResSolver
 
+from . import parallel
 from .errors import ConvergenceError, Interrupted, require
 from .progress import SILENT, Progress
 
@@ -66,6 +68,10 @@ class NewtonProblem(Protocol):
     condense: bool
     inverse: str
     has_energy: bool
+
+
+#: Linear solvers of the Newton directions (see :class:`NewtonOptions`).
+LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres")
 
 
 @dataclass(frozen=True)
@@ -109,6 +115,19 @@ class NewtonOptions:
         factorising cost far more than a residual (high order, few elements).
     reuse_contraction : float
         The contraction in (0, 1) a reused tangent must achieve per iteration.
+    linear_solver : {"auto", "direct", "cg", "gmres"}
+        How the tangent system is solved: "direct" factorises it (``inverse``); "cg" and
+        "gmres" iterate, preconditioned by BDDC (NGSolve's balancing domain decomposition by
+        constraints, on the condensed system where the problem condenses), to a residual
+        ``krylov_rtol`` relative to the right-hand side. CG needs a positive definite tangent,
+        as near equilibrium; GMRES also copes with the indefinite tangent that the start of a
+        load step can have (and with the indefinite BDDC built from it). "auto": "direct" in a
+        serial run, "cg" on a distributed mesh (the pip wheels have no distributed direct
+        solver; a direct inverse there is gathered onto rank 0).
+    krylov_rtol : float
+        Relative residual at which the iterative linear solver stops.
+    krylov_maxiter : int
+        Iterations of the iterative linear solver per Newton direction.
     """
 
     rtol: float = 1e-9
@@ -123,6 +142,9 @@ class NewtonOptions:
     max_step: float = float("inf")
     reuse_tangent: bool = False
     reuse_contraction: float = 0.1
+    linear_solver: str = "auto"
+    krylov_rtol: float = 1e-10
+    krylov_maxiter: int = 2000
 
     def __post_init__(self):
         require(0 < self.rtol < 1, "rtol", self.rtol, "in (0, 1)")
@@ -134,11 +156,16 @@ class NewtonOptions:
                 self.inverse, "sparsecholesky, umfpack or pardiso")
         require(0 < self.reuse_contraction < 1, "reuse_contraction", self.reuse_contraction,
                 "in (0, 1)")
+        require(self.linear_solver in LINEAR_SOLVERS, "linear_solver", self.linear_solver,
+                ", ".join(LINEAR_SOLVERS))
+        require(0 < self.krylov_rtol < 1, "krylov_rtol", self.krylov_rtol, "in (0, 1)")
+        require(self.krylov_maxiter >= 1, "krylov_maxiter", self.krylov_maxiter, ">= 1")
 
 
 @dataclass
 class StepRecord:
-    """What one attempted load step did."""
+    """What one attempted load step did (``linear_iterations``: those of the iterative
+    linear solver per Newton direction, empty with a direct one)."""
 
     t: float
     dt: float
@@ -150,6 +177,7 @@ class StepRecord:
     energy: float = float("nan")
     seconds: float = 0.0
     reason: str = ""
+    linear_iterations: list = field(default_factory=list)
 
 
 @dataclass
@@ -190,6 +218,20 @@ class NewtonSolver:
         free = problem.fes.FreeDofs()
         self._fixed = np.array([not free[i] for i in range(len(free))], dtype=bool)
         self._fixed[list(problem.pinned)] = True
+        mesh = problem.fes.mesh
+        self._mesh = mesh
+        self.linear_solver = options.linear_solver
+        if self.linear_solver == "auto":
+            self.linear_solver = "cg" if parallel.distributed(mesh) else "direct"
+        self._preconditioner = None
+        self._linear = None
+        if self.linear_solver != "direct":
+            # registered with the form: rebuilt by every AssembleLinearization
+            self._preconditioner = ngs.Preconditioner(problem.form, "bddc")
+
+    def energy(self, vec):
+        """The problem's energy at ``vec``, summed over the ranks of a distributed mesh."""
+        return parallel.total(self._mesh, self.problem.form.Energy(vec))
 
     def residual(self, vec=None):
         """The residual (energy gradient) on free dofs at ``vec`` (default: the current u)."""
@@ -203,7 +245,16 @@ class NewtonSolver:
         :meth:`direction` until the next call)."""
         p = self.problem
         p.form.AssembleLinearization(p.state.vec)
-        self._inverse = p.form.mat.Inverse(p.freedofs, inverse=self.options.inverse or p.inverse)
+        if self.linear_solver == "direct":
+            self._inverse = p.form.mat.Inverse(p.freedofs,
+                                               inverse=self.options.inverse or p.inverse)
+            return
+        krylov = CGSolver if self.linear_solver == "cg" else GMResSolver
+        free = ngs.Projector(p.freedofs, True)
+        self._linear = krylov(p.form.mat, free @ self._preconditioner.mat @ free,
+                              tol=self.options.krylov_rtol,
+                              maxiter=self.options.krylov_maxiter)
+        self._inverse = self._linear
 
     def direction(self):
         """Solve K du = r with the last factorised tangent K (of the current state unless
@@ -245,7 +296,7 @@ class NewtonSolver:
         no step length was acceptable."""
         opts = self.options
         u = self.problem.state.vec
-        energy = self.problem.form.Energy if self.problem.has_energy else _finite_residual(self)
+        energy = self.energy if self.problem.has_energy else _finite_residual(self)
         du = self.direction()
         slope = -ngs.InnerProduct(du, r)
         r_norm = r.Norm()
@@ -265,7 +316,7 @@ class NewtonSolver:
         """Newton iterations at the current load; fills ``record``; returns True if converged."""
         opts = self.options
         u = self.problem.state.vec
-        energy = self.problem.form.Energy if self.problem.has_energy else _finite_residual(self)
+        energy = self.energy if self.problem.has_energy else _finite_residual(self)
         r = self.residual()
         r0 = r.Norm()
         record.residuals.append(r0)
@@ -284,6 +335,8 @@ class NewtonSolver:
             r_old = r.Norm()
             alpha, E_new = self._step(E, r)
             record.line_search.append(alpha)
+            if self._linear is not None:
+                record.linear_iterations.append(self._linear.iterations)
             if alpha == 0.0:
                 if not fresh and opts.reuse_tangent:
                     fresh = True    # an old tangent failed: retry with a new one
@@ -397,34 +450,6 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
 
     return _march(problem, options, t_start, t_end, dt, advance, restore, accept,
                   progress.march(stage, t_start, t_end, unit))
-
-
-def solve_equilibrium(problem, options=NewtonOptions(), stage="equilibrium"):
-    """Solve a :class:`~ngincompat.problem.CoupledGrowth` problem for equilibrium at frozen
-    growth (dt = 0) from its current state, in one Newton solve.
-
-    Raises
-    ------
-    ConvergenceError
-        Newton did not converge; the state is then restored.
-    """
-    problem.dt.Set(0.0)
-    solver = NewtonSolver(problem, options)
-    history = SolverHistory()
-    saved = problem.state.vec.CreateVector()
-    saved.data = problem.state.vec
-    record = StepRecord(t=0.0, dt=0.0, converged=False)
-    start = _time.perf_counter()
-    with ngs.TaskManager():
-        record.converged = solver.minimise(record)
-    record.seconds = _time.perf_counter() - start
-    history.steps.append(record)
-    if not record.converged:
-        problem.state.vec.data = saved
-        raise ConvergenceError(f"{stage}: {record.reason}", history=history, t_converged=0.0)
-    problem.accept_step()
-    history.converged = True
-    return history
 
 
 def _march(problem, options, t, t_end, dt, advance, restore, accept, report):

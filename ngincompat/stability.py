@@ -31,7 +31,6 @@ and mixed, next to displacement runs at nu = 0.3.
 import contextlib
 import logging
 import math
-import os
 import time as _time
 import traceback
 from dataclasses import dataclass, fields
@@ -42,7 +41,7 @@ import numpy as np
 
 from geometries import cube
 
-from . import io, tables
+from . import THREADS, io, tables
 from .errors import NgincompatError
 from .expressions import parse_expression
 from .fields import constant
@@ -285,7 +284,7 @@ def ngsolve_threads(threads=None):
     """Run the block with ``threads`` NGSolve threads (None: leave them as they are).
 
     NGSolve cannot report its thread count outside a task manager, so afterwards the default
-    is restored: ``NGS_NUM_THREADS`` if set, else the number of cores.
+    is restored: the package's :data:`ngincompat.THREADS`.
     """
     if threads is None:
         yield
@@ -294,7 +293,7 @@ def ngsolve_threads(threads=None):
     try:
         yield
     finally:
-        ngs.SetNumThreads(int(os.environ.get("NGS_NUM_THREADS") or os.cpu_count() or 1))
+        ngs.SetNumThreads(THREADS)
 
 
 def run_matrix(cells, threads=None):

@@ -2,11 +2,12 @@
 
 * :class:`PrescribedGrowthStage`: prescribed growth Fg(X, t) applied from t = 0 to ``t_end``
   in adaptive load steps (:func:`~ngincompat.solver.solve_growth`);
-* :class:`EquilibriumStage`: one equilibrium solve at frozen growth;
 * :class:`CoupledStage`: mechanically coupled growth marched in time
   (:func:`~ngincompat.solver.solve_coupled`), with growth on or frozen and the enclosed volume
   driven linearly between two targets (inflation, hold), checkpointed after every step when
-  given a checkpoint file.
+  given a checkpoint file;
+* :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
+  until the volume under the skin is the target.
 
 Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 :class:`~ngincompat.pipeline.Stage` protocol).
@@ -18,12 +19,20 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import ngsolve as ngs
 import numpy as np
 
 from . import io
-from .errors import ParameterError
+from .errors import ConvergenceError, ParameterError
 from .progress import Progress
-from .solver import NewtonOptions, SolverHistory, solve_coupled, solve_equilibrium, solve_growth
+from .solver import (
+    NewtonOptions,
+    NewtonSolver,
+    SolverHistory,
+    StepRecord,
+    solve_coupled,
+    solve_growth,
+)
 
 
 @dataclass(eq=False)
@@ -76,16 +85,20 @@ class CoupledStage:
     checkpoint: Path | None = None
     observe: Callable[[float], bool] | None = None
     unit: str = ""
+    _loaded: float = field(default=float("inf"), init=False, repr=False)
 
     def load(self, t: float) -> None:
-        """Set the loads of time ``t``: the volume target and, if frozen, dt = 0."""
+        """Set the loads of time ``t``: the volume target and, if frozen, dt = 0. Moving
+        forward from the last converged time (not back to it after a failed step), the state
+        is lifted with an expander (:meth:`~ngincompat.problem.CoupledGrowth.set_volume_target`)."""
         if not self.grow:
             self.problem.dt.Set(0.0)
         if self.volume is not None:
             v0, v1 = self.volume
             span = self.t_end - self.t_start
             s = 1.0 if span <= 0 else (t - self.t_start) / span
-            self.problem.volume_target.Set(v0 + (v1 - v0) * s)
+            self.problem.set_volume_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
+        self._loaded = t
 
     def save(self, t: float) -> None:
         """Write the state at time ``t`` to the checkpoint, if there is one."""
@@ -106,24 +119,92 @@ class CoupledStage:
 
 
 @dataclass(eq=False)
-class EquilibriumStage:
-    """One equilibrium solve of a coupled problem at frozen growth (dt = 0), e.g. the final
-    state of a viscously regularised march once the viscosity is switched off."""
+class ContactControlStage:
+    """Volume control of an expander in contact (:class:`~ngincompat.problem.CoupledGrowth`
+    with an expander, growth frozen), from an equilibrium (the end of the inflation): the
+    expander's own volume V_e is corrected until the volume V under the skin is ``target``
+    to ``rtol``.
+
+    Each round that finds V out of tolerance takes a secant step on V(V_e) = target (the
+    first one V_e target / V: the volume under the skin is nearly proportional to the
+    expander's), lifts the skin with the expander and solves the equilibrium (Newton),
+    halving the step where Newton fails (at most ``max_cuts`` times). The converged start is
+    not solved again (at 50 cc such a Newton step from the inflation's converged end failed:
+    no acceptable step). The record's ``t`` is the round, its ``dt`` the expander's change.
+
+    Raises
+    ------
+    ConvergenceError
+        Newton fails in a round, or ``max_rounds`` rounds do not reach the tolerance.
+    """
 
     name: str
     problem: object
-    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=30))
+    target: float
+    rtol: float = 1e-4
+    max_rounds: int = 20
+    max_cuts: int = 5
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
 
     def run(self, progress: Progress) -> SolverHistory:
-        return solve_equilibrium(self.problem, self.options, stage=self.name)
+        problem = self.problem
+        problem.dt.Set(0.0)
+        solver = NewtonSolver(problem, self.options)
+        history = SolverHistory()
+        previous = None
+        for k in range(self.max_rounds + 1):
+            expander, volume = problem.volume_target.Get(), problem.volume()
+            progress.line(f"{self.name}: round {k}, volume {volume:.7g} (target "
+                          f"{self.target:g}, expander {expander:.7g})")
+            if abs(volume - self.target) <= self.rtol * self.target:
+                history.converged = True
+                return history
+            if k == self.max_rounds:
+                break
+            slope = volume / expander
+            if previous is not None and volume != previous[1]:
+                secant = (volume - previous[1]) / (expander - previous[0])
+                slope = secant if 0.2 * slope < secant < 5 * slope else slope
+            previous = expander, volume
+            self._resize(solver, history, k + 1, expander, (self.target - volume) / slope)
+            progress.line(f"{self.name}: round {k + 1} in {history.steps[-1].iterations} "
+                          "Newton iterations")
+        raise ConvergenceError(f"the volume is not within {self.rtol:g} of {self.target:g} "
+                               f"after {self.max_rounds} rounds", history=history,
+                               t_converged=history.t_reached)
+
+    def _resize(self, solver, history, k, expander, change):
+        """Round ``k``: the expander's volume from ``expander`` by ``change``, halved (from
+        the round's start) until Newton converges, at most ``max_cuts`` times."""
+        problem = self.problem
+        saved = problem.state.vec.CreateVector()
+        saved.data = problem.state.vec
+        for _ in range(self.max_cuts + 1):
+            problem.set_volume_target(expander + change, lift=True)
+            record = StepRecord(t=float(k), dt=change, converged=False)
+            with ngs.TaskManager():
+                record.converged = solver.minimise(record)
+            history.steps.append(record)
+            if record.converged:
+                history.t_reached = float(k)
+                return
+            problem.state.vec.data = saved
+            problem.set_volume_target(expander)
+            change /= 2
+        raise ConvergenceError(f"round {k}: {record.reason}, also after {self.max_cuts} "
+                               "halvings of the resize", history=history,
+                               t_converged=history.t_reached)
 
 
 def save_checkpoint(problem, path: Path, t: float) -> None:
-    """Write the state of a coupled problem (unknowns and previous growth) atomically."""
+    """Write the state of a coupled problem (unknowns, previous growth, volume target)
+    atomically."""
+    arrays = {"t": t, "state": problem.state.vec.FV().NumPy(),
+              "theta_old": problem.theta_old.vec.FV().NumPy(),
+              "volume_target": problem.volume_target.Get()}
     with io.atomic_path(path) as tmp:
         with open(tmp, "wb") as f:
-            np.savez(f, t=t, state=problem.state.vec.FV().NumPy(),
-                     theta_old=problem.theta_old.vec.FV().NumPy())
+            np.savez(f, **arrays)
 
 
 def restore_checkpoint(problem, path: Path) -> float | None:
@@ -142,4 +223,6 @@ def restore_checkpoint(problem, path: Path) -> float | None:
                              "with the settings of the interrupted run, or without resume)")
     problem.state.vec.FV().NumPy()[:] = data["state"]
     problem.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
+    if "volume_target" in data:             # older checkpoints: the hold sets it
+        problem.volume_target.Set(float(data["volume_target"]))
     return float(data["t"])

@@ -102,8 +102,8 @@ theta_view = Draw(fields["theta"], mesh, "area growth theta",
 # G of the grown field by the projected path (the growth field is computed, not analytic: Fg
 # is interpolated into H1 of order `g_order` and Curl taken of the interpolant, eq. 7),
 # b = G^T e3 on the plane of the skin (eq. 11). |b| is not largest where the skin grew most
-# but where growth changes fastest: at the edge of the footprint (radius 3.5 cm), with little
-# at the apex.
+# but where growth changes fastest: at the edge of the footprint (radius 2.8 cm, the default
+# base of 24.5 cm^2), with little at the apex.
 
 # %%
 print(f"|b|: largest {m['burgers_max']:.4f} 1/{units['length']} at a distance "

@@ -55,3 +55,22 @@ def cube_problem(a=0.25, maxh=0.5, order=2, elements="hex", condense=True):
     mesh = cube(maxh=maxh, elements=elements)
     material = NeoHookean.paper_idealized()
     return GrowthMechanics(mesh, growth, material, order=order, condense=condense), time
+
+
+def peer_stand_in(folder):
+    """A folder laid out like the FEniCSx peer's whose script only prints a RESULT line, with
+    a known energy and solve time (the benchmark's arithmetic, not the peer, is tested);
+    returns the folder and the record its script prints."""
+    import json
+    import sys
+
+    from ngincompat import peer
+    from ngincompat.bench import CUBE_ENERGY
+    (folder / "debroot").mkdir(parents=True)
+    (folder / peer.PEER_ENV).write_text(f'PY="{sys.executable}"\n')
+    record = {"version": "0.5.2", "cell": "tet", "degree": 4, "N": 4, "solver": "lu",
+              "dofs": 14739, "newton_its": 3, "t_solve": 7.5, "W": CUBE_ENERGY * (1 + 5e-2)}
+    (folder / peer.PEER_SCRIPT).write_text(
+        "import sys\nassert sys.argv[1:] == ['--N', '4', '--degree', '4', '--quiet']\n"
+        f"print('noise')\nprint('RESULT ' + {json.dumps(json.dumps(record))})\n")
+    return folder, record

@@ -84,3 +84,12 @@ def test_skin_runs_through_the_command_line(tmp_path, capsys):
     assert code == 0, out
     assert "skin: done" in out and "inflation" in out and "hold" in out
     assert "volume_inflated" in out
+
+
+def test_outputs_name_every_optional_output_of_a_scene():
+    from ngincompat.cli import OUTPUT_NAMES, _outputs
+    from ngincompat.output import OUTPUTS
+    assert OUTPUT_NAMES[2:] == OUTPUTS
+    assert _outputs("incompatibility,curvature,growth") == {
+        "mechanics": False, "outputs": "growth,curvature"}
+    assert _outputs("mechanics") == {"mechanics": True, "outputs": "none"}

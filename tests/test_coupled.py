@@ -15,7 +15,7 @@ from ngincompat.materials import NeoHookean
 from ngincompat.problem import CoupledGrowth
 from ngincompat.progress import SILENT
 from ngincompat.solver import NewtonOptions, solve_coupled
-from ngincompat.stages import CoupledStage, EquilibriumStage
+from ngincompat.stages import CoupledStage
 
 LAW = StrainDrivenLaw(tau=1.0, theta_max=1.5, gamma=2.0, theta_crit=1.0)
 
@@ -54,6 +54,35 @@ def test_global_newton_converges_quadratically_with_coupled_growth():
     above = res[res > 1e-15 * res[0]]
     orders = np.diff(np.log(above))[1:] / np.diff(np.log(above))[:-1]
     assert max(orders[-2:]) > 1.7, (res, orders)
+
+
+def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent():
+    """The C++-compiled residual (the default from REALCOMPILE_NDOF dofs on) is the same
+    function as NGSolve's own compilation, and so is its linearisation."""
+    problem = _stretched_bar(LAW)
+    problem.dt.Set(0.25)
+    problem.theta.Set(1.0 + 0.1 * ngs.y)
+    x = problem.state.vec
+    plain = CoupledGrowth(problem.mesh, "fiber", fields.constant("e1"), LAW,
+                          NeoHookean.from_nu(1.0, 0.3), order=2,
+                          symmetry={"left": "x", "right": "x"}, realcompile=False)
+    native = CoupledGrowth(problem.mesh, "fiber", fields.constant("e1"), LAW,
+                           NeoHookean.from_nu(1.0, 0.3), order=2,
+                           symmetry={"left": "x", "right": "x"}, realcompile=True)
+    results = []
+    for p in (plain, native):
+        p.dt.Set(0.25)
+        r = x.CreateVector()
+        p.form.Apply(x, r)
+        p.form.AssembleLinearization(x)
+        w = x.CreateVector()
+        w.FV().NumPy()[:] = np.linspace(-1, 1, len(w))
+        Kw = x.CreateVector()
+        Kw.data = p.form.mat * w
+        results.append((r.FV().NumPy().copy(), Kw.FV().NumPy().copy()))
+    for a, b in zip(*results, strict=True):
+        assert np.linalg.norm(a) > 1e-3
+        assert np.linalg.norm(a - b) <= 1e-11 * np.linalg.norm(a)
 
 
 def test_growth_saturates_at_theta_max():
@@ -153,11 +182,11 @@ def test_a_march_ends_where_on_step_says_so():
     assert seen == pytest.approx([0.25, 0.5])
 
 
-def test_viscous_regularisation_lags_and_the_equilibrium_stage_removes_it():
+def test_viscous_regularisation_lags_and_a_frozen_step_removes_it():
     """Fiber growth at a constant rate in a cube on rollers at one end: with the viscous term
     eta / dt int (u - u_n) . v dV a step ends short of equilibrium (the displacement lags);
-    the equilibrium stage with the viscosity off then reaches the state of the march without
-    it, to the Newton tolerance."""
+    a step at frozen growth (dt = 0, which switches the viscous term off) then reaches the
+    state of the march without it, to the Newton tolerance."""
     def grown(viscosity):
         problem = CoupledGrowth(cube(maxh=0.5), "fiber", fields.constant("e1"),
                                 ConstantRateLaw(0.2), NeoHookean.from_nu(1.0, 0.3), order=2,
@@ -173,7 +202,6 @@ def test_viscous_regularisation_lags_and_the_equilibrium_stage_removes_it():
     assert end_displacement(plain) == pytest.approx(0.2, rel=1e-6)   # theta = 1.2 exactly
     problem = grown(10.0)
     assert 0 < end_displacement(problem) < 0.5 * end_displacement(plain)
-    problem.viscosity.Set(0.0)
-    EquilibriumStage("equilibrium", problem).run(SILENT)
+    CoupledStage("equilibrium", problem, t_end=1.0, dt=1.0, grow=False).run(SILENT)
     np.testing.assert_allclose(problem.u.vec.FV().NumPy(), plain.u.vec.FV().NumPy(),
                                atol=1e-9)

@@ -13,6 +13,7 @@ from geometries import (
     cylinder,
     disc,
     footprint_area,
+    footprint_size,
     hemisphere,
     skin_patch,
 )
@@ -93,6 +94,17 @@ def test_skin_patch_footprints(footprint):
     assert area + rest == pytest.approx(100.0, rel=1e-8)
 
 
+def test_footprints_of_equal_area():
+    sizes = {f: footprint_size(f, 24.5) for f in FOOTPRINTS}
+    assert sizes["rectangle"] == pytest.approx(7.0, rel=1e-12)
+    assert sizes["square"] == pytest.approx(24.5 ** 0.5, rel=1e-12)
+    assert sizes["circle"] == pytest.approx(2 * (24.5 / math.pi) ** 0.5, rel=1e-12)
+    for footprint, size in sizes.items():
+        mesh = skin_patch(footprint=footprint, footprint_size=size, maxh=2.0)
+        area = ngs.Integrate(1, mesh, ngs.BND, definedon=mesh.Boundaries("footprint"))
+        assert area == pytest.approx(24.5, rel=2e-3), footprint
+
+
 def test_hemisphere_centre_refinement_adds_elements():
     assert hemisphere(maxh=0.3, centre_maxh=0.05).ne > hemisphere(maxh=0.3).ne
 
@@ -104,6 +116,7 @@ def test_hemisphere_centre_refinement_adds_elements():
     (disc, dict(height=-0.1), "height"), (cylinder, dict(area=0), "area"),
     (skin_patch, dict(footprint_size=12.0), "footprint_size"),
     (skin_patch, dict(footprint="star"), "footprint"),
+    (lambda **kw: footprint_size("circle", **kw), dict(area=-1.0), "footprint_area"),
     (skin_patch, dict(thickness=20.0), "thickness"),
     (bilayer, dict(cortex=1.5), "cortex"), (brain, dict(gray=4.0), "gray"),
     (brain, dict(semi_axes=(1, 2)), "semi_axes"), (disc, dict(curve_order=0), "curve_order"),

@@ -157,6 +157,20 @@ def test_G_from_elastic_part_equals_G_from_growth_exactly(unit_cube_hex):
     assert inc.relative_l2_error(G_e, G, unit_cube_hex) < 1e-12
 
 
+def test_gradient_of_the_inverse_elastic_part_from_second_derivatives(unit_cube_hex):
+    """d(Fg F^-1)/dX from dFg and the second derivatives of u equals the symbolic gradient;
+    the scenes evaluate eq. (12) with it instead of projecting Fe^-1."""
+    growth = IsotropicGrowth(THETA)
+    u = ngs.CF((0.1 * X1 * X2, 0.05 * ngs.sin(X3) + 0.1 * X1, 0.08 * X2 * X3 ** 2))
+    F = ngs.Id(3) + inc.gradient_exact(u)
+    Fe_inv, dFe_inv = inc.inverse_elastic_gradient(growth.Fg, inc.gradient_exact(growth.Fg),
+                                                   F, inc.gradient_exact(F))
+    reference = inc.gradient_exact(growth.Fg * ngs.Inv(F))
+    assert l2_norm(Fe_inv - growth.Fg * ngs.Inv(F), unit_cube_hex) < 1e-14
+    assert l2_norm(dFe_inv - reference, unit_cube_hex) < 1e-12 * l2_norm(reference,
+                                                                         unit_cube_hex)
+
+
 def _cube_G_error(n, p):
     mesh = cube(maxh=1.0 / n)
     growth = IsotropicGrowth(1 + X1 / 4)

@@ -62,3 +62,20 @@ def test_growth_output_writes_the_mesh_and_the_growth_field(tmp_path):
     results = CubeScene(order=2, maxh=0.5, outputs="growth").run(tmp_path)
     assert {"mesh.vol", "growth.npz"} <= set(results.files)
     assert (tmp_path / "mesh.vol").stat().st_size > 0
+
+
+def test_vtk_fields_are_interpolated_once_and_gridfunctions_kept():
+    """The VTK file gets element-wise interpolants of the fields (exact for a polynomial of
+    their order), the GridFunctions themselves."""
+    import ngsolve as ngs
+
+    from geometries import cube
+
+    mesh = cube(maxh=0.5)
+    u = ngs.GridFunction(ngs.VectorH1(mesh, order=2))
+    fields = {"u": u, "s": ngs.x * ngs.y * ngs.z, "v": ngs.CF((ngs.x, ngs.y ** 2, 1))}
+    out = output.interpolated(fields, mesh, 3)
+    assert out["u"] is u
+    point = mesh(0.3, 0.6, 0.7)
+    assert out["s"](point) == pytest.approx(0.3 * 0.6 * 0.7, rel=1e-10)
+    assert out["v"](point) == pytest.approx((0.3, 0.36, 1.0), rel=1e-10)

@@ -36,7 +36,12 @@ def test_summary_carries_units_and_the_checks(quick_paper):
     _, out = quick_paper
     header = (out / "summary.md").read_text().splitlines()[0]
     assert "strain_energy [N mm]" in header and "seconds [s]" in header
+    assert "t_growth [s]" in header and "t_incompatibility [s]" in header
     rows = {r["case"]: r for r in json.loads((out / "summary.json").read_text())["rows"]}
+    # where the time goes, per phase: the phases add up to no more than the case's time
+    for r in rows.values():
+        phases = [r[f"t_{p}"] for p in paper.PHASES]
+        assert all(t >= 0 for t in phases) and sum(phases) <= r["seconds"] + 0.05
     # even coarse, the closed forms hold where they are exact in the discretisation
     assert rows["cube"]["burgers_max"] == pytest.approx(1 / 12, rel=1e-4)
     assert rows["cylinder"]["b_eq27_error"] < 1e-8

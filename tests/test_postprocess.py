@@ -36,15 +36,38 @@ def test_stresses_are_consistent_with_eq37_and_each_other(unit_cube_hex):
         np.testing.assert_allclose(S[k], S[k].T, atol=1e-12)
 
 
-def test_principal_values_and_components(unit_cube_hex):
+def test_components_in_a_local_basis(unit_cube_hex):
     T = np.array([[2.0, 0.5, 0.0], [0.5, -1.0, 0.3], [0.0, 0.3, 0.5]])
     cf = ngs.CF(tuple(T.ravel()), dims=(3, 3))
-    got = values_at(postprocess.principal_values(cf), unit_cube_hex, random_points(1))[0]
-    np.testing.assert_allclose(got, np.linalg.eigvalsh(T), rtol=1e-12)
     a = np.array([1.0, 1.0, 0.0]) / np.sqrt(2)
     b = np.array([0.0, 0.0, 1.0])
     comp = postprocess.component(cf, ngs.CF(tuple(a)), ngs.CF(tuple(b)))
     assert values_at(comp, unit_cube_hex, random_points(1))[0, 0] == pytest.approx(a @ T @ b)
+
+
+def test_largest_principal_value_in_closed_form(unit_cube_hex):
+    """Against numpy's eigvalsh at every element point of a field that is diagonal in its
+    first row on X1 = 0, where ``Eig`` does not sort its values, and on repeated and
+    isotropic ones (q I, p = 0)."""
+    x, y, z = ngs.x, ngs.y, ngs.z
+    cf = ngs.CF((1 + x, y * z, 0.3 * x, y * z, 2 * y, 0.1, 0.3 * x, 0.1, z * z), dims=(3, 3))
+    pts = postprocess.element_points(unit_cube_hex, 4)
+    T = np.asarray(cf(pts)).reshape(-1, 3, 3)
+    got = np.asarray(postprocess.largest_principal_value(cf)(pts)).ravel()
+    np.testing.assert_allclose(got, np.linalg.eigvalsh(T)[:, 2], atol=1e-13)
+    p = random_points(1)
+    for diagonal, largest in (((2, 2, 2), 2), ((-1, -1, -3), -1), ((1, 1, 3), 3)):
+        cf = ngs.CF((diagonal[0], 0, 0, 0, diagonal[1], 0, 0, 0, diagonal[2]), dims=(3, 3))
+        got = values_at(postprocess.largest_principal_value(cf), unit_cube_hex, p)[0, 0]
+        assert got == pytest.approx(largest, rel=1e-7)
+
+
+def test_maximum_skips_undefined_points_only(unit_cube_hex):
+    """A NaN at the vertex X = 0 (a cone point of 1 / R) is left out; NaN everywhere stays
+    NaN."""
+    R = ngs.sqrt(ngs.x * ngs.x + ngs.y * ngs.y + ngs.z * ngs.z)
+    assert postprocess.maximum(ngs.x / R, unit_cube_hex) == pytest.approx(1.0)
+    assert np.isnan(postprocess.maximum(ngs.sqrt(-1 - ngs.x), unit_cube_hex))
 
 
 def test_sample_line_includes_boundary_points(unit_cube_hex):

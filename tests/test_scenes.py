@@ -203,8 +203,11 @@ def test_custom_scene_on_a_vol_file_with_growth_data_from_a_previous_run(tmp_pat
                         theta_file=str(tmp_path / "first" / "growth.npz"), order=2,
                         outputs="none").run()
     assert "G_error_L2_rel" not in again.metrics     # no closed form for data
-    for key in ("strain_energy", "burgers_max", "G_norm_L2", "max_principal_stress"):
+    for key in ("strain_energy", "max_principal_stress"):
         assert again.metrics[key] == pytest.approx(first.metrics[key], rel=1e-8), key
+    # G of the data comes from its projection (g_order 6), the analytic run's is exact
+    for key in ("burgers_max", "G_norm_L2"):
+        assert again.metrics[key] == pytest.approx(first.metrics[key], rel=1e-6), key
 
 
 def test_custom_scene_on_a_gmsh_file(tmp_path):

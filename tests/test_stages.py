@@ -36,8 +36,16 @@ def test_growth_in_two_stages_reaches_the_state_of_one():
 
 def _coupled_stub(mesh, order=1):
     space = ngs.H1(mesh, order=order)
-    return SimpleNamespace(dt=ngs.Parameter(0.25), volume_target=ngs.Parameter(0.0),
-                           state=ngs.GridFunction(space), theta_old=ngs.GridFunction(space))
+    stub = SimpleNamespace(dt=ngs.Parameter(0.25), volume_target=ngs.Parameter(0.0),
+                           state=ngs.GridFunction(space), theta_old=ngs.GridFunction(space),
+                           lifts=[])
+
+    def set_volume_target(volume, lift=False):
+        stub.volume_target.Set(volume)
+        stub.lifts.append(lift)
+
+    stub.set_volume_target = set_volume_target
+    return stub
 
 
 def test_coupled_stage_drives_the_volume_linearly_and_freezes_growth():
@@ -48,6 +56,9 @@ def test_coupled_stage_drives_the_volume_linearly_and_freezes_growth():
         stage.load(t)
         assert problem.volume_target.Get() == pytest.approx(expected)
     assert problem.dt.Get() == 0.0
+    # the state moves with the expander only going forward, not back after a failed step
+    stage.load(2.0)
+    assert problem.lifts == [False, True, True, True, False]
     growing = _coupled_stub(cube(maxh=1.0))
     CoupledStage("hold", growing, t_end=7.0, dt=0.5).load(3.0)
     assert growing.dt.Get() == 0.25 and growing.volume_target.Get() == 0.0
@@ -59,11 +70,13 @@ def test_checkpoint_restores_the_state_and_refuses_another_mesh(tmp_path):
     rng = np.random.default_rng(0)
     problem.state.vec.FV().NumPy()[:] = rng.normal(size=problem.state.space.ndof)
     problem.theta_old.vec.FV().NumPy()[:] = 1 + rng.uniform(size=problem.theta_old.space.ndof)
+    problem.volume_target.Set(41.5)
     path = tmp_path / "checkpoint.npz"
     assert restore_checkpoint(problem, path) is None
     save_checkpoint(problem, path, 2.5)
     fresh = _coupled_stub(mesh)
     assert restore_checkpoint(fresh, path) == 2.5
+    assert fresh.volume_target.Get() == 41.5     # an expander's controlled size
     np.testing.assert_array_equal(fresh.state.vec.FV().NumPy(), problem.state.vec.FV().NumPy())
     np.testing.assert_array_equal(fresh.theta_old.vec.FV().NumPy(),
                                   problem.theta_old.vec.FV().NumPy())

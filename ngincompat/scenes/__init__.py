@@ -1,6 +1,7 @@
 """Scenes: one module per scene, each a frozen dataclass of parameters with ``run(out)``."""
 
 from ..errors import ParameterError
+from .atrophy import AtrophyScene
 from .cube import CubeScene
 from .custom import CustomScene
 from .cylinder import CylinderScene
@@ -10,7 +11,8 @@ from .hemisphere import HemisphereScene
 from .skin import SkinExpansionScene
 
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
-                                    SkinExpansionScene, FoldingScene, CustomScene)}
+                                    SkinExpansionScene, FoldingScene, CustomScene,
+                                    AtrophyScene)}
 
 
 def get_scene(name):
@@ -20,5 +22,6 @@ def get_scene(name):
     return SCENES[name]
 
 
-__all__ = ["SCENES", "CubeScene", "CustomScene", "CylinderScene", "DiscScene", "FoldingScene",
+__all__ = ["SCENES", "AtrophyScene", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+           "FoldingScene",
            "HemisphereScene", "SkinExpansionScene", "get_scene"]

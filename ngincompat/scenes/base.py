@@ -14,7 +14,7 @@ import sys
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from .. import io, pipeline
+from .. import io, parallel, pipeline
 from ..errors import ParameterError, require
 from ..output import OUTPUTS
 from ..progress import SILENT, Progress
@@ -48,17 +48,23 @@ class Scene:
         "rotation_rate_expected": "1/length",
         "burgers_max_radius": "length", "volume_inflated": "volume",
         "G_norm_L2": "length^(1/2)",
+        "scalar_curvature_min": "1/length^2", "scalar_curvature_max": "1/length^2",
+        "einstein_norm_L2": "length^(-1/2)", "einstein_norm_L2_error": "length^(-1/2)",
     }
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
+    #: Whether the scene distributes its mesh when launched on several MPI ranks
+    #: (:mod:`ngincompat.parallel`); the others refuse to run under MPI.
+    distributed: ClassVar[bool] = False
 
     order: int = param(4, "polynomial order of the displacement")
     maxh: float = param(0.25, "mesh size", "length")
     steps: int = param(1, "initial number of load steps (adaptive: cut on failure)")
-    g_order: int = param(6, "order of the H1 space that Fg is projected into for Curl Fg")
+    g_order: int = param(6, "order of the H1 space that Fg given as data is projected into "
+                            "for Curl Fg (analytic growth is differentiated exactly)")
     outputs: str = param("vtk,figures", "files besides results.json: comma list of "
-                                        "vtk, figures, growth (mesh.vol + growth.npz); "
-                                        "or none")
+                                        "vtk, figures, growth (mesh.vol + growth.npz), "
+                                        "curvature (of the growth metric); or none")
     mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
                                   "incompatibility of the growth field only")
 
@@ -89,6 +95,10 @@ class Scene:
         """Build, solve and measure the scene; write the folder ``out`` if given.
 
         See :func:`ngincompat.pipeline.run` (errors, interruption, what is written)."""
+        comm = parallel.world()
+        require(comm is None or self.distributed, "MPI ranks", comm and comm.size,
+                f"1: the {self.name} scene does not run distributed (launch it without "
+                "mpiexec)")
         return pipeline.run(self, out, overwrite=overwrite, progress=progress, label=label)
 
     def title(self) -> str:
@@ -102,7 +112,8 @@ class Scene:
 
     def record(self, mesh, order=None, **kwargs) -> Results:
         """An empty :class:`Results` of this scene on ``mesh`` (an ngsolve.Mesh)."""
-        info = MeshInfo(ne=mesh.ne, nv=mesh.nv, order=self.order if order is None else order,
+        ne, nv = parallel.counts(mesh)
+        info = MeshInfo(ne=ne, nv=nv, order=self.order if order is None else order,
                         maxh=self.maxh)
         return Results(scene=self.name, params=self.settings(), units=dict(self.units),
                        metric_units={m: self.metric_unit(m) for m in self.metrics}, mesh=info,

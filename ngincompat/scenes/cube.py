@@ -6,7 +6,7 @@ import ngsolve as ngs
 
 from geometries import cube
 
-from .. import fields
+from .. import fields, parallel
 from ..errors import require
 from ..growth import IsotropicGrowth
 from ..incompatibility import lattice_normals
@@ -26,11 +26,15 @@ class CubeScene(prescribed.PrescribedScene):
     ``model = "quarter"`` solves the quarter X2, X3 <= side / 2 with the normal displacement
     held on those planes: the same solution at a quarter of the elements (the strain energy
     is reported for the whole cube).
+
+    Launched on several MPI ranks (``mpiexec -n N ngincompat run cube ...``), the mesh is
+    distributed over ranks 1 to N - 1 (:mod:`ngincompat.parallel`).
     """
 
     name = "cube"
     summary = "section 3.1: isotropic growth theta = 1 + X1 t / 4 of a 1 mm cube"
     variant = ("model", "formulation")
+    distributed = True
 
     side: float = param(1.0, "edge length of the cube", "length")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length")
@@ -47,8 +51,8 @@ class CubeScene(prescribed.PrescribedScene):
     def build(self):
         """The mesh and the prescribed-growth case."""
         quarter = self.model == "quarter"
-        mesh = cube(side=self.side, maxh=min(self.maxh, self.side), elements=self.elements,
-                    quarter=quarter)
+        mesh = parallel.distribute(lambda: cube(side=self.side, maxh=min(self.maxh, self.side),
+                                                elements=self.elements, quarter=quarter))
         time = ngs.Parameter(0.0)
         growth = IsotropicGrowth(1 + self.a * ngs.x * time)
         n = lattice_normals(growth.Fg)

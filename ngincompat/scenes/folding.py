@@ -285,7 +285,7 @@ class FoldingCase:
             results.metrics["fold_amplitude"] = buckled[-1]
         sigma = postprocess.stresses(self.problem.energy_density, self.problem.u)["sigma"]
         flds = {"u": self.problem.u, "theta": self.problem.theta, "sigma": sigma,
-                "sigma_max": postprocess.principal_values(sigma)[2]}
+                "sigma_max": postprocess.largest_principal_value(sigma)}
         if self.mode is not None:
             flds["buckling_mode"] = self.mode
             x, w = self.top_profile(self.mode)

@@ -2,10 +2,14 @@
 
 Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 
-1. **inflation** to ``volume`` cc, volume-controlled: the expander pressure is the unknown
-   conjugate to the volume under the footprint, so the target is met, not guessed;
-2. **hold** for ``hold_days`` at that volume while the skin grows in area about its normal
-   N0 = e3 (Hill law, eq. 46, implicit Euler, eq. 48);
+1. **inflation** to ``volume`` cc, volume-controlled: with ``expander=pressure`` the
+   expander pressure is the unknown conjugate to the volume under the footprint, so the
+   target is met, not guessed; with ``expander=contact`` the expander is a rigid dome
+   (:mod:`ngincompat.contact`) on which the skin rests (penalty contact, frictionless),
+   raised until its own volume is the target, then (stage ``contact``) resized by secant
+   steps until the volume under the skin is the target to 1e-4;
+2. **hold** for ``hold_days`` at that volume (the contact model: at that expander) while the
+   skin grows in area about its normal N0 = e3 (Hill law, eq. 46, implicit Euler, eq. 48);
 3. **deflation**: the pressure is removed, the periphery still clamped: residual stress of the
    clamped patch;
 4. **release**: the clamp is removed too (rigid-body constraints only): what stress remains is
@@ -13,8 +17,11 @@ Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 
 The patch lies on its base: outside the footprint the bottom face keeps X3 = 0 (it may slide),
 which also keeps the footprint's edge in the plane, so the enclosed volume is exactly
-int x3 det(dx_a/dX_b) dA over the footprint. The expander acts through a uniform pressure on
-the footprint: its own shape and the skin-expander contact are not modelled.
+int x3 det(dx_a/dX_b) dA over the footprint. The pressure model pushes the footprint with a
+uniform pressure (the expander's shape is not modelled); the contact model lifts a dome of the
+footprint's shape under the skin, and the volume under the skin exceeds the dome's where the
+skin bridges it and falls short by the penetration, hence the volume control. Every
+footprint has the base area ``footprint_area`` (the paper's comparison of shapes).
 
 Parameters and their sources:
 
@@ -33,9 +40,11 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from geometries import FOOTPRINTS, skin_patch
+from geometries import FOOTPRINTS, footprint_area, footprint_size, skin_patch
+from geometries.skin_patch import SIDE, THICKNESS
 
-from .. import fields, postprocess
+from .. import contact, fields, postprocess
+from .. import curvature as cv
 from .. import incompatibility as inc
 from ..errors import require
 from ..growth import AreaGrowth
@@ -46,10 +55,18 @@ from ..problem import CoupledGrowth, GrowthMechanics
 from ..progress import Progress
 from ..results import Figure, Results
 from ..solver import NewtonOptions
-from ..stages import CoupledStage, PrescribedGrowthStage, restore_checkpoint
+from ..stages import ContactControlStage, CoupledStage, PrescribedGrowthStage, restore_checkpoint
 from .base import Scene, param
 
 CHECKPOINT = "checkpoint.npz"
+#: How the expander pushes the skin: a uniform pressure, or a rigid dome in contact.
+EXPANDERS = ("pressure", "contact")
+#: What the contact model reports after inflation and at the end of the hold.
+CONTACT_QUANTITIES = {"expander_height": "length", "contact_area": "area",
+                      "penetration_max": "length", "contact_pressure_max": "stress",
+                      "contact_pressure_mean": "stress"}
+CONTACT_METRICS = tuple(f"{k}_{when}" for when in ("inflated", "end_of_hold")
+                        for k in CONTACT_QUANTITIES)
 
 @dataclass(frozen=True)
 class SkinExpansionScene(Scene):
@@ -59,20 +76,27 @@ class SkinExpansionScene(Scene):
     summary = "section 3.6: skin expansion, inflation to 50 cc, 7 days of area growth"
     variant = ("footprint",)
     metrics = ("volume_inflated", "volume_error_rel", "pressure_inflated",
-               "pressure_end_of_hold", "theta_max", "theta_mean_footprint", "theta_apex",
-               "burgers_max", "burgers_apex", "burgers_max_radius",
+               "pressure_end_of_hold", *CONTACT_METRICS, "theta_max", "theta_mean_footprint",
+               "theta_apex", "burgers_max", "burgers_apex", "burgers_max_radius",
                "max_principal_stress_clamped", "strain_energy_clamped",
-               "max_principal_stress_released", "strain_energy_released")
+               "max_principal_stress_released", "strain_energy_released",
+               "scalar_curvature_min", "scalar_curvature_max", "einstein_norm_L2",
+               "einstein_norm_L2_error")
     units = {"length": "cm", "stress": "MPa", "energy": "MPa cm^3 (J)", "volume": "cm^3",
-             "time": "day"}
+             "area": "cm^2", "time": "day"}
+    metric_quantities = {**Scene.metric_quantities,
+                         **{f"{k}_{when}": q for k, q in CONTACT_QUANTITIES.items()
+                            for when in ("inflated", "end_of_hold")}}
 
     order: int = param(2, "polynomial order of the displacement")
     maxh: float = param(1.0, "mesh size", "length")
     g_order: int = param(4, "order of the H1 space that Fg is projected into for Curl Fg")
     growth_order: int = param(3, "order of the (L2) growth field theta")
     footprint: str = param("rectangle", "expander base: " + ", ".join(FOOTPRINTS))
-    footprint_size: float = param(7.0, "expander size: the square's side, the circle's "
-                                       "diameter, the rectangle's long side", "length")
+    footprint_area: float = param(24.5, "area of the expander's base, the same for every "
+                                       "footprint (7 x 3.5 cm for the rectangle)", "area")
+    expander: str = param("pressure", "how the expander acts: " + ", ".join(EXPANDERS))
+    penalty: float = param(1000.0, "contact: pressure per unit penetration", "stress/length")
     volume: float = param(50.0, "expander volume at the end of inflation", "volume")
     inflation_steps: int = param(10, "initial number of inflation steps")
     hold_days: float = param(7.0, "duration of the hold", "time")
@@ -91,6 +115,13 @@ class SkinExpansionScene(Scene):
         require(self.footprint in FOOTPRINTS, "footprint", self.footprint,
                 ", ".join(FOOTPRINTS))
         require(self.volume > 0, "volume", self.volume, "> 0")
+        require(self.expander in EXPANDERS, "expander", self.expander, ", ".join(EXPANDERS))
+        require(self.penalty > 0, "penalty", self.penalty, "> 0")
+        largest = footprint_area(self.footprint, SIDE - 2 * THICKNESS)
+        require(0 < self.footprint_area <= largest, "footprint_area", self.footprint_area,
+                f"in (0, {largest:.4g}] for the {self.footprint} (a margin of one thickness "
+                "to the patch's edge)")
+        self.expander_body()
         require(self.hold_days >= 0, "hold_days", self.hold_days, ">= 0")
         require(self.dt > 0, "dt", self.dt, "> 0")
         require(self.inflation_steps >= 1, "inflation_steps", self.inflation_steps, ">= 1")
@@ -100,12 +131,20 @@ class SkinExpansionScene(Scene):
     def law(self):
         return HillLaw(self.k, self.K, self.n, self.theta_crit, self.theta_max)
 
+    def expander_body(self):
+        """The contact model's expander (None for the pressure model)."""
+        if self.expander == "pressure":
+            return None
+        return contact.Expander(self.footprint, footprint_size(self.footprint, self.footprint_area),
+                        self.penalty)
+
     def resumes(self, out) -> bool:
         return self.resume
 
     def build(self):
         """The patch, the coupled problem and the stages of section 3.6."""
-        mesh = skin_patch(footprint=self.footprint, footprint_size=self.footprint_size,
+        mesh = skin_patch(footprint=self.footprint,
+                          footprint_size=footprint_size(self.footprint, self.footprint_area),
                           maxh=self.maxh, curve_order=1)
         return SkinCase(self, mesh)
 
@@ -118,8 +157,10 @@ CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
 class SkinCase:
     """The skin scene's case: the coupled problem and the stages it walks.
 
-    Stages: ``inflation`` (volume 0 -> V, growth frozen), ``hold`` (V held, Hill-law area
-    growth for ``hold_days``, checkpointed), ``deflation_clamped`` and
+    Stages: ``inflation`` (volume 0 -> V, growth frozen), with an expander in contact
+    ``contact`` (the expander resized until the volume under the skin is V), ``hold`` (V, or
+    the expander, held, Hill-law area growth for ``hold_days``, checkpointed),
+    ``deflation_clamped`` and
     ``deflation_released`` (the grown field applied to the unloaded patch in load steps
     from u = 0, clamped, then free: the path the prescribed-growth solver is built for;
     starting from the inflated dome instead, Newton could not find the released state of
@@ -136,7 +177,8 @@ class SkinCase:
         self.N0 = fields.constant("e3")
         self.problem = CoupledGrowth(mesh, "area", self.N0, scene.law(), self.material,
                                      order=scene.order, growth_order=scene.growth_order,
-                                     volume="footprint", **CLAMP)
+                                     volume="footprint", expander=scene.expander_body(),
+                                     **CLAMP)
         self.ramp = ngs.Parameter(0.0)
         self.relaxed = {}
 
@@ -149,9 +191,17 @@ class SkinCase:
             stages.append(CoupledStage("inflation", problem, t_end=1.0,
                                        dt=1.0 / scene.inflation_steps, grow=False,
                                        volume=(0.0, scene.volume)))
+            if problem.expander is not None:
+                stages.append(ContactControlStage("contact", problem, scene.volume))
+        # the contact model's expander keeps the size that gave the volume
+        held = None if problem.expander is not None else (scene.volume, scene.volume)
+        # A hold step changes the tangent little: reusing it while Newton contracts took the
+        # square's hold from 66 s to 31 s (43 iterations on 9 tangents, not 22 on 22); the
+        # inflation got slower with it (29 tangents for 63 iterations) and keeps fresh ones.
         stages.append(CoupledStage("hold", problem, t_end=scene.hold_days, dt=scene.dt,
-                                   t_start=t_hold or 0.0, volume=(scene.volume, scene.volume),
-                                   options=NewtonOptions(max_iter=20, max_step=scene.dt),
+                                   t_start=t_hold or 0.0, volume=held,
+                                   options=NewtonOptions(max_iter=20, max_step=scene.dt,
+                                                         reuse_tangent=True),
                                    checkpoint=checkpoint, unit="days"))
         ramped = AreaGrowth(1 + (problem.theta - 1) * self.ramp, self.N0)
         for stage, bcs in (("clamped", CLAMP), ("released", {})):
@@ -179,15 +229,26 @@ class SkinCase:
                                "run again with --set resume=true)")
 
     def _note(self, stage):
-        if stage.name == "inflation":
+        if stage.name == ("inflation" if self.problem.expander is None else "contact"):
             self._note_inflated()
         elif stage.name == "hold":
-            self.noted["pressure_end_of_hold"] = self.problem.pressure()
+            self.noted.update(self._loads("end_of_hold"))
 
     def _note_inflated(self):
         volume = self.problem.volume()
-        self.noted.update(volume_inflated=volume, pressure_inflated=self.problem.pressure(),
-                          volume_error_rel=abs(volume - self.scene.volume) / self.scene.volume)
+        self.noted.update(volume_inflated=volume,
+                          volume_error_rel=abs(volume - self.scene.volume) / self.scene.volume,
+                          **self._loads("inflated"))
+
+    def _loads(self, when):
+        """What holds the volume at ``when``: the pressure, or the expander and its contact."""
+        problem = self.problem
+        if problem.expander is None:
+            return {f"pressure_{when}": problem.pressure()}
+        measured = contact.measure(self.mesh, "footprint", problem.expander,
+                                   problem.expander_height(), problem.gap(),
+                                   problem.contact_pressure())
+        return {f"{k}_{when}": v for k, v in measured.items()}
 
     def interrupted(self, solution: Solution) -> Results:
         results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
@@ -214,28 +275,39 @@ class SkinCase:
                                                         definedon=footprint) / area
         growth = AreaGrowth(theta, self.N0)
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
-            curl_Fg, _ = inc.curl_projected(growth.Fg, mesh, scene.g_order)
+            curl_Fg, Fg_h = inc.curl_projected(growth.Fg, mesh, scene.g_order)
             G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
             b = inc.burgers_vector(G, self.N0.cf)
             metrics["burgers_max"] = postprocess.maximum(ngs.Norm(b), mesh)
         flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_inflated": self.problem.u}
+        if self.problem.expander is not None:
+            flds.update(gap=self.problem.gap(), contact_pressure=self.problem.contact_pressure())
         for stage, relaxed in self.relaxed.items():
             if f"deflation_{stage}" not in solution.histories:
                 continue
             sigma = postprocess.stresses(relaxed.energy_density, relaxed.u)["sigma"]
-            flds[f"sigma_max_{stage}"] = postprocess.principal_values(sigma)[2]
+            flds[f"sigma_max_{stage}"] = postprocess.largest_principal_value(sigma)
             flds[f"u_{stage}"] = relaxed.u
             metrics[f"max_principal_stress_{stage}"] = postprocess.maximum(
                 flds[f"sigma_max_{stage}"], mesh)
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
         metrics.update(_where(mesh, theta, ngs.Norm(b)))
+        if "curvature" in scene.output_set():
+            # growth computed on the mesh: the Regge path, on the continuous interpolant of Fg
+            # that G is computed from (theta itself may jump between elements)
+            with progress.phase("curvature"), timed(timings, "curvature"):
+                extra, measured = cv.measure_growth(Fg_h, mesh, G, exact=False)
+            flds.update(extra)
+            metrics.update(measured)
         line = ((-4.99, 0.0, 0.0), (4.99, 0.0, 0.0))
-        sampled = [k for k in ("theta", "|b|", "sigma_max_clamped", "sigma_max_released")
-                   if k in flds]
+        sampled = [k for k in ("theta", "|b|", "sigma_max_clamped", "sigma_max_released",
+                               "einstein_norm_g", "scalar_curvature") if k in flds]
         s, values = postprocess.sample_line(mesh, {k: flds[k] for k in sampled}, *line)
         results.profiles = {"line": {"X1": line[0][0] + s, **values}}
         results.fields = flds
         results.figures = _figures(scene)
+        if "curvature" in scene.output_set():
+            results.figures.append(cv.figure(scene, "X1", {"|b| on e3": "|b|"}))
         return results
 
 

@@ -1,0 +1,149 @@
+"""Distributed runs on NGSolve's MPI support: ``mpiexec -n N ngincompat run SCENE ...``.
+
+Launched by an MPI launcher with more than one rank, rank 0 builds the mesh, partitions it
+with METIS into ``N - 1`` parts and sends them to the other ranks (rank 0 keeps no elements);
+every rank then assembles its part. NGSolve's ``Integrate``, ``InnerProduct`` and ``Norm`` are
+global over the ranks; what is rank-local (``BilinearForm.Energy``, maxima over elements,
+point evaluation, element and dof counts) is reduced here. Files are written by rank 0, except
+the VTK output, which every rank writes its part of (a ``.pvd`` collection).
+
+Serial runs (no launcher, or one rank) never import mpi4py: everything here is then the
+identity. mpi4py and an MPI come from the ``[mpi]`` extra (``pip install ngincompat[mpi]``:
+mpi4py and the mpich wheel, whose ``mpiexec`` launches the ranks).
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+
+import numpy as np
+
+#: Environment variables by which MPI launchers (MPICH's Hydra, Open MPI, Slurm) announce
+#: the number of ranks of the job.
+_SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "PMIX_SIZE")
+
+
+@functools.cache
+def world():
+    """The MPI world communicator (mpi4py) of a run launched with more than one rank, else
+    None.
+
+    Raises
+    ------
+    ImportError
+        Launched with several ranks but mpi4py is not installed (``pip install .[mpi]``).
+    """
+    sizes = [int(os.environ[v]) for v in _SIZE_VARIABLES if os.environ.get(v, "").isdigit()]
+    if not sizes or max(sizes) <= 1:
+        return None
+    try:
+        from mpi4py import MPI
+    except ImportError as err:
+        raise ImportError("this run was launched on several MPI ranks but mpi4py is not "
+                          "installed: pip install 'ngincompat[mpi]'") from err
+    comm = MPI.COMM_WORLD
+    return comm if comm.size > 1 else None
+
+
+def is_root() -> bool:
+    """True on rank 0 and in serial runs: the rank that writes files and prints."""
+    comm = world()
+    return comm is None or comm.rank == 0
+
+
+def distributed(mesh) -> bool:
+    """Whether ``mesh`` (an ngsolve.Mesh) is one part of a distributed mesh."""
+    return mesh.comm.size > 1
+
+
+def distribute(build):
+    """The mesh of ``build()``, distributed over the ranks if this is an MPI run.
+
+    Parameters
+    ----------
+    build : callable
+        Returns an ngsolve.Mesh; called on rank 0 only (and in serial runs).
+
+    Returns
+    -------
+    ngsolve.Mesh
+        The whole mesh (serial), or this rank's part (rank 0: no elements).
+
+    Notes
+    -----
+    A distributed run uses one NGSolve thread per rank: with a rank per core, more threads
+    oversubscribe the cores, and BDDC's many short parallel loops then cost a hundred times
+    their work (measured on a loaded 2-core machine).
+    """
+    comm = world()
+    if comm is None:
+        return build()
+    import netgen.meshing
+    import ngsolve as ngs
+
+    ngs.SetNumThreads(1)    # a rank per core; threads on top oversubscribe the cores
+    if comm.rank == 0:
+        ngmesh = build().ngmesh
+        ngmesh.Distribute(comm)
+    else:
+        ngmesh = netgen.meshing.Mesh.Receive(comm)
+    return ngs.Mesh(ngmesh)
+
+
+def total(mesh, value: float) -> float:
+    """The sum over the ranks of a rank-local number (e.g. ``BilinearForm.Energy``)."""
+    return mesh.comm.Sum(float(value)) if distributed(mesh) else float(value)
+
+
+def maximum(mesh, value: float) -> float:
+    """The largest over the ranks of a rank-local number (-inf on a rank without elements)."""
+    return mesh.comm.Max(float(value)) if distributed(mesh) else float(value)
+
+
+def first_found(mesh, values: np.ndarray) -> np.ndarray:
+    """Point values that each rank found for its own elements (NaN where it found none),
+    made the values of the lowest rank that found each point, on every rank."""
+    if not distributed(mesh):
+        return values
+    comm = mesh.comm.mpi4py
+    gathered = comm.allgather(np.asarray(values, dtype=float))
+    out = np.full_like(gathered[0], np.nan)
+    for part in reversed(gathered):
+        found = ~np.isnan(part)
+        out[found] = part[found]
+    return out
+
+
+def gather_rows(mesh, rows: np.ndarray) -> np.ndarray:
+    """The rows of every rank stacked (rank order), on every rank; ``rows`` in serial."""
+    if not distributed(mesh):
+        return rows
+    return np.concatenate(mesh.comm.mpi4py.allgather(np.asarray(rows)), axis=0)
+
+
+def on_root(function, *args, **kwargs):
+    """``function(*args, **kwargs)`` evaluated on rank 0, its result (or exception, raised on
+    every rank) broadcast to all: for file-system checks that must agree across the ranks."""
+    comm = world()
+    if comm is None:
+        return function(*args, **kwargs)
+    outcome = None
+    if comm.rank == 0:
+        try:
+            outcome = (True, function(*args, **kwargs))
+        except Exception as err:            # re-raised below on every rank
+            outcome = (False, err)
+    ok, value = comm.bcast(outcome, root=0)
+    if not ok:
+        raise value
+    return value
+
+
+def counts(mesh) -> tuple[int, int]:
+    """Numbers of elements and vertices of the whole mesh (not only this rank's part)."""
+    if not distributed(mesh):
+        return mesh.ne, mesh.nv
+    import ngsolve as ngs
+
+    return int(total(mesh, mesh.ne)), ngs.H1(mesh, order=1).ndofglobal

@@ -1,0 +1,591 @@
+"""Brain atrophy (section 3.5): misfolded-protein spreading drives gray/white shrinkage.
+
+Per time step, staggered and one-way (the mechanics does not act back on the transport):
+
+1. **transport**: the misfolded-protein concentration c on the reference brain follows the
+   Fisher-KPP equation (:mod:`ngincompat.transport`), D = d_ext I + d_axn n (x) n with n
+   radial in white matter (axons) and d_axn = 0 in gray, no flux through the surface, a smooth
+   seed c0 exp(-|X - Xs|^2 / (2 s^2)) or a uniform c0;
+2. **atrophy**: theta of isotropic growth Fg = theta^(1/3) I (eq. 13) decreases where c is,
+   faster in gray than in white matter, towards theta_min (:mod:`ngincompat.atrophy`; exact
+   update, so theta never passes theta_min);
+3. **mechanics**: quasi-static, traction-free (rigid-body motions removed), neo-Hookean per
+   tissue, nearly incompressible through the mixed formulation, whose constraint acts on
+   Je = J / theta (so J -> theta, not 1).
+
+Because the coupling is one-way and the material is hyperelastic, the equilibrium at a time
+depends only on theta at that time: it is solved at ``snapshots`` equally spaced times or at
+the chosen ``times`` (each a stage of the pipeline, started from the previous equilibrium
+with theta ramped between them), while c and theta are marched with ``dt``; with VTK output
+each of these times is also a frame of the time series ``fields.pvd``. Volumes: total,
+gray and white volume loss 1 - int J dV / V0 at the snapshots; 1 - int theta dV / V0 and
+int c dV at every step.
+
+Geometry: the idealized ellipsoid with a gray shell (tetrahedra), the MNI152 template or a
+user's NIfTI label image (hexahedra on coarsened voxels, or six tetrahedra per voxel with
+``elements = tet``, :mod:`geometries.voxel_brain`), or a
+user's Netgen mesh with materials gray and white. On a real brain the axons of d_axn are
+still radial from the centre of the bounding box (no tractography); d_axn = 0 by default.
+
+Parameters and their sources (the paper gives none; every value is a choice, see
+docs of the brain scenes): d_ext = 1.5 mm^2/yr and alpha = 0.6 /yr as used in
+reimplementations of Weickenmeier, Jucker, Goriely & Kuhl, J. Mech. Phys. Solids 124 (2019)
+264; c0 = 0.1 in the seed as in that paper's 1-D test; theta_min = 0.7 from the paper's
+"maximum volume loss about 30 %"; rate_gray = 0.03 /yr (about 29 % gray loss in 40 years) and
+rate_white = 0.001 /yr ("white matter undergoes almost no shrinkage"); mu = 1 kPa in both
+tissues (stresses then read in units of mu) and nu = 0.49 (nearly incompressible).
+"""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+
+from geometries import brain
+from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
+
+from .. import curvature as cv
+from .. import incompatibility as inc
+from .. import output, postprocess
+from ..atrophy import AtrophyLaw, exposure_increment
+from ..errors import ParameterError, require
+from ..growth import IsotropicGrowth
+from ..kinematics import deformation_gradient
+from ..materials import NeoHookean
+from ..pipeline import Solution, solve_stages, timed
+from ..problem import GrowthMechanics, check_formulation
+from ..progress import Progress
+from ..results import Figure, Results
+from ..solver import NewtonOptions, SolverHistory, solve_growth
+from ..transport import FisherKPP, diffusion_tensor
+from .base import Scene, param
+from .hemisphere import spherical_basis
+
+TISSUES = ("gray", "white")
+PLANES = ("e1", "e2", "e3")
+#: The fields of a frame of the time series (the end's fields.vtu has more).
+FRAME_FIELDS = ("c", "theta", "u", "J", "Je", *(f"|b_{p}|" for p in PLANES),
+                "sigma_max_principal")
+GEOMETRIES = ("idealized", "mni152")
+#: Endings of a user's own brain: a NIfTI label image (1 gray, 2 white) or a Netgen mesh
+#: with materials gray and white.
+USER_FILES = (".nii", ".nii.gz", ".vol", ".vol.gz")
+
+
+def parse_vector(name, text, allowed):
+    """Three numbers from "X,Y,Z"; ParameterError naming ``name`` otherwise."""
+    try:
+        values = tuple(float(v) for v in str(text).split(","))
+    except ValueError:
+        values = ()
+    require(len(values) == 3, name, text, allowed)
+    return values
+
+
+@dataclass(frozen=True)
+class AtrophyScene(Scene):
+    """Brain atrophy driven by the spreading of misfolded protein (section 3.5)."""
+
+    name = "atrophy"
+    summary = ("section 3.5: misfolded protein spreads (Fisher-KPP) and shrinks gray matter "
+               "faster than white")
+    units = {"length": "cm", "stress": "kPa", "energy": "mJ", "time": "yr"}
+    metrics = ("volume_loss", "gray_volume_loss", "white_volume_loss", "volume_loss_theta",
+               "volume_bookkeeping_error", "Je_deviation_max", "burgers_max",
+               "burgers_peak_depth", "max_principal_stress", "stress_peak_depth",
+               "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
+               "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
+               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
+    metric_quantities = {**Scene.metric_quantities, "front_radius": "length",
+                         "burgers_peak_depth": "length", "stress_peak_depth": "length",
+                         "c_integral": "length^3"}
+
+    order: int = param(2, "polynomial order of the displacement (>= 2 for mixed)")
+    maxh: float = param(1.0, "mesh size (the voxel edge of mni152 and NIfTI brains)",
+                        "length")
+    g_order: int = param(2, "order of the H1 space that Fg is projected into for Curl Fg")
+    geometry: str = param("idealized", "brain: idealized (ellipsoid), mni152 (MNI ICBM152 "
+                          "template, needs nilearn), or a file: NIfTI labels (1 gray, 2 "
+                          "white) or a Netgen mesh (materials gray, white)")
+    elements: str = param("hex", "elements of a voxel brain (mni152, NIfTI): hex, or tet (six "
+                          "per voxel, as the curvature output needs)")
+    semi_axes: str = param("8.5,7.0,6.0", "semi-axes of the idealized brain along e1, e2, e3",
+                           "length")
+    gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length")
+    d_ext: float = param(0.015, "extracellular (isotropic) diffusivity", "length^2/time")
+    d_axn: float = param(0.0, "axonal diffusivity added along radial axons in white matter",
+                         "length^2/time")
+    alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time")
+    seed: str = param("0,0,-5", "seed: uniform, or its centre X,Y,Z (in or on the body)",
+                      "length")
+    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length")
+    c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)")
+    rate_gray: float = param(0.03, "initial rate of volume loss of gray matter at c = 1",
+                             "1/time")
+    rate_white: float = param(0.001, "initial rate of volume loss of white matter at c = 1",
+                              "1/time")
+    theta_min: float = param(0.7, "smallest volume ratio theta (largest loss 1 - theta_min)")
+    t_end: float = param(40.0, "duration", "time")
+    dt: float = param(0.2, "time step of transport and atrophy", "time")
+    snapshots: int = param(4, "equilibria solved at this many equally spaced times")
+    times: str = param("", "times of the equilibria and of the frames of fields.pvd instead: "
+                       "comma list in (0, t_end] (t_end is always one)", "time")
+    mu_gray: float = param(1.0, "shear modulus of gray matter", "stress")
+    mu_white: float = param(1.0, "shear modulus of white matter", "stress")
+    nu: float = param(0.49, "Poisson's ratio of both tissues")
+    formulation: str = param("mixed", "mixed (pressure against volumetric locking, on Je) "
+                             "or displacement")
+
+    def __post_init__(self):
+        super().__post_init__()
+        require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
+                self.geometry, f"{', '.join(GEOMETRIES)} or a file ending in "
+                f"{', '.join(USER_FILES)}")
+        require(self.elements in ELEMENTS, "elements", self.elements, " or ".join(ELEMENTS))
+        axes = self.axes()
+        require(min(axes) > 0, "semi_axes", self.semi_axes, "three lengths > 0")
+        require(0 < self.gray_thickness < min(axes) / 2, "gray_thickness",
+                self.gray_thickness, f"in (0, {min(axes) / 2:g}) (half the smallest semi-axis)")
+        require(self.d_ext >= 0, "d_ext", self.d_ext, ">= 0 (diffusivity)")
+        require(self.d_axn >= 0, "d_axn", self.d_axn, ">= 0 (diffusivity)")
+        require(self.alpha >= 0, "alpha", self.alpha, ">= 0 (conversion rate)")
+        require(0 < self.c0 <= 1, "c0", self.c0, "in (0, 1]")
+        require(self.seed_radius > 0, "seed_radius", self.seed_radius, "> 0")
+        centre = self.seed_centre()
+        if centre is not None and self.geometry == "idealized":
+            inside = sum((x / a) ** 2 for x, a in zip(centre, axes, strict=True))
+            require(inside <= 1 + 1e-9, "seed", self.seed,
+                    "uniform, or X,Y,Z inside or on the body "
+                    f"((X/{axes[0]:g})^2 + (Y/{axes[1]:g})^2 + (Z/{axes[2]:g})^2 <= 1)")
+        require(self.t_end > 0, "t_end", self.t_end, "> 0")
+        require(0 < self.dt <= self.t_end, "dt", self.dt, f"in (0, t_end = {self.t_end:g}]")
+        require(isinstance(self.snapshots, int) and 1 <= self.snapshots <= self.n_steps(),
+                "snapshots", self.snapshots, f"an integer in [1, {self.n_steps()}] (the "
+                "number of time steps)")
+        self.snapshot_steps()
+        for law in self.laws().values():
+            law.check_step(self.t_end / self.n_steps())
+        self.material_moduli()
+        check_formulation(NeoHookean.from_nu(self.mu_gray, self.nu), self.formulation,
+                          self.order)
+
+    def axes(self):
+        """The semi-axes as three floats."""
+        return parse_vector("semi_axes", self.semi_axes, "three lengths A,B,C > 0")
+
+    def seed_centre(self):
+        """The seed's centre, or None for a uniform seed."""
+        if str(self.seed).strip() == "uniform":
+            return None
+        return parse_vector("seed", self.seed, "uniform, or a position X,Y,Z")
+
+    def n_steps(self):
+        """Number of equal time steps, of length t_end / n <= dt."""
+        return max(1, int(np.ceil(self.t_end / self.dt - 1e-9)))
+
+    def snapshot_steps(self):
+        """The steps (counted from 0) after which the equilibrium is solved and a frame of the
+        time series taken: ``times`` rounded to the nearest step, else ``snapshots`` equally
+        spaced ones; the last step always."""
+        n = self.n_steps()
+        if not str(self.times).strip():
+            return [round(k * n / self.snapshots) for k in range(1, self.snapshots + 1)]
+        allowed = f"a comma list of times in (0, t_end = {self.t_end:g}]"
+        try:
+            times = [float(v) for v in str(self.times).split(",")]
+        except ValueError:
+            times = [np.nan]
+        require(all(0 < t <= self.t_end + 1e-9 for t in times), "times", self.times, allowed)
+        return sorted({max(1, round(t / self.t_end * n)) for t in times} | {n})
+
+    def laws(self):
+        """The atrophy law of each tissue."""
+        return {"gray": AtrophyLaw(self.rate_gray, self.theta_min, "rate_gray"),
+                "white": AtrophyLaw(self.rate_white, self.theta_min, "rate_white")}
+
+    def material_moduli(self):
+        """tissue -> (mu, nu), checked."""
+        moduli = {"gray": (self.mu_gray, self.nu), "white": (self.mu_white, self.nu)}
+        for tissue, (mu, nu) in moduli.items():
+            require(mu > 0, f"mu_{tissue}", mu, "> 0 (shear modulus)")
+            NeoHookean.from_nu(mu, nu)
+        return moduli
+
+    def build(self):
+        mesh = self.mesh()
+        missing = set(TISSUES) - set(mesh.GetMaterials())
+        if missing:
+            raise ParameterError(f"geometry = {self.geometry}: the brain mesh lacks the "
+                                 f"materials {', '.join(sorted(missing))}")
+        centre = self.seed_centre()
+        if centre is not None and mesh(*centre).nr < 0:
+            box = np.array([v.point for v in mesh.vertices])
+            raise ParameterError(
+                f"seed = {self.seed} is outside the body: allowed uniform, or X,Y,Z inside "
+                f"it (bounding box {np.round(box.min(axis=0), 2).tolist()} to "
+                f"{np.round(box.max(axis=0), 2).tolist()})")
+        if "curvature" in self.output_set() and any(
+                el.type != ngs.ET.TET for el in mesh.Elements(ngs.VOL)):
+            raise ParameterError(f"outputs = {self.outputs}: the curvature of the growth metric "
+                                 f"(Regge elements) needs a tetrahedral mesh; geometry = "
+                                 f"{self.geometry} is meshed with hexahedra (a voxel brain "
+                                 f"takes --set elements=tet)")
+        return AtrophyCase(self, mesh)
+
+    def mesh(self):
+        """The brain: the ellipsoid, the MNI152 template, or the user's file (cm)."""
+        if self.geometry == "idealized":
+            return brain(semi_axes=self.axes(), gray=self.gray_thickness, maxh=self.maxh,
+                         curve_order=self.order)
+        if self.geometry == "mni152":
+            return mni152(self.maxh, self.elements)
+        if self.geometry.endswith((".nii", ".nii.gz")):
+            return from_nifti(self.geometry, self.maxh, self.elements)
+        if not Path(self.geometry).is_file():
+            raise ParameterError(f"geometry = {self.geometry}: no such file")
+        try:
+            return ngs.Mesh(self.geometry)
+        except Exception as err:   # Netgen raises its own kinds for unreadable files
+            raise ParameterError(f"geometry = {self.geometry}: not a readable Netgen mesh "
+                                 f"({err})") from None
+
+
+@dataclass(eq=False)
+class AtrophyCase:
+    """The atrophy scene's case: transport, exposure, atrophy and the mechanics, walked in
+    one stage per snapshot (:class:`AtrophyStage`)."""
+
+    scene: AtrophyScene
+    mesh: ngs.Mesh
+    series: dict = field(default_factory=dict)
+    snapshots: dict = field(default_factory=dict)
+    #: (t, fields) at the snapshot times, frozen (:func:`ngincompat.output.interpolated`).
+    frames: list = field(default_factory=list)
+
+    def __post_init__(self):
+        scene, mesh = self.scene, self.mesh
+        X = ngs.CF((ngs.x, ngs.y, ngs.z))
+        white = mesh.MaterialCF({"white": 1.0}, default=0.0)
+        axon = X / (ngs.Norm(X) + 1e-12)
+        D = diffusion_tensor(scene.d_ext, scene.d_axn * white, axon if scene.d_axn else None)
+        centre = scene.seed_centre()
+        if centre is None:
+            c0 = ngs.CF(scene.c0)
+        else:
+            d = X - ngs.CF(centre)
+            c0 = scene.c0 * ngs.exp(-ngs.InnerProduct(d, d) / (2 * scene.seed_radius ** 2))
+        self.transport = FisherKPP(mesh, D, scene.alpha, c0)
+        self.exposure = ngs.GridFunction(self.transport.fes, name="exposure")
+        self.exposure_solved = ngs.GridFunction(self.transport.fes)
+        self.ramp = ngs.Parameter(0.0)
+        ramped = self.exposure_solved + self.ramp * (self.exposure - self.exposure_solved)
+        laws = scene.laws()
+        self.theta = mesh.MaterialCF({k: laws[k].theta(self.exposure, ngs.exp)
+                                      for k in TISSUES})
+        self.growth = IsotropicGrowth(mesh.MaterialCF({k: laws[k].theta(ramped, ngs.exp)
+                                                       for k in TISSUES}))
+        self.material = NeoHookean.by_region(mesh, scene.material_moduli())
+        self.problem = None
+        self.volume0 = {k: ngs.Integrate(1.0, mesh, definedon=mesh.Materials(k))
+                        for k in TISSUES}
+        self.volume0["total"] = sum(self.volume0.values())
+        self.vertices = np.array([v.point for v in mesh.vertices])
+        #: Largest |X_k| of the body: the extent of the sections and of the profile.
+        self.extent = np.max(np.abs(self.vertices), axis=0)
+        self.c_extremes = [self.transport.minimum(), self.transport.maximum()]
+        self._record(0.0)
+
+    def stages(self):
+        """One stage per snapshot time."""
+        scene = self.scene
+        ends = scene.snapshot_steps()
+        starts = [0] + ends[:-1]
+        dt = scene.t_end / scene.n_steps()
+        return [AtrophyStage(f"t={e * dt:g}", self, s, e, dt)
+                for s, e in zip(starts, ends, strict=True)]
+
+    def advance(self, steps, dt):
+        """``steps`` steps of transport and atrophy; the time series at every step."""
+        for _ in range(steps):
+            self.transport.step(dt)
+            c = self.transport.c.vec.FV().NumPy()
+            self.exposure.vec.FV().NumPy()[:] += exposure_increment(c, dt)
+            self.c_extremes = [min(self.c_extremes[0], float(c.min())),
+                               max(self.c_extremes[1], float(c.max()))]
+            self._record(self.transport.t)
+
+    def _record(self, t):
+        volumes = self.volumes(self.theta)
+        row = {"t": t, "c_integral": self.transport.integral(),
+               "c_min": self.transport.minimum(),
+               **{f"{k}_volume_loss_theta": 1 - volumes[k] / self.volume0[k]
+                  for k in volumes}}
+        centre = self.scene.seed_centre()
+        if centre is not None:
+            reached = self.transport.c.vec.FV().NumPy() >= 0.5
+            row["front_radius"] = float(np.max(np.linalg.norm(
+                self.vertices[reached] - centre, axis=1), initial=0.0))
+        for key, value in row.items():
+            self.series.setdefault(key, []).append(value)
+
+    def volumes(self, density):
+        """int density dV over each tissue and the whole body."""
+        out = {k: ngs.Integrate(density, self.mesh, definedon=self.mesh.Materials(k),
+                                order=2 * self.scene.order + 2) for k in TISSUES}
+        out["total"] = sum(out.values())
+        return out
+
+    def equilibrium(self, progress, stage):
+        """Solve the mechanics with theta ramped from the last equilibrium to now."""
+        if self.problem is None:
+            self.problem = GrowthMechanics(self.mesh, self.growth, self.material,
+                                           order=self.scene.order,
+                                           formulation=self.scene.formulation)
+        self.ramp.Set(0.0)
+        options = NewtonOptions(steps=self.scene.steps, reuse_tangent=True)
+        history = solve_growth(self.problem, self.ramp, options, 1.0, progress=progress,
+                               stage=stage)
+        self.exposure_solved.vec.data = self.exposure.vec
+        J = ngs.Det(deformation_gradient(self.problem.u))
+        volumes = self.volumes(J)
+        row = {"t": self.transport.t,
+               **{f"{k}_volume_loss": 1 - volumes[k] / self.volume0[k] for k in volumes}}
+        for key, value in row.items():
+            self.snapshots.setdefault(key, []).append(value)
+        return history
+
+    def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
+        solution.state = self
+        with ngs.TaskManager():
+            solve_stages(self.stages(), progress, solution)
+
+    def interrupted(self, solution: Solution) -> Results:
+        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
+                                    solver=dict(solution.histories))
+        if self.problem is not None:
+            results.mesh.ndof = self.problem.ndof
+        results.profiles = {"series": {k: np.array(v) for k, v in self.series.items()}}
+        results.frames = list(self.frames)
+        if self.snapshots:
+            results.profiles["snapshots"] = {k: np.array(v) for k, v in self.snapshots.items()}
+        return results
+
+    def measure(self, solution: Solution, progress: Progress) -> Results:
+        """Volumes, incompatibility, residual stress, profile, sections and figures."""
+        results = self.interrupted(solution)
+        scene, metrics = self.scene, results.metrics
+        with ngs.TaskManager():
+            with progress.phase("incompatibility"), timed(results.timings, "incompatibility"):
+                fields, inc_metrics = self._incompatibility()
+            metrics.update(inc_metrics)
+            if "curvature" in scene.output_set():
+                with progress.phase("curvature"), timed(results.timings, "curvature"):
+                    metrics.update(self._curvature(fields))
+            with progress.phase("stresses and profiles"), \
+                    timed(results.timings, "postprocess"):
+                metrics.update(self._transport_metrics())
+                if self.problem is not None and self.snapshots:
+                    metrics.update(self._mechanics(fields))
+                results.profiles["line"] = self._line(fields, metrics)
+                results.profiles["sections"] = self._sections(fields)
+        results.fields = fields
+        results.figures = _figures(scene, self.problem is not None and bool(self.snapshots))
+        if "curvature" in scene.output_set():
+            results.figures.append(cv.figure(scene, "R", {"|b| (largest plane)": "burgers"}))
+        return results
+
+    def take_frame(self, t):
+        """Freeze the fields of :data:`FRAME_FIELDS` now: the frame of time ``t``."""
+        fields = self._incompatibility_fields()
+        if self.problem is not None:
+            fields.update(self._mechanics_fields())
+        order = min(self.scene.order, output.VTK_ORDER)
+        self.frames.append((t, output.interpolated(
+            {k: fields[k] for k in FRAME_FIELDS if k in fields}, self.mesh, order, copy=True)))
+
+    def _incompatibility_fields(self):
+        """G by the projected path (eq. 10) and b on the coordinate planes (eq. 11)."""
+        growth = IsotropicGrowth(self.theta)
+        curl_Fg, self.Fg_h = inc.curl_projected(growth.Fg, self.mesh, self.scene.g_order)
+        self.G = G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
+        fields = {"c": self.transport.c, "theta": self.theta, "exposure": self.exposure,
+                  "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
+        for label, n in zip(PLANES, ((1, 0, 0), (0, 1, 0), (0, 0, 1)), strict=True):
+            b = inc.burgers_vector(G, ngs.CF(n))
+            fields[f"b_{label}"] = b
+            fields[f"|b_{label}|"] = ngs.Norm(b)
+        fields["|b|"] = _larger(_larger(fields["|b_e1|"], fields["|b_e2|"]),
+                                fields["|b_e3|"])
+        return fields
+
+    def _incompatibility(self):
+        """The fields of :meth:`_incompatibility_fields`, the largest |b| and ||G||_L2."""
+        fields = self._incompatibility_fields()
+        G_norm = ngs.Integrate(ngs.InnerProduct(self.G, self.G), self.mesh,
+                               order=2 * self.scene.g_order)
+        return fields, {"burgers_max": postprocess.maximum(fields["|b|"], self.mesh),
+                        "G_norm_L2": max(G_norm, 0.0) ** 0.5}
+
+    def _curvature(self, fields):
+        """The curvature of Cg (:mod:`ngincompat.curvature`): theta is computed on the mesh, so
+        the Regge path on the continuous interpolant of Fg that G comes from; adds the fields,
+        returns the metrics."""
+        extra, metrics = cv.measure_growth(self.Fg_h, self.mesh, self.G, exact=False)
+        fields.update(extra)
+        return metrics
+
+    def _transport_metrics(self):
+        last = {k: v[-1] for k, v in self.series.items()}
+        metrics = {"c_min": self.c_extremes[0], "c_max": self.c_extremes[1],
+                   "c_integral": last["c_integral"],
+                   "volume_loss_theta": last["total_volume_loss_theta"],
+                   "theta_min_reached": -postprocess.maximum(-self.theta, self.mesh)}
+        if "front_radius" in last:
+            metrics["front_radius"] = last["front_radius"]
+        return metrics
+
+    def _mechanics_fields(self):
+        """u, J, Je and the max principal Cauchy stress of the last equilibrium."""
+        problem = self.problem
+        sigma = postprocess.stresses(problem.energy_density, problem.u)["sigma"]
+        J = ngs.Det(deformation_gradient(problem.u))
+        return {"u": problem.u, "J": J, "Je": J / self.theta,
+                "sigma_max_principal": postprocess.largest_principal_value(sigma)}
+
+    def _mechanics(self, fields):
+        """Stresses and volumes of the last equilibrium; adds the fields, returns metrics."""
+        mesh, problem = self.mesh, self.problem
+        stress = postprocess.stresses(problem.energy_density, problem.u)
+        F = deformation_gradient(problem.u)
+        J = ngs.Det(F)
+        sigma = stress["sigma"]
+        fields.update(self._mechanics_fields())
+        order = 2 * self.scene.order + 2
+        total = ngs.Integrate(stress["P"] * F.trans, mesh, order=order)
+        size = ngs.Integrate(ngs.Norm(sigma) * J, mesh, order=order)
+        volumes_J = self.volumes(J)
+        volumes_theta = self.volumes(self.theta)
+        return {
+            "volume_loss": self.snapshots["total_volume_loss"][-1],
+            "gray_volume_loss": self.snapshots["gray_volume_loss"][-1],
+            "white_volume_loss": self.snapshots["white_volume_loss"][-1],
+            "volume_bookkeeping_error":
+                abs(volumes_J["total"] - volumes_theta["total"]) / self.volume0["total"],
+            "Je_deviation_max": max(postprocess.maximum(J / self.theta - 1, mesh),
+                                    postprocess.maximum(1 - J / self.theta, mesh)),
+            "max_principal_stress": postprocess.maximum(fields["sigma_max_principal"], mesh),
+            "equilibrium_residual_rel": float(np.linalg.norm(np.array(total))) / size,
+        }
+
+    def _line(self, fields, metrics):
+        """The profile from the centre along +X1 to the surface, with the depth of the
+        largest |b| and stress below the surface (the last point of the line in the body)."""
+        a = float(self.extent[0])
+        basis = spherical_basis()
+        sampled = {"c": fields["c"], "theta": fields["theta"], "burgers": fields["|b|"],
+                   **{f"|b_{p}|": fields[f"|b_{p}|"] for p in PLANES},
+                   **{k: fields[k] for k in ("einstein_norm_g", "scalar_curvature")
+                      if k in fields}}
+        if "u" in fields:
+            sigma = postprocess.stresses(self.problem.energy_density, self.problem.u)["sigma"]
+            sampled.update({
+                "sigma_rr": postprocess.component(sigma, basis["r"]),
+                "sigma_thetatheta": postprocess.component(sigma, basis["theta"]),
+                "sigma_max_principal": fields["sigma_max_principal"]})
+        s, values = postprocess.sample_line(self.mesh, sampled, (0.0, 0.0, 0.0), (a, 0, 0),
+                                            n=401)
+        line = {"R": s, **values}
+        surface = s[np.flatnonzero(np.isfinite(values["c"]))[-1]]     # last point inside
+        metrics["burgers_peak_depth"] = float(surface - s[np.nanargmax(values["burgers"])])
+        if "sigma_max_principal" in values:
+            metrics["stress_peak_depth"] = float(
+                surface - s[np.nanargmax(values["sigma_max_principal"])])
+        return line
+
+    def _sections(self, fields, n=121):
+        """theta, |b| and the max principal stress on the planes X_k = 0, k = 1, 2, 3,
+        sampled on n x n grids (NaN outside the mesh)."""
+        axes = self.extent
+        keys = [k for k in ("theta", "|b|", "sigma_max_principal") if k in fields]
+        out = {}
+        for k, plane in enumerate(PLANES):
+            i, j = [m for m in range(3) if m != k]
+            u = np.linspace(-axes[i], axes[i], n)
+            v = np.linspace(-axes[j], axes[j], n)
+            U, V = np.meshgrid(u, v)
+            pts = np.zeros((U.size, 3))
+            pts[:, i], pts[:, j] = U.ravel(), V.ravel()
+            mips = self.mesh(pts[:, 0], pts[:, 1], pts[:, 2])
+            inside = mips["nr"] >= 0
+            mips = mips[inside]
+            out[f"{plane}_u"], out[f"{plane}_v"] = u, v
+            for key in keys:
+                values = np.full(U.size, np.nan)
+                values[inside] = np.asarray(fields[key](mips)).ravel()
+                out[f"{plane}_{key}"] = values.reshape(U.shape)
+        return out
+
+
+@dataclass(eq=False)
+class AtrophyStage:
+    """Transport and atrophy from step ``first`` to ``last``, then the equilibrium there."""
+
+    name: str
+    case: AtrophyCase
+    first: int
+    last: int
+    dt: float
+
+    def run(self, progress: Progress) -> SolverHistory:
+        case = self.case
+        case.advance(self.last - self.first, self.dt)
+        history = (case.equilibrium(progress, self.name) if case.scene.mechanics
+                   else SolverHistory(converged=True, t_reached=1.0))
+        if history.converged and "vtk" in case.scene.output_set():
+            case.take_frame(self.last * self.dt)
+        return history
+
+
+def _larger(a, b):
+    """max(a, b) of two scalar CoefficientFunctions."""
+    return ngs.IfPos(a - b, a, b)
+
+
+def _figures(scene, mechanics):
+    """Time series, the profile along +X1 and the three sections (Fig. 5)."""
+    L, stress, T = (scene.units[k] for k in ("length", "stress", "time"))
+    title = scene.title()
+    figures = [
+        Figure("spreading.png", "t", f"t [{T}]", {"int c dV": "c_integral"},
+               f"int c dV [{L}$^3$]", f"{title}: misfolded protein",
+               right={"front radius": "front_radius"} if scene.seed_centre() else {},
+               right_label=f"front radius (c >= 1/2) [{L}]", profile="series"),
+        Figure("volume_theta.png", "t", f"t [{T}]",
+               {f"{k}": f"{k}_volume_loss_theta" for k in ("total", *TISSUES)},
+               "1 - int theta dV / V0 [-]", f"{title}: volume loss from theta",
+               profile="series"),
+        Figure("profile.png", "R", f"X1 [{L}]", {"theta": "theta", "c": "c"}, "theta, c [-]",
+               f"{title}: from the centre along +X1",
+               right={"|b| (largest plane)": "burgers"}, right_label=f"|b| [1/{L}]"),
+    ]
+    if mechanics:
+        figures += [
+            Figure("volume_loss.png", "t", f"t [{T}]",
+                   {k: f"{k}_volume_loss" for k in ("total", *TISSUES)},
+                   "1 - int J dV / V0 [-]", f"{title}: volume loss", profile="snapshots"),
+            Figure("stress.png", "R", f"X1 [{L}]",
+                   {"sigma_rr": "sigma_rr", "sigma_thetatheta": "sigma_thetatheta",
+                    "max principal": "sigma_max_principal"},
+                   f"Cauchy stress [{stress}]", f"{title}: residual stress along +X1",
+                   floor=1e-3 * min(scene.mu_gray, scene.mu_white)),
+        ]
+    labels = {"theta": "theta [-]", "|b|": f"|b| [1/{L}]",
+              "sigma_max_principal": f"max principal stress [{stress}]"}
+    keys = [k for k in labels if mechanics or k != "sigma_max_principal"]
+    figures.append(Figure("sections.png", "e1_u", f"[{L}]",
+                          {f"{labels[k]} on X{p[1]} = 0": f"{p}_{k}"
+                           for p in PLANES for k in keys},
+                          f"[{L}]", f"{title}: sections (Fig. 5)", profile="sections",
+                          kind="maps"))
+    return figures

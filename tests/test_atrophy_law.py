@@ -1,0 +1,54 @@
+"""The atrophy law (ngincompat.atrophy) against the closed-form solution of its ODE."""
+
+import numpy as np
+import pytest
+
+from ngincompat.atrophy import AtrophyLaw, exposure_increment
+from ngincompat.errors import ParameterError
+from ngincompat.transport import logistic, logistic_integral
+
+
+def closed_form(t, G, theta_min=0.7, c0=0.1, alpha=0.6):
+    """theta(t) for a uniform logistic c: theta_min + (1 - theta_min) exp(-G I(t) / span)."""
+    span = 1 - theta_min
+    return theta_min + span * np.exp(-G * logistic_integral(t, c0, alpha) / span)
+
+
+def test_closed_form_numbers():
+    # brain-scenes.md O-A3
+    assert closed_form(np.array([10, 20, 40]), 0.03) == pytest.approx(
+        [0.86140, 0.75959, 0.70807], abs=1e-5)
+    assert closed_form(40, 0.001) == pytest.approx(0.96593, abs=1e-5)
+
+
+def test_exact_exposure_gives_the_closed_form_to_round_off():
+    law = AtrophyLaw(0.03, 0.7)
+    t = np.linspace(0, 40, 9)
+    assert law.theta(logistic_integral(t, 0.1, 0.6)) == pytest.approx(closed_form(t, 0.03),
+                                                                      rel=1e-14)
+
+
+def test_stepwise_update_matches_the_ODE_first_order_and_never_passes_theta_min():
+    law = AtrophyLaw(0.03, 0.7)
+    errors = []
+    for dt in (0.4, 0.2, 0.1):
+        E = 0.0
+        for k in range(1, int(round(40 / dt)) + 1):
+            E += exposure_increment(logistic(k * dt, 0.1, 0.6), dt)   # c frozen at c^{n+1}
+        errors.append(law.theta(E) - closed_form(40, 0.03))
+    rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(np.abs(rates - 1) < 0.1), (errors, rates)
+    # any exposure, however large, stays above theta_min; c outside [0, 1] is clamped
+    big = AtrophyLaw(1.0, 0.7)
+    assert np.all(big.theta(np.array([0.0, 1.0, 10.0, 1e3])) >= 0.7)
+    assert exposure_increment(np.array([-0.1, 0.5, 1.2]), 2.0) == pytest.approx([0, 1, 2])
+
+
+def test_bad_input_names_the_parameter():
+    with pytest.raises(ParameterError, match="rate_gray.*>= 0"):
+        AtrophyLaw(-1.0, 0.7, "rate_gray")
+    with pytest.raises(ParameterError, match="theta_min.*in \\(0, 1\\)"):
+        AtrophyLaw(0.1, 1.0)
+    with pytest.raises(ParameterError, match="rate_white.*pass theta_min"):
+        AtrophyLaw(4.0, 0.7, "rate_white").check_step(0.1)
+    AtrophyLaw(2.9, 0.7).check_step(0.1)
