@@ -390,16 +390,21 @@ class AtrophyCase:
                 results.profiles["line"] = self._line(fields, metrics)
                 results.profiles["sections"] = self._sections(fields)
         results.fields = fields
+        if results.converged and "vtk" in scene.output_set():
+            self.take_frame(scene.t_end, fields)       # the end's frame: the fields just made
+            results.frames = list(self.frames)
         results.figures = _figures(scene, self.problem is not None and bool(self.snapshots))
         if "curvature" in scene.output_set():
             results.figures.append(cv.figure(scene, "R", {"|b| (largest plane)": "burgers"}))
         return results
 
-    def take_frame(self, t):
-        """Freeze the fields of :data:`FRAME_FIELDS` now: the frame of time ``t``."""
-        fields = self._incompatibility_fields()
-        if self.problem is not None:
-            fields.update(self._mechanics_fields())
+    def take_frame(self, t, fields=None):
+        """Freeze the fields of :data:`FRAME_FIELDS` now (computed unless given): the frame of
+        time ``t``."""
+        if fields is None:
+            fields = self._incompatibility_fields()
+            if self.problem is not None:
+                fields.update(self._mechanics_fields())
         order = min(self.scene.order, output.VTK_ORDER)
         self.frames.append((t, output.interpolated(
             {k: fields[k] for k in FRAME_FIELDS if k in fields}, self.mesh, order, copy=True)))
@@ -542,7 +547,8 @@ class AtrophyStage:
         case.advance(self.last - self.first, self.dt)
         history = (case.equilibrium(progress, self.name) if case.scene.mechanics
                    else SolverHistory(converged=True, t_reached=1.0))
-        if history.converged and "vtk" in case.scene.output_set():
+        if (history.converged and "vtk" in case.scene.output_set()
+                and self.last < case.scene.n_steps()):    # the end's frame: see measure
             case.take_frame(self.last * self.dt)
         return history
 
