@@ -154,12 +154,11 @@ class GrowthMechanics:
         else:
             self.pinned = ()
         self._fit_inverse = None
-        trial = self.fes.TrialFunction()
-        if mixed:
-            density = self._density(kinematics.deformation_gradient(trial[0]), trial[1])
-        else:
-            density = self._density(kinematics.deformation_gradient(trial))
-        self.form = ngs.BilinearForm(self.fes, symmetric=True, condense=condense)
+        form_space = component_space(self.space, [self.fes.components[1]] if mixed else [])
+        trial = form_space.TrialFunction()
+        F = kinematics.component_deformation_gradient(trial[:3])
+        density = self._density(F, trial[3]) if mixed else self._density(F)
+        self.form = ngs.BilinearForm(form_space, symmetric=True, condense=condense)
         self.form += ngs.Variation(density.Compile() * ngs.dx)
 
     has_energy = True
@@ -296,6 +295,25 @@ class _ComponentLaplaceInverse:
         if self.distributed:
             w.SetParallelStatus(self._sol.GetParallelStatus())
         return w
+
+
+def component_space(space, rest=()):
+    """The space of the energy form: the displacement space ``space`` (VectorH1) as three
+    scalar H1 spaces of its order, followed by the spaces ``rest``.
+
+    VectorH1 stores its three H1 components one after the other, so the compound has the
+    same dofs in the same order and every vector and matrix of the one is one of the other
+    (the boundary conditions stay with ``space``: the form needs none). The tangent of the
+    energy is the same matrix, but NGSolve assembles it per pair of components, skipping
+    the zero blocks of Grad u's derivative with respect to the dofs, which VectorH1's
+    tangent multiplies through: half the time of the element matrices on the cube's
+    tetrahedra of order 6 (measured 0.12 s against 0.24 s per tangent).
+    """
+    scalar = ngs.H1(space.mesh, order=space.globalorder)
+    compound = ngs.FESpace([scalar] * 3 + list(rest))
+    require(compound.ndof == space.ndof + sum(r.ndof for r in rest), "displacement space",
+            space, "VectorH1 of three H1 components")
+    return compound
 
 
 def displacement_space(mesh, order, dirichlet="", symmetry=None):
