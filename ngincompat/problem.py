@@ -115,12 +115,19 @@ class GrowthMechanics:
         problem is a saddle point, so the line search tests the residual instead of the energy.
         Needs a :class:`~ngincompat.materials.MixedMaterial`, one with such a bulk term
         (neo-Hookean, g = ln Je), and order >= 2.
+    components : bool
+        Assemble the energy on three scalar H1 spaces (:func:`component_space`): the same
+        energy, residual and tangent as on VectorH1, the tangent in half the time. False
+        assembles it on VectorH1, as NGSolve's BDDC preconditioner (the iterative linear
+        solvers) needs: built on the component spaces, its coarse problem is singular
+        (measured: GMRES then stalls on the cube).
     """
 
     def __init__(self, mesh: ngs.Mesh, growth: GrowthModel, material: Material, order: int = 2,
                  fibers: Sequence[DirectionField] = (), dirichlet: str = "",
                  symmetry: Mapping[str, str] | None = None, condense: bool = True,
-                 formulation: Literal["displacement", "mixed"] = "displacement"):
+                 formulation: Literal["displacement", "mixed"] = "displacement",
+                 components: bool = True):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         check_formulation(material, formulation, order)
         mixed = formulation == "mixed"
@@ -154,10 +161,17 @@ class GrowthMechanics:
         else:
             self.pinned = ()
         self._fit_inverse = None
-        form_space = component_space(self.space, [self.fes.components[1]] if mixed else [])
-        trial = form_space.TrialFunction()
-        F = kinematics.component_deformation_gradient(trial[:3])
-        density = self._density(F, trial[3]) if mixed else self._density(F)
+        if components:
+            form_space = component_space(self.space, [self.fes.components[1]] if mixed else [])
+            trial = form_space.TrialFunction()
+            F = kinematics.component_deformation_gradient(trial[:3])
+            pressure = trial[3] if mixed else None
+        else:
+            form_space = self.fes
+            trial = self.fes.TrialFunction()
+            F = kinematics.deformation_gradient(trial[0] if mixed else trial)
+            pressure = trial[1] if mixed else None
+        density = self._density(F, pressure)
         self.form = ngs.BilinearForm(form_space, symmetric=True, condense=condense)
         self.form += ngs.Variation(density.Compile() * ngs.dx)
 
