@@ -101,14 +101,14 @@ TIMEOUT = 3600.0
 MEMORY_LIMIT = 16.0
 
 
-def mechanics(maxh, order):
+def mechanics(maxh, order, solver=None):
     """The cube scene's mechanics problem (condensed) at t = 1, as the scene's case builds
-    it."""
+    it for ``solver`` (one of :data:`SOLVERS`: BDDC needs the energy form on VectorH1)."""
     from .scenes import CubeScene
 
     case = CubeScene(maxh=maxh, order=order).build()
     case.time.Set(1.0)
-    return case.mechanics()
+    return case.mechanics("cg" if solver == "bddc" else "direct")
 
 
 def first_state(problem):
@@ -136,7 +136,8 @@ def peak_mib():
 
 
 def newton_step(problem, solver, tol=CG_TOL, maxiter=CG_MAXITER, row=None):
-    """Assemble the tangent at the problem's state and solve K du = r once with ``solver``.
+    """Assemble the tangent at the problem's state and solve K du = r once with ``solver``
+    (``problem`` as :func:`mechanics` builds it for that solver).
 
     Returns du (the full Newton direction, as :class:`NewtonSolver` computes it) and
     the row of measurements described in the module docstring, filled into ``row`` if given
@@ -229,7 +230,7 @@ def run_task(path):
     try:
         with ngs.TaskManager():
             row["threads"] = GetNumThreads()
-            problem = mechanics(task["maxh"], task["order"])
+            problem = mechanics(task["maxh"], task["order"], task["solver"])
             row["elements"] = problem.mesh.ne
             if task["solver"] is None:
                 np.save(task["state"], first_state(problem))

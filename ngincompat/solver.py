@@ -74,6 +74,14 @@ class NewtonProblem(Protocol):
 LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres")
 
 
+def resolve_linear_solver(name, mesh):
+    """The linear solver that ``name`` (one of :data:`LINEAR_SOLVERS`) means on ``mesh``:
+    "auto" is "direct" in a serial run and "cg" on a distributed mesh."""
+    if name != "auto":
+        return name
+    return "cg" if parallel.distributed(mesh) else "direct"
+
+
 @dataclass(frozen=True)
 class NewtonOptions:
     """Settings of the nonlinear solver.
@@ -220,9 +228,7 @@ class NewtonSolver:
         self._fixed[list(problem.pinned)] = True
         mesh = problem.fes.mesh
         self._mesh = mesh
-        self.linear_solver = options.linear_solver
-        if self.linear_solver == "auto":
-            self.linear_solver = "cg" if parallel.distributed(mesh) else "direct"
+        self.linear_solver = resolve_linear_solver(options.linear_solver, mesh)
         self._preconditioner = None
         self._linear = None
         if self.linear_solver != "direct":

@@ -67,6 +67,33 @@ def test_energy_residual_tangent_agree_by_finite_differences():
     assert diff.Norm() < 1e-6 * Kw.Norm()
 
 
+@pytest.mark.parametrize("formulation", ["displacement", "mixed"])
+def test_component_form_equals_the_vector_form(formulation):
+    """The energy form on three scalar H1 spaces (components=True) gives the energy, residual
+    and tangent of the same energy on VectorH1 (components=False), to round-off."""
+    time = ngs.Parameter(1.0)
+    growth = IsotropicGrowth(1 + 0.25 * ngs.x * time)
+    mesh = cube(maxh=0.5, elements="tet")
+    component, vector = (GrowthMechanics(mesh, growth, MATERIAL, order=3,
+                                         formulation=formulation, components=c).form
+                         for c in (True, False))
+    assert component.space.ndof == vector.space.ndof
+    spaces = (vector.space,) if formulation == "displacement" else vector.space.components
+    assert isinstance(spaces[0], ngs.VectorH1)
+    u = ngs.GridFunction(vector.space).vec
+    u.FV().NumPy()[:] = 0.02 * np.random.default_rng(1).standard_normal(len(u))
+    r, r_vector = u.CreateVector(), u.CreateVector()
+    component.Apply(u, r)
+    vector.Apply(u, r_vector)
+    assert component.Energy(u) == pytest.approx(vector.Energy(u), rel=1e-12)
+    r_vector.data -= r
+    assert r_vector.Norm() < 1e-12 * r.Norm()
+    component.AssembleLinearization(u)
+    vector.AssembleLinearization(u)
+    K, K_vector = (np.array(f.mat.COO()[2]) for f in (component, vector))
+    assert np.abs(K - K_vector).max() < 1e-12 * np.abs(K).max()
+
+
 def test_cube_energy_converges_to_reference():
     """The cube of section 3.1: strain energy 2.19533e-7 N mm (independent high-order runs);
     order 4 on 4^3 hexahedra is within 1e-4 of it."""

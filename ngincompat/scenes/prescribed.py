@@ -24,7 +24,7 @@ from ..materials import NeoHookean
 from ..pipeline import solve_stages, timed
 from ..problem import GrowthMechanics, check_formulation
 from ..results import Figure
-from ..solver import LINEAR_SOLVERS, NewtonOptions
+from ..solver import LINEAR_SOLVERS, NewtonOptions, resolve_linear_solver
 from ..stages import PrescribedGrowthStage
 from .base import Scene, param
 
@@ -91,13 +91,17 @@ class PrescribedCase:
     mirror: int = 1
     analytic: bool = True
 
-    def mechanics(self):
+    def mechanics(self, linear_solver=None):
         """The scene's mechanics problem (:class:`~ngincompat.problem.GrowthMechanics`), at
-        the growth time the case's ``time`` holds."""
+        the growth time the case's ``time`` holds, for Newton's ``linear_solver`` (default
+        the scene's): its energy form on the component spaces for a direct solver, on
+        VectorH1 for BDDC."""
         scene = self.scene
+        solver = resolve_linear_solver(linear_solver or scene.linear_solver, self.mesh)
         return GrowthMechanics(self.mesh, self.growth, self.material, order=scene.order,
                                fibers=self.fibers, dirichlet=self.dirichlet,
-                               symmetry=self.symmetry, formulation=scene.formulation)
+                               symmetry=self.symmetry, formulation=scene.formulation,
+                               components=solver == "direct")
 
     def solve(self, solution, progress, workdir=None):
         """See :func:`_solve`."""
