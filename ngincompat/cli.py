@@ -1,4 +1,4 @@
-"""Command line: ``ngincompat list | run | paper | expansion | sweep | bench``.
+"""Command line: ``ngincompat list | run | paper | expansion | folding | sweep | bench``.
 
 Exit codes:
 
@@ -123,6 +123,16 @@ def _cmd_expansion(args):
                              **_settings(args.set))
     print(expansion.summary_markdown(rows))
     print(f"summary written to {args.out}/summary.md (.csv, .json)")
+    return _status_code(rows)
+
+
+def _cmd_folding(args):
+    from . import folding
+    rows, _ = folding.run_all(args.out, axons=args.axons, progress=Progress(quiet=args.quiet),
+                              overwrite=args.overwrite, **_settings(args.set))
+    print(folding.summary_markdown(rows))
+    print(f"summary written to {args.out}/summary.md (.csv, .json), figure "
+          f"{args.out}/fields.png")
     return _status_code(rows)
 
 
@@ -260,6 +270,21 @@ def _add_sweep(sub):
     p.set_defaults(func=_cmd_sweep_plot)
 
 
+def _add_variants(sub, command, help, scene, option, what, choices, func):
+    """A driver that runs ``scene`` for every variant of ``option`` (``expansion``,
+    ``folding``)."""
+    p = sub.add_parser(command, help=help)
+    p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help=f"a parameter of the {scene} scene for every variant (repeatable)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace a run already in --out (its files are removed first)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
+    p.add_argument(option, nargs="+", choices=choices, default=list(choices), metavar="NAME",
+                   help=f"the {what} to run (default: all of " + ", ".join(choices) + ")")
+    p.set_defaults(func=func)
+
+
 def build_parser():
     from geometries import FOOTPRINTS
     parser = argparse.ArgumentParser(
@@ -297,18 +322,12 @@ def build_parser():
                         "(the numbers are not the paper's)")
     p.set_defaults(func=_cmd_paper)
 
-    p = sub.add_parser("expansion", help="the skin-expansion scene for all four expanders")
-    p.add_argument("--out", required=True, help="output folder")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE",
-                   help="a parameter of the skin scene for every expander (repeatable)")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace a run already in --out (its files are removed first)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
-    p.add_argument("--footprints", nargs="+", choices=FOOTPRINTS, default=list(FOOTPRINTS),
-                   metavar="NAME", help="the expanders to run (default: all of "
-                   + ", ".join(FOOTPRINTS) + ")")
-    p.set_defaults(func=_cmd_expansion)
-
+    _add_variants(sub, "expansion", "the skin-expansion scene for all four expanders",
+                  "skin", "--footprints", "expanders", FOOTPRINTS, _cmd_expansion)
+    _add_variants(sub, "folding", "the cortical-folding scene for the three axon fields",
+                  "folding", "--axons", "axon fields",
+                  ("curved", "concentric", "straight"),     # fields.AXONS, NGSolve-free
+                  _cmd_folding)
     _add_bench(sub)
     _add_sweep(sub)
     return parser

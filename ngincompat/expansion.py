@@ -11,16 +11,14 @@ deflation (clamped, then released). An expander whose run fails is a row with it
 the others still run.
 """
 
-import time
-
 from geometries import FOOTPRINTS
 
-from . import output, tables
-from .errors import ConvergenceError
+from . import tables
 from .progress import SILENT
 from .scenes.skin import SkinExpansionScene
+from .variants import COMMON, run_variants, write_summary
 
-COLUMNS = ("footprint", "status", "ndof", "seconds", "volume_inflated", "pressure_inflated",
+COLUMNS = ("footprint", *COMMON, "volume_inflated", "pressure_inflated",
            "expander_height_inflated", "contact_area_inflated", "penetration_max_inflated",
            "contact_pressure_max_inflated", "contact_pressure_mean_inflated", "theta_max",
            "theta_mean_footprint", "theta_apex", "burgers_max", "burgers_apex",
@@ -39,24 +37,12 @@ def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, *
     """
     scenes = {f: SkinExpansionScene.from_settings({**settings, "footprint": f})
               for f in footprints}
-    if out is not None:
-        out = output.prepare(out, overwrite=overwrite)
     model = next(iter(scenes.values())).expander if scenes else "pressure"
     columns = [c for c in COLUMNS if c not in UNUSED[model]]
-    rows = []
-    for footprint, scene in scenes.items():
-        start = time.perf_counter()
-        try:
-            r = scene.run(None if out is None else out / footprint, overwrite=overwrite,
-                          progress=progress, label=f"skin {footprint}")
-        except ConvergenceError as err:
-            r = err.results
-        rows.append({"footprint": footprint, "status": r.status, "ndof": r.mesh.ndof,
-                     "seconds": round(time.perf_counter() - start, 1),
-                     **{k: r.metrics.get(k) for k in columns[4:]}})
+    rows, _ = run_variants(scenes, out, key="footprint", metrics=columns[4:],
+                           progress=progress, overwrite=overwrite, label="skin")
     if out is not None:
-        files = [*scenes, "summary.md", "summary.csv", "summary.json"]
-        tables.write(out, "summary", rows, columns, UNITS, files=files)
+        write_summary(out, rows, columns, UNITS)
     return rows
 
 

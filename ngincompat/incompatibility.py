@@ -125,6 +125,14 @@ def incompatibility_from_elastic(Fe_inv, dFe_inv, F):
     return (1.0 / ngs.Det(Fe_inv)) * (Fe_inv * curl(d_spatial))
 
 
+def incompatibility_projected(Fg, mesh, order):
+    """G = (1/Jg) Fg Curl Fg (eq. 10) of a computed growth field by the projected path.
+
+    Returns (G, Curl Fg_h, Fg_h), Fg_h the H1(order) interpolant that Curl is taken of."""
+    curl_Fg, Fg_h = curl_projected(Fg, mesh, order)
+    return incompatibility_tensor(Fg, curl_Fg), curl_Fg, Fg_h
+
+
 def burgers_vector(G, n):
     """Local Burgers vector density on the plane with normal n, eq. (11): b = G^T n."""
     return G.trans * n

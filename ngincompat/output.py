@@ -144,7 +144,8 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     if "figures" in outputs:
         for figure in results.figures:
             if all(k in results.profiles.get(figure.profile, {})
-                   for k in (figure.x, *figure.curves.values(), *figure.right.values())):
+                   for k in (figure.x, *figure.curves.values(), *figure.right.values(),
+                             *figure.deform.values(), *([figure.y] if figure.y else []))):
                 plots.draw(results, figure, out / figure.file)
                 files.append(figure.file)
     results.files = ["results.json", *files, *[f for f in results.files

@@ -103,6 +103,10 @@ def figure(results, spec):
     p = results.profiles[spec.profile]
     if spec.kind == "maps":
         return maps_figure(p, spec.curves, spec.xlabel, spec.title)
+    if spec.kind == "deformed":
+        panels = {label: (key, spec.deform[label]) for label, key in spec.curves.items()}
+        return deformed_figure({"": p}, panels, (spec.x, spec.y), spec.xlabel, spec.ylabel,
+                               spec.title, floor=spec.floor)
     return profile_figure(p[spec.x], {label: p[k] for label, k in spec.curves.items()},
                           spec.xlabel, spec.ylabel, spec.title,
                           right={label: p[k] for label, k in spec.right.items()},
@@ -133,14 +137,77 @@ def maps_figure(profile, maps, label, title=None):
         u, v = profile[f"{plane}_u"], profile[f"{plane}_v"]
         image = ax.imshow(np.ma.masked_invalid(profile[key]), origin="lower", cmap="viridis",
                           extent=(u[0], u[-1], v[0], v[-1]), interpolation="nearest")
-        fig.colorbar(image, ax=ax, shrink=0.85)
-        ax.set_title(panel, fontsize="small")
-        ax.set_xlabel(label, fontsize="small")
-        ax.tick_params(labelsize="x-small")
+        _panel(fig, ax, image, panel, label)
     if title:
         fig.suptitle(title, fontsize="medium")
     fig.tight_layout()
     return fig
+
+
+def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
+    """Fields on the deformed shape: one row per body, one column per field (Fig. 7 a-c).
+
+    Parameters
+    ----------
+    rows : dict
+        Row label (e.g. the axon field; "" for none) -> profile holding the reference grid's
+        axes, the 2-D arrays of the fields and the displacements.
+    panels : dict
+        Column label (field and unit) -> (field key, displacement key). A field of shape
+        (rows, columns) is drawn on the grid moved by the displacement, an array of shape
+        (rows, columns, 2) of its components along the grid's two axes. A column is left out
+        when a row's profile lacks one of its keys (e.g. a run without the release).
+    axes : (str, str)
+        Keys of the grid's axes in the profile: the reference coordinates along the columns
+        and the rows of the arrays.
+    xlabel, ylabel : str
+        Axis labels with units.
+    floor : float
+        Smallest range of a colour scale (as for the profiles' axes, besides
+        ``RELATIVE_FLOOR`` of the largest value): round-off is drawn flat.
+
+    Every column has one colour scale for all rows (so the rows compare); a field of both
+    signs (a stress) gets a diverging scale centred on zero.
+    """
+    panels = {label: keys for label, keys in panels.items()
+              if all(k in p for p in rows.values() for k in keys)}
+    ncols = max(len(panels), 1)
+    first = next(iter(rows.values()))
+    aspect = np.ptp(first[axes[1]]) / max(np.ptp(first[axes[0]]), 1e-300)
+    fig = Figure(figsize=(4.6 * ncols, 0.5 + len(rows) * (1.0 + 3.4 * aspect)), dpi=110)
+    grid = np.atleast_2d(fig.subplots(len(rows), ncols, squeeze=False))
+    for col, (label, (key, disp)) in enumerate(panels.items()):
+        data = np.concatenate([np.ravel(p[key]) for p in rows.values()])
+        lo, hi = float(np.nanmin(data)), float(np.nanmax(data))
+        least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)))
+        if hi - lo < least:
+            lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
+        cmap = "viridis"
+        if lo < 0 < hi:
+            lo, hi, cmap = -max(-lo, hi), max(-lo, hi), "RdBu_r"
+        for row, (name, p) in enumerate(rows.items()):
+            ax = grid[row, col]
+            U, V = np.meshgrid(p[axes[0]], p[axes[1]])
+            d = np.asarray(p[disp])
+            image = ax.pcolormesh(U + d[..., 0], V + d[..., 1],
+                                  np.ma.masked_invalid(p[key]), shading="gouraud",
+                                  cmap=cmap, vmin=lo, vmax=hi)
+            ax.set_aspect("equal")
+            _panel(fig, ax, image, f"{name}: {label}" if name else label, xlabel, ylabel)
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    fig.tight_layout()
+    return fig
+
+
+def _panel(fig, ax, image, title, xlabel, ylabel=None):
+    """A colour map's colour bar, title and axis labels, in small type."""
+    fig.colorbar(image, ax=ax, shrink=0.85)
+    ax.set_title(title, fontsize="small")
+    ax.set_xlabel(xlabel, fontsize="small")
+    if ylabel:
+        ax.set_ylabel(ylabel, fontsize="small")
+    ax.tick_params(labelsize="x-small")
 
 
 def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):

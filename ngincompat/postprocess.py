@@ -87,6 +87,40 @@ def sample_line(mesh, cfs, start, end, n=101):
     return s * np.linalg.norm(end - start), values
 
 
+def sample_plane(mesh, cfs, origin, e_u, e_v, u, v):
+    """Values of CoefficientFunctions on the grid of points origin + u_i e_u + v_j e_v.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+    cfs : dict
+        Name -> CoefficientFunction.
+    origin, e_u, e_v : sequence of 3 floats
+        A point of the plane and its two in-plane directions.
+    u, v : 1-D arrays
+        The grid's coordinates along ``e_u`` (columns) and ``e_v`` (rows).
+
+    Returns
+    -------
+    dict
+        Name -> array of shape (len(v), len(u)) for a scalar, (len(v), len(u), k) for a
+        field of k components; NaN at points the mesh does not hold (serial meshes).
+    """
+    U, V = np.meshgrid(np.asarray(u, float), np.asarray(v, float))
+    pts = (np.asarray(origin, float) + np.multiply.outer(U.ravel(), np.asarray(e_u, float))
+           + np.multiply.outer(V.ravel(), np.asarray(e_v, float)))
+    mips = mesh(pts[:, 0], pts[:, 1], pts[:, 2])
+    inside = mips["nr"] >= 0
+    out = {}
+    for name, cf in cfs.items():
+        size = int(np.prod(cf.dims))
+        values = np.full((U.size, size), np.nan)
+        if inside.any():
+            values[inside] = np.asarray(cf(mips[inside])).reshape(-1, size)
+        out[name] = values.reshape(U.shape + ((size,) if size > 1 else ()))
+    return out
+
+
 def _locatable(mesh, pts):
     """Move points that lie on or just outside a curved boundary (the mesh approximates it)
     towards the centre of the set, by at most 3 % of their distance, until the mesh finds them;
@@ -106,6 +140,16 @@ def _locatable(mesh, pts):
         else:
             out.append(None)
     return out
+
+
+def argmax(cf, mesh, order=4):
+    """The largest value of a scalar CF over the integration points and vertices of a serial
+    mesh (see :func:`maximum`) and the point (X1, X2, X3) where it is."""
+    points = element_points(mesh, order)
+    values = np.asarray(cf(points)).ravel()
+    i = int(np.nanargmax(values))
+    where = np.asarray(ngs.CF((ngs.x, ngs.y, ngs.z))(points)).reshape(-1, 3)[i]
+    return float(values[i]), tuple(float(c) for c in where)
 
 
 def maximum(cf, mesh, order=4):

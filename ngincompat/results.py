@@ -66,7 +66,16 @@ class Figure:
     kind : str
         "profile": curves against ``x``; "maps": colour maps, one panel per curve, of 2-D
         arrays keyed "<plane>_<field>" whose axes are the profile's "<plane>_u" and
-        "<plane>_v" (one row per plane, one column per field; ``x`` names the first axis).
+        "<plane>_v" (one row per plane, one column per field; ``x`` names the first axis);
+        "deformed": colour maps of 2-D arrays (one panel per curve) sampled on a reference
+        grid whose axes are the profile's ``x`` (columns) and ``y`` (rows), each drawn on the
+        grid moved by the displacement that ``deform`` names for its panel (see
+        :func:`ngincompat.plots.deformed_figure`).
+    y : str
+        "deformed": key of the grid's second axis in the profile.
+    deform : dict
+        "deformed": panel label -> profile key of the displacement, an array of the grid's
+        shape with 3 components.
     """
 
     file: str
@@ -81,6 +90,8 @@ class Figure:
     right_floor: float = 0.0
     profile: str = "line"
     kind: str = "profile"
+    y: str = ""
+    deform: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass(eq=False)

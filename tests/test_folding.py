@@ -2,15 +2,18 @@
 closed form, and the onset of buckling against the independent bifurcation analysis."""
 
 import functools
+import json
 
 import ngsolve as ngs
 import numpy as np
 import pytest
+from conftest import FOLDING_COARSE
 from scipy.optimize import brentq
 
 from geometries import bilayer, cube
-from ngincompat import buckling
-from ngincompat.bifurcation import Bilayer, critical_growth, onset, prebuckled_cortex
+from ngincompat import buckling, fields, folding, postprocess
+from ngincompat.bifurcation import critical_growth, onset, prebuckled_cortex
+from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual
 from ngincompat.materials import NeoHookean, Regional
@@ -121,9 +124,7 @@ def test_onset_matches_the_bifurcation_oracle(onset_run):
     critical growth in the analysis is within 1 % of the onset found."""
     scene, case, solution = onset_run
     assert solution.converged
-    bilayer = Bilayer(scene.height, scene.cortex_thickness, scene.mu_gray,
-                      scene.lam_ratio * scene.mu_gray, scene.mu_white,
-                      scene.lam_ratio * scene.mu_white)
+    bilayer = scene.bifurcation_bilayer()
     oracle = onset(bilayer, length=scene.length)
     found = case.noted["onset_growth"]
     assert found == pytest.approx(oracle.growth, rel=0.01)
@@ -179,3 +180,41 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
         np.testing.assert_allclose(sigma(sub), 0.0, atol=1e-6 * scene.mu_white)
         assert theta(sub) == pytest.approx(1.0, abs=1e-10)
     assert "onset_growth" not in results.metrics
+
+
+def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path):
+    """``ngincompat folding`` for one axon field on the coarse flat state (theta_c = 1.08,
+    before the onset, no axon growth): Fg = I + (theta_c - 1) e1 (x) e1 in the cortex, I
+    below, so Curl Fg is the jump at the interface, (Curl Fg)_21 = dFg_11/dX3, and b = G^T e2
+    points along e1. Across the interface int (Curl Fg_h)_21 dX3 = theta_c - 1 exactly (the
+    interpolant equals Fg away from it) and G = Fg Curl Fg / Jg weighs it by 1/theta_c above
+    and 1 below: int b1 dX3 lies in [(theta_c - 1) / theta_c, theta_c - 1]; b vanishes
+    in the subcortex away from the interface, and the largest |b| is at the interface."""
+    settings = dict(pair.split("=") for pair in FOLDING_COARSE[1::2])
+    rows, results = folding.run_all(tmp_path, axons=("curved",), **settings)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["columns"] == list(folding.COLUMNS[:-2])     # not released: no columns
+    assert summary["rows"] == rows and rows[0]["status"] == "done"
+    assert (tmp_path / "fields.png").is_file() and (tmp_path / "curved" / "fields.png").is_file()
+    r = results["curved"]
+    scene = FoldingScene.from_settings({**settings, "axons": "curved"})
+    theta_c = 1 + scene.cortex_rate * scene.t_end
+    s, values = postprocess.sample_line(r.domain, {"b": r.fields["b"]}, (0.25, 0.02, 0.0),
+                                        (0.25, 0.02, scene.height), n=3001)
+    b1 = values["b"][:, 0]
+    integral = np.sum((b1[1:] + b1[:-1]) / 2 * np.diff(s))
+    assert (theta_c - 1) / theta_c - 1e-3 < integral < theta_c - 1 + 1e-3
+    below = s < scene.height - scene.cortex_thickness - scene.maxh
+    np.testing.assert_allclose(values["b"][below], 0.0, atol=1e-9)
+    assert rows[0]["burgers_max"] == pytest.approx(r.metrics["burgers_max"])
+    assert abs(rows[0]["burgers_max_depth"] - scene.cortex_thickness) <= scene.cortex_maxh
+    section = r.profiles["section"]
+    assert section["u"].shape == (len(section["X3"]), len(section["X1"]), 2)
+
+
+def test_the_command_line_offers_every_axon_field(capsys):
+    """The command line spells the axon fields out (it imports no NGSolve to parse): the
+    same as the library's, and a wrong one is refused."""
+    assert main(["folding", "--help"]) == 0
+    assert "all of " + ", ".join(fields.AXONS) in " ".join(capsys.readouterr().out.split())
+    assert main(["folding", "--out", "x", "--axons", "spiral"]) == 2

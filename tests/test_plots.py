@@ -46,3 +46,31 @@ def test_titles_name_the_variant_and_labels_carry_units():
         assert "[" in spec.xlabel and "[" in spec.ylabel, spec
         fig = plots.figure(results, spec)
         assert fig.axes[0].get_title() == spec.title
+
+
+def _grid_profile(scale):
+    """A 3 x 2 grid: a linear field f = scale (X1 - X3) on it, moved by u = (0.1 X1, 0.2 X3)."""
+    x1, x3 = np.linspace(0, 2, 5), np.linspace(0, 1, 3)
+    X1, X3 = np.meshgrid(x1, x3)
+    return {"X1": x1, "X3": x3, "f": scale * (X1 - X3), "g": X1 + 1,
+            "u": np.stack([0.1 * X1, 0.2 * X3], axis=-1)}
+
+
+def test_deformed_figure_draws_each_field_on_the_moved_grid():
+    """The panels' points are X + u, the colours the field's values; one colour scale per
+    column (the rows compare), centred on zero for a field of both signs; a column that a
+    row lacks is left out."""
+    rows = {"one": _grid_profile(1.0), "two": _grid_profile(3.0)}
+    rows["two"].pop("g")
+    panels = {"f [kPa]": ("f", "u"), "g [-]": ("g", "u"), "h [-]": ("h", "u_released")}
+    fig = plots.deformed_figure(rows, panels, ("X1", "X3"), "X1 [cm]", "X3 [cm]", "t")
+    maps = [ax for ax in fig.axes if ax.collections and ax.get_title()]
+    assert [ax.get_title() for ax in maps] == ["one: f [kPa]", "two: f [kPa]"]
+    X1, X3 = np.meshgrid(rows["one"]["X1"], rows["one"]["X3"])
+    mesh = maps[0].collections[0]
+    np.testing.assert_allclose(mesh.get_coordinates(),
+                               np.stack([1.1 * X1, 1.2 * X3], axis=-1))
+    np.testing.assert_allclose(mesh.get_array().reshape(X1.shape), X1 - X3)
+    for ax in maps:
+        assert ax.collections[0].get_clim() == (-6.0, 6.0)   # both rows, symmetric
+        assert ax.get_xlabel() == "X1 [cm]"

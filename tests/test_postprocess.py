@@ -80,3 +80,26 @@ def test_sample_line_includes_boundary_points(unit_cube_hex):
 
 def test_maximum_over_element_points(unit_cube_hex):
     assert postprocess.maximum(ngs.x * ngs.y, unit_cube_hex) == pytest.approx(1.0)
+
+
+def test_sample_plane_returns_a_prescribed_linear_field_exactly(unit_cube_tet):
+    """On the plane X2 = 0.5 of the unit cube, f = 1 + 2 X1 - 3 X3 sampled on a 7 x 5 grid
+    (boundary points included) is f at the grid points; a vector field keeps its components;
+    points off the mesh are NaN."""
+    u, v = np.linspace(0, 1, 7), np.linspace(0, 1, 5)
+    f = 1 + 2 * ngs.x - 3 * ngs.z
+    got = postprocess.sample_plane(unit_cube_tet, {"f": f, "w": ngs.CF((ngs.x, ngs.y, ngs.z))},
+                                   (0, 0.5, 0), (1, 0, 0), (0, 0, 1), u, v)
+    X1, X3 = np.meshgrid(u, v)
+    assert got["f"].shape == (5, 7) and got["w"].shape == (5, 7, 3)
+    np.testing.assert_allclose(got["f"], 1 + 2 * X1 - 3 * X3, atol=1e-12)
+    np.testing.assert_allclose(got["w"][..., 1], 0.5, atol=1e-12)
+    outside = postprocess.sample_plane(unit_cube_tet, {"f": f}, (0, 0.5, 0), (1, 0, 0),
+                                       (0, 0, 1), [0.5, 1.5], [0.5])["f"]
+    assert np.isfinite(outside[0, 0]) and np.isnan(outside[0, 1])
+
+
+def test_argmax_finds_the_value_and_the_point(unit_cube_hex):
+    value, where = postprocess.argmax(ngs.x * ngs.y - ngs.z, unit_cube_hex)
+    assert value == pytest.approx(1.0)
+    np.testing.assert_allclose(where, (1, 1, 0), atol=1e-12)

@@ -57,6 +57,7 @@ SUMMARY = {
     "run": "results written to",
     "paper": "summary written to",
     "expansion": "summary written to",
+    "folding": "summary written to",
     "bench": "|",
     "sweep": "written to",
 }
@@ -96,6 +97,8 @@ def coarse(argv, scheduler=None):
         return [*argv, "--quick", "-q"]
     if command == "expansion":
         return [*argv, "--footprints", "circle", *SKIN_COARSE, "-q"]
+    if command == "folding":
+        return [*argv, "--axons", "curved", *FOLDING_COARSE, "-q"]
     if command == "bench":
         return [*argv, *BENCH[argv[1]]]
     if command == "sweep":
@@ -134,7 +137,7 @@ def test_make_runs_the_two_commands_of_the_readme():
 
 def test_the_readme_shows_commands_of_every_kind():
     kinds = {argv[0] for argv in COMMANDS}
-    assert {"list", "run", "paper", "expansion", "bench", "sweep"} <= kinds
+    assert {"list", "run", "paper", "expansion", "folding", "bench", "sweep"} <= kinds
     assert {argv[1] for argv in COMMANDS if argv[0] == "run"} == set(RUN)
 
 

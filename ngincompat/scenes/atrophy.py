@@ -412,8 +412,9 @@ class AtrophyCase:
     def _incompatibility_fields(self):
         """G by the projected path (eq. 10) and b on the coordinate planes (eq. 11)."""
         growth = IsotropicGrowth(self.theta)
-        curl_Fg, self.Fg_h = inc.curl_projected(growth.Fg, self.mesh, self.scene.g_order)
-        self.G = G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
+        G, curl_Fg, self.Fg_h = inc.incompatibility_projected(growth.Fg, self.mesh,
+                                                              self.scene.g_order)
+        self.G = G
         fields = {"c": self.transport.c, "theta": self.theta, "exposure": self.exposure,
                   "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
         for label, n in zip(PLANES, ((1, 0, 0), (0, 1, 0), (0, 0, 1)), strict=True):
@@ -512,23 +513,17 @@ class AtrophyCase:
         """theta, |b| and the max principal stress on the planes X_k = 0, k = 1, 2, 3,
         sampled on n x n grids (NaN outside the mesh)."""
         axes = self.extent
-        keys = [k for k in ("theta", "|b|", "sigma_max_principal") if k in fields]
+        cfs = {k: fields[k] for k in ("theta", "|b|", "sigma_max_principal") if k in fields}
+        basis = np.eye(3)
         out = {}
         for k, plane in enumerate(PLANES):
             i, j = [m for m in range(3) if m != k]
             u = np.linspace(-axes[i], axes[i], n)
             v = np.linspace(-axes[j], axes[j], n)
-            U, V = np.meshgrid(u, v)
-            pts = np.zeros((U.size, 3))
-            pts[:, i], pts[:, j] = U.ravel(), V.ravel()
-            mips = self.mesh(pts[:, 0], pts[:, 1], pts[:, 2])
-            inside = mips["nr"] >= 0
-            mips = mips[inside]
             out[f"{plane}_u"], out[f"{plane}_v"] = u, v
-            for key in keys:
-                values = np.full(U.size, np.nan)
-                values[inside] = np.asarray(fields[key](mips)).ravel()
-                out[f"{plane}_{key}"] = values.reshape(U.shape)
+            sampled = postprocess.sample_plane(self.mesh, cfs, (0, 0, 0), basis[i], basis[j],
+                                               u, v)
+            out.update({f"{plane}_{key}": values for key, values in sampled.items()})
         return out
 
 

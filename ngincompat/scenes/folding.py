@@ -41,6 +41,16 @@ faces of the slab (plane strain). Stages:
    recorded every step. (Switching the viscosity off at ``t_end`` for a last equilibrium
    solve is not done yet: tried, plain Newton from the viscous state diverged, see the
    README.)
+
+Outputs (``measure``): the axon growth theta_a (theta in the subcortex, 1 in the cortex);
+G = (1/Jg) Fg Curl Fg (eq. 10) by the projected path, the Burgers vector density on the
+paper's plane normal to e3, b = G^T e2 here (eq. 11), its norm and Curl Fg : Curl Fg;
+``burgers_max`` with its depth below the top (``burgers_max_depth``) and its X1; the
+largest principal Cauchy stress. The fields are sampled on the mid-plane X2 = depth / 2
+(profile "section", a reference grid refined near the top, with the in-plane displacement
+components) for the figure of Fig. 7 a-c, the fields drawn on the deformed shape (``PANELS``:
+a panel whose fields a run has, e.g. after the release, is drawn), and along the vertical
+through the middle (profile "depth").
 """
 
 from dataclasses import dataclass, field
@@ -51,10 +61,13 @@ import numpy as np
 from geometries import bilayer
 
 from .. import buckling, fields, postprocess
+from .. import incompatibility as inc
+from ..bifurcation import Bilayer
 from ..errors import require
+from ..growth import FiberGrowth
 from ..growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
 from ..materials import NeoHookean, Regional
-from ..pipeline import Solution, solve_stages
+from ..pipeline import Solution, solve_stages, timed
 from ..problem import CoupledGrowth
 from ..progress import Progress
 from ..results import Figure, Results
@@ -73,6 +86,18 @@ EIGENPAIRS = 6
 GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
 
 
+#: The panels of Fig. 7 a-c: label -> (field, the displacement it is drawn deformed by);
+#: "{L}" and "{stress}" stand for the units. A panel is drawn when the run has its fields.
+PANELS = {"axon growth theta_a [-]": ("theta_a", "u"),
+          "|b| on the plane normal to e2 [1/{L}]": ("|b|", "u"),
+          "max principal Cauchy stress [{stress}]": ("sigma_max", "u"),
+          "after release: max principal Cauchy stress [{stress}]":
+              ("sigma_max_released", "u_released")}
+
+#: The fields sampled along the vertical through the middle (profile "depth").
+DEPTH_FIELDS = ("theta_a", "|b|", "curlFg_sq", "sigma_max", "sigma_max_released")
+
+
 @dataclass(frozen=True)
 class FoldingScene(Scene):
     """A 3 x 1 cm cortex-subcortex bilayer growing between fixed ends (section 3.7)."""
@@ -80,9 +105,13 @@ class FoldingScene(Scene):
     name = "folding"
     summary = "section 3.7: cortical folding, a growing cortex on a subcortex with axon growth"
     variant = ("axons",)
-    metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude")
+    metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude",
+               "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
+               "max_principal_stress")
     metric_quantities = {**Scene.metric_quantities, "onset_wavelength": "length",
-                         "fold_amplitude": "length", "onset_time": "time"}
+                         "fold_amplitude": "length", "onset_time": "time",
+                         "burgers_max_depth": "length", "burgers_max_X1": "length",
+                         "top_curvature_released": "1/length"}
     units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
 
     order: int = param(2, "polynomial order of the displacement")
@@ -152,6 +181,13 @@ class FoldingScene(Scene):
     @property
     def mu_gray(self):
         return self.mu_ratio * self.mu_white
+
+    def bifurcation_bilayer(self):
+        """The same bilayer for the independent linear bifurcation analysis
+        (:mod:`ngincompat.bifurcation`)."""
+        lam = self.lam_ratio
+        return Bilayer(self.height, self.cortex_thickness, self.mu_gray, lam * self.mu_gray,
+                       self.mu_white, lam * self.mu_white)
 
     def build(self):
         mesh = bilayer(length=self.length, height=self.height, depth=self.depth,
@@ -290,14 +326,95 @@ class FoldingCase:
             flds["buckling_mode"] = self.mode
             x, w = self.top_profile(self.mode)
             results.profiles["mode"] = {"X1": x, "u3": w}
+        with progress.phase("incompatibility"), timed(results.timings, "incompatibility"):
+            flds.update(self.incompatibility())
+            results.metrics.update(self.burgers_metrics(flds["|b|"]))
+        mesh = self.mesh
+        results.metrics["theta_a_max"] = postprocess.maximum(flds["theta_a"], mesh)
+        results.metrics["max_principal_stress"] = postprocess.maximum(flds["sigma_max"], mesh)
+        with progress.phase("sampling"), timed(results.timings, "sampling"):
+            results.profiles["section"] = self.section(flds)
+            results.profiles["depth"] = self.depth_profile(flds)
         results.fields = flds
-        results.figures = _figures(self.scene)
+        results.figures = _figures(self.scene, results.profiles)
         return results
 
+    def incompatibility(self):
+        """theta_a, G (eq. 10, projected path), b on the plane normal to e2 (eq. 11), |b| and
+        Curl Fg : Curl Fg of the current growth."""
+        theta = self.problem.theta
+        G, curl_Fg, _ = inc.incompatibility_projected(FiberGrowth(theta, self.f0).Fg,
+                                                      self.mesh, self.scene.g_order)
+        b = inc.burgers_vector(G, ngs.CF((0, 1, 0)))
+        return {"theta_a": self.mesh.MaterialCF({"subcortex": theta, "cortex": 1.0}),
+                "G": G, "b": b, "|b|": ngs.Norm(b),
+                "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
 
-def _figures(scene):
+    def burgers_metrics(self, b_norm):
+        """The largest |b|, its depth below the top and its X1."""
+        value, where = postprocess.argmax(b_norm, self.mesh)
+        return {"burgers_max": value, "burgers_max_depth": self.scene.height - where[2],
+                "burgers_max_X1": where[0]}
+
+    def section(self, flds, n=241, band=5):
+        """The fields of ``PANELS`` that ``flds`` has on the mid-plane X2 = depth / 2, on a
+        grid of n columns over the length and rows refined in the top ``band`` cortical
+        thicknesses (40 rows there, 30 below); displacements as their (u1, u3)."""
+        s = self.scene
+        top = max(s.height - band * s.cortex_thickness, 0.0)
+        x1 = np.linspace(0.0, s.length, n)
+        x3 = np.unique(np.concatenate([np.linspace(0.0, top, 30),
+                                       np.linspace(top, s.height, 41)]))
+        keys = {k for pair in PANELS.values() for k in pair if all(p in flds for p in pair)}
+        sampled = postprocess.sample_plane(self.mesh, {k: flds[k] for k in keys},
+                                           (0.0, s.depth / 2, 0.0), (1, 0, 0), (0, 0, 1),
+                                           x1, x3)
+        for disp in {d for _, d in PANELS.values()} & set(sampled):
+            sampled[disp] = sampled[disp][..., [0, 2]]
+        return {"X1": x1, "X3": x3, **sampled}
+
+    def depth_profile(self, flds, n=401):
+        """``DEPTH_FIELDS`` along the vertical through the middle, from the top down."""
+        s = self.scene
+        depth, values = postprocess.sample_line(
+            self.mesh, {k: flds[k] for k in DEPTH_FIELDS if k in flds},
+            (s.length / 2, s.depth / 2, s.height), (s.length / 2, s.depth / 2, 0.0), n=n)
+        return {"depth": depth, **values}
+
+
+def panels(scene):
+    """``PANELS`` with the scene's units: label -> (field, displacement)."""
+    units = {"L": scene.units["length"], "stress": scene.units["stress"]}
+    return {label.format(**units): keys for label, keys in PANELS.items()}
+
+
+def fields_figure(scene, section):
+    """The figure of Fig. 7 a-c of one run: the panels whose fields ``section`` has."""
+    L = scene.units["length"]
+    present = {label: keys for label, keys in panels(scene).items()
+               if all(k in section for k in keys)}
+    return Figure("fields.png", "X1", f"X1 [{L}]", {k: f for k, (f, _) in present.items()},
+                  f"X3 [{L}]", f"{scene.title()}: deformed state", profile="section",
+                  kind="deformed", y="X3", deform={k: d for k, (_, d) in present.items()},
+                  floor=1e-3 * scene.mu_white)
+
+
+def _figures(scene, profiles):
     L, title = scene.units["length"], scene.title()
+    stress = scene.units["stress"]
+    stresses = {label: k for label, k in (("grown", "sigma_max"),
+                                           ("released", "sigma_max_released"))
+                if k in profiles["depth"]}
     return [
+        fields_figure(scene, profiles["section"]),
+        Figure("depth.png", "depth", f"depth below the top [{L}]",
+               {"|b| on the plane normal to e2": "|b|"}, f"|b| [1/{L}]",
+               f"{title}: through the middle", right={"axon growth theta_a": "theta_a"},
+               right_label="theta_a [-]", profile="depth"),
+        Figure("stress_depth.png", "depth", f"depth below the top [{L}]",
+               stresses, f"max principal Cauchy stress [{stress}]",
+               f"{title}: through the middle", profile="depth",
+               floor=1e-3 * scene.mu_white),
         Figure("eigenvalue.png", "theta_c", "cortex growth theta_c [-]",
                {"smallest eigenvalue": "eigenvalue"},
                f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",

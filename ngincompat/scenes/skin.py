@@ -275,8 +275,7 @@ class SkinCase:
                                                         definedon=footprint) / area
         growth = AreaGrowth(theta, self.N0)
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
-            curl_Fg, Fg_h = inc.curl_projected(growth.Fg, mesh, scene.g_order)
-            G = inc.incompatibility_tensor(growth.Fg, curl_Fg)
+            G, _, Fg_h = inc.incompatibility_projected(growth.Fg, mesh, scene.g_order)
             b = inc.burgers_vector(G, self.N0.cf)
             metrics["burgers_max"] = postprocess.maximum(ngs.Norm(b), mesh)
         flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_inflated": self.problem.u}
