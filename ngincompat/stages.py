@@ -25,7 +25,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from . import io
+from . import buckling, io
 from .errors import ConvergenceError, ParameterError
 from .progress import Progress
 from .solver import (
@@ -224,8 +224,13 @@ class RelaxationStage:
     The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
     ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
     equilibrium without viscosity (a frozen step, dt = 0) from there; if that fails the flow
-    goes on, and tries again once the residual has fallen ``switch``-fold more.
-    :attr:`final_residual` is the residual without viscosity at the end. The history's
+    goes on, and tries again once the residual has fallen ``switch``-fold more. An
+    equilibrium Newton finds is kept only if it is stable, the smallest eigenvalue of its
+    tangent at frozen growth (:func:`~ngincompat.buckling.smallest_eigenpairs`) >= 0:
+    started close to a saddle, where the flow leaves the unstable mode only at the rate
+    |omega| / eta, Newton returns to the saddle; the flow then goes on from the state
+    before. :attr:`final_residual` is the residual without viscosity at the end,
+    :attr:`eigenvalue` the smallest eigenvalue there (of ``eigenpairs`` computed). The history's
     steps are the pseudo-time steps (``t`` the pseudo time, ``dt`` tau) and last the frozen
     step (``dt`` = 0), whose ``residuals`` end with the residual of the equilibrium. The
     problem is left frozen (dt = 0, ``growing`` = 1).
@@ -244,8 +249,10 @@ class RelaxationStage:
     max_steps: int = 60
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=12))
     unit: str = ""
+    eigenpairs: int = 1
     initial_residual: float = field(default=float("nan"), init=False)
     final_residual: float = field(default=float("nan"), init=False)
+    eigenvalue: float = field(default=float("nan"), init=False)
 
     def run(self, progress: Progress) -> SolverHistory:
         problem = self.problem
@@ -318,16 +325,22 @@ class RelaxationStage:
         return norm
 
     def _equilibrium(self, solver, history, saved, progress) -> bool:
-        """Newton without viscosity from the current state; on failure the state is
-        restored and False returned."""
+        """Newton without viscosity from the current state; unless it converges to a
+        stable equilibrium the state is restored and False returned."""
         self.problem.dt.Set(0.0)
         record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
-        record.converged = solver.minimise(record)
+        if solver.minimise(record):
+            values, _ = buckling.smallest_eigenpairs(self.problem, count=self.eigenpairs)
+            self.eigenvalue = float(values[0])
+            record.converged = self.eigenvalue >= 0
+            if not record.converged:
+                record.reason = f"unstable: smallest eigenvalue {self.eigenvalue:.3g}"
         history.steps.append(record)
         progress.line(f"{self.name}: without viscosity "
                       + (f"{record.iterations} Newton iterations, residual "
-                         f"{record.residuals[-1]:.3g}" if record.converged else
-                         f"not converged ({record.reason}); relaxing on"))
+                         f"{record.residuals[-1]:.3g}, smallest eigenvalue "
+                         f"{self.eigenvalue:.3g}" if record.converged else
+                         f"not accepted ({record.reason}); relaxing on"))
         if not record.converged:
             self.problem.state.vec.data = saved
         self.final_residual = record.residuals[-1]

@@ -44,7 +44,9 @@ faces of the slab (plane strain). Stages:
    (eigenvalue -4.7), and plain Newton without the viscosity diverged from it. At ``t_end``
    the growth is held and the same viscous term drives a gradient flow in pseudo time
    (:class:`~ngincompat.stages.RelaxationStage`: steps that lower the energy, doubling)
-   into a stable equilibrium, which Newton then solves without the viscosity. Reported:
+   into a stable equilibrium, which Newton then solves without the viscosity (an
+   equilibrium with a negative tangent eigenvalue, a saddle Newton returns to when started
+   too early, is refused and the flow goes on). Reported:
    ``equilibrium_residual`` (the residual without viscosity there, relative to the
    viscous end's), ``equilibrium_eigenvalue`` (the smallest tangent eigenvalue there;
    >= 0: stable). Without an onset before ``t_end`` the perfect branch's end is that
@@ -60,7 +62,8 @@ faces of the slab (plane strain). Stages:
    the constrained one by the same relaxation (the supports' forces relaxed by the viscous
    flow rather than ramped). The remaining stress is the incompatibility's.
 
-Measured after the stages: the max principal Cauchy stress before (``sigma_max`` field,
+Measured after the stages: ``fold_amplitude`` of the final equilibrium, the max principal
+Cauchy stress before (``sigma_max`` field,
 ``max_principal_stress``) and after the release (``sigma_max_released``,
 ``max_principal_stress_released``, with the displacement ``u_released``), the reference
 depth below the top surface of the released peak tension (``peak_tension_depth_released``:
@@ -329,7 +332,7 @@ class FoldingCase:
         pseudo-time steps from the viscous march's largest."""
         options = NewtonOptions(max_iter=12, line_search=False, min_step=1e-6)
         return RelaxationStage(name, problem, self.eta, self.viscous_step(), options=options,
-                               unit="days")
+                               unit="days", eigenpairs=EIGENPAIRS)
 
     def release(self):
         """The released bilayer (:data:`RELEASED`) in the current state, growth frozen."""
@@ -354,13 +357,12 @@ class FoldingCase:
             solve_stages([self.release()], progress, solution, after=self._note)
 
     def _note(self, stage):
-        """After the equilibrium its residual and smallest eigenvalue; after the release
-        the reactions of the pins."""
+        """After the equilibrium its residual (relative to the start's) and smallest
+        eigenvalue; after the release the reactions of the pins."""
         if stage.name == "equilibrium":
-            values, _ = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS)
             self.noted.update(
                 equilibrium_residual=stage.final_residual / stage.initial_residual,
-                equilibrium_eigenvalue=float(values[0]))
+                equilibrium_eigenvalue=stage.eigenvalue)
         elif stage.name == "release":
             reactions = np.linalg.norm(pin_reactions(self.released))
             self.noted["release_reaction_rel"] = float(reactions / stage.initial_residual)
@@ -376,9 +378,9 @@ class FoldingCase:
         results = self.interrupted(solution)
         results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
                             for branch, series in self.series.items() if series["t"]}
-        buckled = self.series["buckling"]["amplitude"]
-        if buckled and solution.converged:
-            results.metrics["fold_amplitude"] = buckled[-1]
+        if self.series["buckling"]["t"] and solution.converged:
+            _, u3 = self.top_profile(self.problem.u)    # of the final equilibrium
+            results.metrics["fold_amplitude"] = float(np.ptp(u3) / 2)
         flds = {"u": self.problem.u, "theta": self.problem.theta,
                 **self._stresses(self.problem, "", results.metrics)}
         if self.released is not None and solution.converged:
