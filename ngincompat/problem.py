@@ -376,6 +376,16 @@ def rigid_pins(mesh, fes):
                  if tuple(table[v, :3]) in local)
 
 
+def pin_reactions(problem):
+    """The forces the rigid-body pins of ``problem`` exert in its current state: the
+    residual (internal force) at the pinned dofs, which only the pins balance. For a
+    self-equilibrated body in equilibrium they vanish (the residual is orthogonal to the
+    rigid motions, which the pins alone constrain)."""
+    residual = problem.state.vec.CreateVector()
+    problem.form.Apply(problem.state.vec, residual)
+    return residual.FV().NumPy()[list(problem.pinned)].copy()
+
+
 def _pin_nodes(pts, free):
     """The (vertex, component) pairs that :func:`rigid_pins` pins, for vertex coordinates
     ``pts`` and the free flags ``free`` of their three displacement components."""
@@ -458,7 +468,10 @@ class CoupledGrowth:
         (stress x time / length^2; 0 switches it off, as does a frozen step, dt = 0). It
         adds eta / dt M to the tangent, which keeps Newton's system positive definite past
         a buckling point (smallest eigenvalue of K w = omega M w above -eta / dt) and lets
-        an unstable mode grow at the finite rate -omega / eta instead of jumping.
+        an unstable mode grow at the finite rate -omega / eta instead of jumping. The
+        Parameter ``growing`` (1) multiplies the growth's step: 0 holds theta at theta_n
+        while a step dt > 0 keeps the viscous term, the pseudo-time step of a relaxation at
+        frozen growth (:class:`~ngincompat.stages.RelaxationStage`).
     realcompile : bool or None
         Compile the residual to C++ (:func:`compiled`); None: from
         :data:`REALCOMPILE_NDOF` dofs on.
@@ -516,7 +529,9 @@ class CoupledGrowth:
         W = self._energy_density(F, th)
         self.form = ngs.BilinearForm(self.fes, condense=condense)
         stretch = self._growth(th).stretch(F)
-        growth_residual = euler_residual(law, th, self.theta_old, self.dt, stretch)
+        self.growing = ngs.Parameter(1.0)
+        growth_residual = euler_residual(law, th, self.theta_old, self.growing * self.dt,
+                                         stretch)
         if realcompile is None:
             realcompile = self.fes.ndof >= REALCOMPILE_NDOF
         self.form += compiled(W.Diff(u, v) + growth_residual * eta, realcompile) * ngs.dx

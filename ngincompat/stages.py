@@ -7,7 +7,10 @@
   driven linearly between two targets (inflation, hold), checkpointed after every step when
   given a checkpoint file;
 * :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
-  until the volume under the skin is the target.
+  until the volume under the skin is the target;
+* :class:`RelaxationStage`: at frozen growth, from a state that is not an equilibrium (a
+  viscous march's end, a body whose constraints were just removed), a viscous gradient flow
+  to a stable equilibrium, finished by Newton without the viscosity.
 
 Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 :class:`~ngincompat.pipeline.Stage` protocol).
@@ -22,7 +25,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from . import io
+from . import buckling, io
 from .errors import ConvergenceError, ParameterError
 from .progress import Progress
 from .solver import (
@@ -194,6 +197,154 @@ class ContactControlStage:
         raise ConvergenceError(f"round {k}: {record.reason}, also after {self.max_cuts} "
                                "halvings of the resize", history=history,
                                t_converged=history.t_reached)
+
+
+@dataclass(eq=False)
+class RelaxationStage:
+    """The equilibrium at frozen growth of a viscous :class:`~ngincompat.problem.CoupledGrowth`
+    (``viscous``), reached by a gradient flow in pseudo time and then solved without the
+    viscosity.
+
+    Each pseudo-time step tau holds the growth (``problem.growing`` = 0) and makes the
+    residual of
+
+        Phi(u) = Pi(u) + eta / (2 tau) int |u - u_n|^2 dV,     eta = ``viscosity``,
+
+    vanish. While K + eta / tau M is positive definite (K the elastic tangent, M the mass
+    matrix of :mod:`ngincompat.buckling`) that stationary point is the minimiser of Phi, so
+    Pi(u_n+1) + eta / (2 tau) |u_n+1 - u_n|^2 <= Pi(u_n): the energy falls. Along an
+    unstable mode (K w = omega M w, omega < 0) a step tau > eta / |omega| breaks this: in the
+    linear model Phi(u_n+1) - Pi(u_n) = |omega| a^2 c / (2 (c - 1)), c = tau |omega| / eta,
+    for a mode amplitude a, positive for c > 1, where the step converges back toward the
+    saddle. A step that raises Phi above Pi(u_n) (beyond round-off, ``1e-12 |Pi|``) is
+    rejected like one where Newton fails, and retried at half the size; after one that took
+    at most four Newton iterations tau doubles. The flow so leaves saddles and settles in a
+    stable equilibrium.
+
+    The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
+    ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
+    equilibrium without viscosity (a frozen step, dt = 0) from there; if that fails the flow
+    goes on, and tries again once the residual has fallen ``switch``-fold more. An
+    equilibrium Newton finds is kept only if it is stable, the smallest eigenvalue of its
+    tangent at frozen growth (:func:`~ngincompat.buckling.smallest_eigenpairs`) >= 0:
+    started close to a saddle, where the flow leaves the unstable mode only at the rate
+    |omega| / eta, Newton returns to the saddle; the flow then goes on from the state
+    before. :attr:`final_residual` is the residual without viscosity at the end,
+    :attr:`eigenvalue` the smallest eigenvalue there (of ``eigenpairs`` computed). The history's
+    steps are the pseudo-time steps (``t`` the pseudo time, ``dt`` tau) and last the frozen
+    step (``dt`` = 0), whose ``residuals`` end with the residual of the equilibrium. The
+    problem is left frozen (dt = 0, ``growing`` = 1).
+
+    Raises
+    ------
+    ConvergenceError
+        No equilibrium after ``max_steps`` steps, or tau below ``options.min_step``.
+    """
+
+    name: str
+    problem: object
+    viscosity: float
+    dt: float
+    switch: float = 0.1
+    max_steps: int = 60
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=12))
+    unit: str = ""
+    eigenpairs: int = 1
+    initial_residual: float = field(default=float("nan"), init=False)
+    final_residual: float = field(default=float("nan"), init=False)
+    eigenvalue: float = field(default=float("nan"), init=False)
+
+    def run(self, progress: Progress) -> SolverHistory:
+        problem = self.problem
+        solver = NewtonSolver(problem, self.options)
+        history = SolverHistory()
+        problem.growing.Set(0.0)
+        problem.viscosity.Set(self.viscosity)
+        problem.u_old.vec.data = problem.u.vec
+        saved = problem.state.vec.CreateVector()
+        saved.data = problem.state.vec
+        self.initial_residual = self._residual(solver)
+        energy, t, tau = problem.strain_energy(), 0.0, self.dt
+        attempt = self.initial_residual
+        progress.line(f"{self.name}: residual without viscosity {self.initial_residual:.3g}")
+        try:
+            with ngs.TaskManager():
+                for _ in range(self.max_steps):
+                    problem.dt.Set(tau)
+                    record = StepRecord(t=t + tau, dt=tau, converged=False)
+                    if solver.minimise(record):
+                        record.energy = problem.strain_energy()
+                        dissipation = self.viscosity / (2 * tau) * ngs.Integrate(
+                            ngs.InnerProduct(problem.u - problem.u_old,
+                                             problem.u - problem.u_old), problem.mesh)
+                        record.converged = (record.energy + dissipation
+                                            <= energy + 1e-12 * abs(energy))
+                        if not record.converged:
+                            record.reason = "the step raised the energy (a saddle)"
+                    history.steps.append(record)
+                    if not record.converged:
+                        problem.state.vec.data = saved
+                        progress.line(f"{self.name}: step {tau:.3g} failed ({record.reason})"
+                                      f"; retrying with {tau / 2:.3g}")
+                        tau /= 2
+                        if tau < self.options.min_step:
+                            break
+                        continue
+                    t, energy = t + tau, record.energy
+                    problem.accept_step()
+                    saved.data = problem.state.vec
+                    residual = self._residual(solver)
+                    progress.line(f"{self.name}: pseudo time {t:.4g}{self._unit} "
+                                  f"({record.iterations} Newton iterations), energy "
+                                  f"{energy:.10g}, residual without viscosity {residual:.3g}")
+                    history.t_reached = t
+                    if residual <= self.switch * attempt:
+                        if self._equilibrium(solver, history, saved, progress):
+                            history.converged = True
+                            return history
+                        attempt = residual
+                    if record.iterations <= 4:
+                        tau *= 2
+        finally:
+            problem.dt.Set(0.0)
+            problem.growing.Set(1.0)
+        raise ConvergenceError(f"{self.name}: no equilibrium after {len(history.steps)} "
+                               f"pseudo-time steps (last step {tau:.3g})", history=history,
+                               t_converged=history.t_reached)
+
+    @property
+    def _unit(self) -> str:
+        return f" {self.unit}" if self.unit else ""
+
+    def _residual(self, solver) -> float:
+        """The norm of the residual without viscosity at the current state."""
+        dt = self.problem.dt.Get()
+        self.problem.dt.Set(0.0)
+        norm = solver.residual().Norm()
+        self.problem.dt.Set(dt)
+        return norm
+
+    def _equilibrium(self, solver, history, saved, progress) -> bool:
+        """Newton without viscosity from the current state; unless it converges to a
+        stable equilibrium the state is restored and False returned."""
+        self.problem.dt.Set(0.0)
+        record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
+        if solver.minimise(record):
+            values, _ = buckling.smallest_eigenpairs(self.problem, count=self.eigenpairs)
+            self.eigenvalue = float(values[0])
+            record.converged = self.eigenvalue >= 0
+            if not record.converged:
+                record.reason = f"unstable: smallest eigenvalue {self.eigenvalue:.3g}"
+        history.steps.append(record)
+        progress.line(f"{self.name}: without viscosity "
+                      + (f"{record.iterations} Newton iterations, residual "
+                         f"{record.residuals[-1]:.3g}, smallest eigenvalue "
+                         f"{self.eigenvalue:.3g}" if record.converged else
+                         f"not accepted ({record.reason}); relaxing on"))
+        if not record.converged:
+            self.problem.state.vec.data = saved
+        self.final_residual = record.residuals[-1]
+        return record.converged
 
 
 def save_checkpoint(problem, path: Path, t: float) -> None:

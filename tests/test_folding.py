@@ -20,6 +20,7 @@ from ngincompat.materials import NeoHookean, Regional
 from ngincompat.pipeline import Solution
 from ngincompat.progress import SILENT
 from ngincompat.scenes.folding import FoldingScene
+from ngincompat.shape import circle_curvature
 
 #: A short, shallow bilayer that buckles like the long one (its substrate is still many
 #: cortical thicknesses deep) on a coarse but adequate mesh: two quadratic elements across
@@ -165,7 +166,7 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
     growing (lambda_e = 1 along the curved axons), the cortex in the state F = diag(1, 1,
     lambda3) with sigma33 = 0 (:func:`prebuckled_cortex`), to 1e-6 of mu_gray."""
     scene = FoldingScene(**{**SMALL, "length": 0.5, "height": 0.3, "maxh": 0.15,
-                            "axons": "curved"}, t_end=10.0, dt=10.0)
+                            "axons": "curved"}, t_end=10.0, dt=10.0, release=False)
     results = scene.run()
     theta_c = 1 + scene.cortex_rate * scene.t_end
     state = prebuckled_cortex(theta_c, scene.mu_gray, scene.lam_ratio * scene.mu_gray)
@@ -184,7 +185,7 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
 
 def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path):
     """``ngincompat folding`` for one axon field on the coarse flat state (theta_c = 1.08,
-    before the onset, no axon growth): Fg = I + (theta_c - 1) e1 (x) e1 in the cortex, I
+    before the onset, no axon growth; then released, which bends it cortex out): Fg = I + (theta_c - 1) e1 (x) e1 in the cortex, I
     below, so Curl Fg is the jump at the interface, (Curl Fg)_21 = dFg_11/dX3, and b = G^T e2
     points along e1. Across the interface int (Curl Fg_h)_21 dX3 = theta_c - 1 exactly (the
     interpolant equals Fg away from it) and G = Fg Curl Fg / Jg weighs it by 1/theta_c above
@@ -193,7 +194,8 @@ def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path
     settings = dict(pair.split("=") for pair in FOLDING_COARSE[1::2])
     rows, results = folding.run_all(tmp_path, axons=("curved",), **settings)
     summary = json.loads((tmp_path / "summary.json").read_text())
-    assert summary["columns"] == list(folding.COLUMNS[:-2])     # not released: no columns
+    assert summary["columns"] == list(folding.COLUMNS)       # released: every column
+    assert rows[0]["top_curvature_released"] > 0    # the longer cortex on the convex side
     assert summary["rows"] == rows and rows[0]["status"] == "done"
     assert (tmp_path / "fields.png").is_file() and (tmp_path / "curved" / "fields.png").is_file()
     r = results["curved"]
@@ -218,3 +220,64 @@ def test_the_command_line_offers_every_axon_field(capsys):
     assert main(["folding", "--help"]) == 0
     assert "all of " + ", ".join(fields.AXONS) in " ".join(capsys.readouterr().out.split())
     assert main(["folding", "--out", "x", "--axons", "spiral"]) == 2
+
+
+def test_circle_fit_is_exact_on_arcs_and_lines():
+    """Points on arcs of radius R (both senses, short and long) give 1 / R to round-off, a
+    straight line 0."""
+    s = np.linspace(-0.5, 0.5, 41)
+    for radius in (0.7, 14.0, -3.0, 1e4):
+        x, z = 1.5 + radius * np.sin(s / radius), 1 - radius * (1 - np.cos(s / radius))
+        assert circle_curvature(x, z) == pytest.approx(1 / radius, rel=1e-7)
+    assert circle_curvature(s, 0.3 * s + 1) == pytest.approx(0.0, abs=1e-12)
+    with pytest.raises(ParameterError, match="points"):
+        circle_curvature([0.0, 1.0], [0.0, 1.0])
+
+
+def test_top_curvature_of_a_prescribed_circular_bending():
+    """The displacement that bends the top line onto a circle of radius R about the middle,
+    X1 -> (L/2 + R sin(s / R), H - R (1 - cos(s / R))), s = X1 - L/2, interpolated by the
+    quadratic elements: the measured curvature is 1 / R to the interpolation error."""
+    scene = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1})
+    case = scene.build()
+    radius = 0.8
+    s = ngs.x - scene.length / 2
+    case.problem.u.Set(ngs.CF((radius * ngs.sin(s / radius) - s, 0,
+                               -radius * (1 - ngs.cos(s / radius)))))
+    assert case.top_curvature(case.problem.u) == pytest.approx(1 / radius, rel=1e-4)
+    case.problem.u.Set(ngs.CF((0, 0, 0.01 * ngs.x)))
+    assert case.top_curvature(case.problem.u) == pytest.approx(0.0, abs=1e-9)
+
+
+def timoshenko_curvature(mismatch, cortex, substrate, stiffness_ratio):
+    """Curvature of a free bilayer beam whose top layer (thickness ``cortex``) has the
+    eigenstrain ``mismatch`` relative to the bottom one (``substrate``), both with the same
+    Poisson ratio (Timoshenko, J. Opt. Soc. Am. 11 (1925) 233):
+    kappa = 6 eps (1 + m)^2 / (h [3 (1 + m)^2 + (1 + m n) (m^2 + 1 / (m n))]),
+    m = cortex / substrate, n the ratio of the (plane-strain) Young's moduli, h the total."""
+    m, n, h = cortex / substrate, stiffness_ratio, cortex + substrate
+    return 6 * mismatch * (1 + m) ** 2 / (h * (3 * (1 + m) ** 2 + (1 + m * n)
+                                              * (m * m + 1 / (m * n))))
+
+
+@pytest.mark.slow
+def test_released_flat_bilayer_bends_as_a_timoshenko_bimetal():
+    """Before the onset (theta_c = 1.001) the released bilayer, its cortex grown along e1
+    and the substrate not at all (no axons), bends with the cortex outside. Plane strain
+    with an eigenstrain along e1 alone: sigma11 = E / (1 - nu^2) (eps11 - eps*) in both
+    layers, so the beam formula holds with the stiffness ratio mu_ratio (same nu). Against
+    it to 0.5 % (beam theory vs a 5:1 plane-strain body over its central third: 0.07 %
+    measured). The pins carry no reaction (1e-8 of the removed supports' forces); the
+    peak tension is in the substrate at the interface, which the longer cortex stretches."""
+    scene = FoldingScene(**{**SMALL, "height": 0.2, "maxh": 0.05}, t_end=0.125, dt=0.125)
+    results = scene.run()
+    expected = timoshenko_curvature(scene.cortex_rate * scene.t_end, scene.cortex_thickness,
+                                    scene.height - scene.cortex_thickness, scene.mu_ratio)
+    metrics = results.metrics
+    assert "onset_growth" not in metrics
+    assert metrics["top_curvature_released"] == pytest.approx(expected, rel=0.005)
+    assert metrics["release_reaction_rel"] < 1e-8
+    assert metrics["peak_tension_depth_released"] == pytest.approx(scene.cortex_thickness,
+                                                                    abs=1e-6)
+    assert metrics["max_principal_stress_released"] > 0
+    assert {"u_released", "sigma_max", "sigma_max_released"} <= set(results.fields)

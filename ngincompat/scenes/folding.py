@@ -38,9 +38,40 @@ faces of the slab (plane strain). Stages:
    with eta = 10 mu and 5-day steps), so the steps are capped at eta / (2 |omega_onset|),
    omega_onset the first negative eigenvalue: the mode at most doubles per step. The fold
    amplitude (half the peak-to-peak u3 along the top) and the smallest eigenvalue are
-   recorded every step. (Switching the viscosity off at ``t_end`` for a last equilibrium
-   solve is not done yet: tried, plain Newton from the viscous state diverged, see the
-   README.)
+   recorded every step.
+3. **equilibrium**: the viscous march's end is not an equilibrium (residual without the
+   viscosity 5.4e-5 on the small bilayer of the tests) and still has an unstable mode
+   (eigenvalue -4.7), and plain Newton without the viscosity diverged from it. At ``t_end``
+   the growth is held and the same viscous term drives a gradient flow in pseudo time
+   (:class:`~ngincompat.stages.RelaxationStage`: steps that lower the energy, doubling)
+   into a stable equilibrium, which Newton then solves without the viscosity (an
+   equilibrium with a negative tangent eigenvalue, a saddle Newton returns to when started
+   too early, is refused and the flow goes on). Reported:
+   ``equilibrium_residual`` (the residual without viscosity there, relative to the
+   viscous end's), ``equilibrium_eigenvalue`` (the smallest tangent eigenvalue there;
+   >= 0: stable). Without an onset before ``t_end`` the perfect branch's end is that
+   equilibrium already.
+4. **release**: growth frozen, the end and bottom supports are removed; the rigid motions
+   the slab faces leave free (the two in-plane translations and the rotation about X2)
+   are removed by the statically determinate pins of :func:`~ngincompat.problem.rigid_pins`
+   (three displacement components at vertices), whose reactions vanish for the
+   self-equilibrated body: ``release_reaction_rel``, their norm relative to the forces the
+   removed supports carried, measures it. Plane strain is kept (u2 = 0 on both slab
+   faces): it is the two-dimensional model of the paper's one-element slab, not a support
+   (the faces carry no resultant in X1 or X3). The released equilibrium is reached from
+   the constrained one by the same relaxation (the supports' forces relaxed by the viscous
+   flow rather than ramped). The remaining stress is the incompatibility's.
+
+Measured after the stages: ``fold_amplitude`` of the final equilibrium, the max principal
+Cauchy stress before (``sigma_max`` field,
+``max_principal_stress``) and after the release (``sigma_max_released``,
+``max_principal_stress_released``, with the displacement ``u_released``), the reference
+depth below the top surface of the released peak tension (``peak_tension_depth_released``:
+below the interface if > ``cortex_thickness``), and ``top_curvature_released``: the mean
+curvature of the top surface over the central third of the length after release, the
+curvature of the circle fitted (:func:`~ngincompat.shape.circle_curvature`) to the deformed
+top line (X1 + u1, X3 + u3) sampled along the middle of the slab; positive where the top
+bulges upward (the cortex on the convex side).
 
 Outputs (``measure``): the axon growth theta_a (theta in the subcortex, 1 in the cortex);
 G = (1/Jg) Fg Curl Fg (eq. 10) by the projected path, the Burgers vector density on the
@@ -68,11 +99,13 @@ from ..growth import FiberGrowth
 from ..growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
 from ..materials import NeoHookean, Regional
 from ..pipeline import Solution, solve_stages, timed
-from ..problem import CoupledGrowth
+from ..problem import CoupledGrowth, pin_reactions
 from ..progress import Progress
 from ..results import Figure, Results
+from ..sampling import element_points
+from ..shape import circle_curvature
 from ..solver import NewtonOptions
-from ..stages import CoupledStage
+from ..stages import CoupledStage, RelaxationStage
 from .base import Scene, param
 
 #: The axon fields of Fig. 7 (left to right), and "none": no axon growth.
@@ -84,6 +117,9 @@ EIGENPAIRS = 6
 
 #: Boundary conditions while growing: ends on rollers, bottom on rollers, plane strain.
 GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
+
+#: After the release: plane strain only (the rigid motions left are pinned).
+RELEASED = {"sides": "y"}
 
 
 #: The panels of Fig. 7 a-c: label -> (field, the displacement it is drawn deformed by);
@@ -107,11 +143,16 @@ class FoldingScene(Scene):
     variant = ("axons",)
     metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude",
                "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
-               "max_principal_stress")
+               "equilibrium_residual", "equilibrium_eigenvalue", "max_principal_stress",
+               "max_principal_stress_released", "top_curvature_released",
+               "peak_tension_depth", "peak_tension_depth_released", "release_reaction_rel")
     metric_quantities = {**Scene.metric_quantities, "onset_wavelength": "length",
                          "fold_amplitude": "length", "onset_time": "time",
                          "burgers_max_depth": "length", "burgers_max_X1": "length",
-                         "top_curvature_released": "1/length"}
+                         "equilibrium_eigenvalue": "stress/length^2",
+                         "top_curvature_released": "1/length",
+                         "peak_tension_depth": "length",
+                         "peak_tension_depth_released": "length"}
     units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
 
     order: int = param(2, "polynomial order of the displacement")
@@ -141,6 +182,8 @@ class FoldingScene(Scene):
                                   "the onset)", "time")
     imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
                                       "onset / cortex_thickness")
+    release: bool = param(True, "at the end remove the supports but the rigid-motion pins "
+                                "(growth frozen)")
     viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
                                    "(eta in stress x time / length^2)", "time/length^2")
 
@@ -223,20 +266,34 @@ class FoldingCase:
                               length=scene.length))
         self.f0 = fields.by_region(mesh, {"cortex": fields.constant("e1"),
                                           "subcortex": axons}, "f0")
-        law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
-                                 "subcortex": scene.axon_law()})
-        self.problem = CoupledGrowth(mesh, "fiber", self.f0, law, self.material,
-                                     order=scene.order, growth_order=scene.growth_order,
-                                     symmetry=GROWING, viscous=True)
+        self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
+                                      "subcortex": scene.axon_law()})
+        self.problem = self.coupled(GROWING)
+        self.released = None
         self.mode = None
 
-    def top_profile(self, u, n=301):
-        """X1 and u3 along the middle of the top surface."""
+    def coupled(self, symmetry):
+        """The viscous coupled bilayer with the symmetry planes ``symmetry``."""
+        scene = self.scene
+        return CoupledGrowth(self.mesh, "fiber", self.f0, self.law, self.material,
+                             order=scene.order, growth_order=scene.growth_order,
+                             symmetry=symmetry, viscous=True)
+
+    def top_profile(self, u, n=301, component=2):
+        """X1 and the displacement ``component`` along the middle of the top surface."""
         s = self.scene
         x, values = postprocess.sample_line(
-            self.mesh, {"u3": u[2]}, (0.0, s.depth / 2, s.height),
+            self.mesh, {"u": u[component]}, (0.0, s.depth / 2, s.height),
             (s.length, s.depth / 2, s.height), n=n)
-        return x, values["u3"]
+        return x, values["u"]
+
+    def top_curvature(self, u, n=301):
+        """The curvature of the circle fitted to the deformed top line (X1 + u1, X3 + u3)
+        over the central third of the length (1/length; > 0: bulging upward)."""
+        x, u1 = self.top_profile(u, n, component=0)
+        _, u3 = self.top_profile(u, n)
+        third = (x >= self.scene.length / 3) & (x <= 2 * self.scene.length / 3)
+        return circle_curvature(x[third] + u1[third], self.scene.height + u3[third])
 
     def _observe(self, branch, t):
         """Append the time, cortex growth, smallest eigenvalue and fold amplitude of the
@@ -286,24 +343,63 @@ class FoldingCase:
                              options=options,
                              observe=self._observe_perfect, unit="days")]
 
+    @property
+    def eta(self):
+        """The viscosity of the regularisation (stress x time / length^2)."""
+        return self.scene.viscosity * self.scene.mu_white
+
+    def viscous_step(self):
+        """The largest step of the viscous march, eta / (2 |omega_onset|), or ``dt``."""
+        eigenvalue = self.series["perfect"]["eigenvalue"][-1]
+        return min(self.scene.dt, self.eta / (2 * abs(eigenvalue)))
+
     def buckling_stage(self):
         """The viscous march from the onset step to ``t_end``."""
-        scene = self.scene
-        eta = scene.viscosity * scene.mu_white
-        step = min(scene.dt, eta / (2 * abs(self.series["perfect"]["eigenvalue"][-1])))
+        step = self.viscous_step()
         options = NewtonOptions(max_iter=12, max_step=step, line_search=False, min_step=1e-6)
-        return CoupledStage("buckling", self.problem, t_end=scene.t_end, dt=step,
-                             t_start=self.series["perfect"]["t"][-1], options=options,
+        return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
+                            t_start=self.series["perfect"]["t"][-1], options=options,
                             observe=self._observe_buckling, unit="days")
+
+    def relaxation(self, name, problem):
+        """The gradient flow to the equilibrium at frozen growth of ``problem``, in
+        pseudo-time steps from the viscous march's largest."""
+        options = NewtonOptions(max_iter=12, line_search=False, min_step=1e-6)
+        return RelaxationStage(name, problem, self.eta, self.viscous_step(), options=options,
+                               unit="days", eigenpairs=EIGENPAIRS)
+
+    def release(self):
+        """The released bilayer (:data:`RELEASED`) in the current state, growth frozen."""
+        self.released = self.coupled(RELEASED)
+        self.released.state.vec.data = self.problem.state.vec
+        self.released.theta_old.vec.data = self.problem.theta.vec
+        return self.relaxation("release", self.released)
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
         solve_stages(self.stages(), progress, solution)
-        if not solution.converged or self.mode is None:
+        if not solution.converged:
             return
-        self.perturb()
-        self.problem.viscosity.Set(self.scene.viscosity * self.scene.mu_white)
-        solve_stages([self.buckling_stage()], progress, solution)
+        if self.mode is not None:
+            self.perturb()
+            self.problem.viscosity.Set(self.eta)
+            solve_stages([self.buckling_stage(), self.relaxation("equilibrium", self.problem)],
+                         progress, solution, after=self._note)
+            if not solution.converged:
+                return
+        if self.scene.release:
+            solve_stages([self.release()], progress, solution, after=self._note)
+
+    def _note(self, stage):
+        """After the equilibrium its residual (relative to the start's) and smallest
+        eigenvalue; after the release the reactions of the pins."""
+        if stage.name == "equilibrium":
+            self.noted.update(
+                equilibrium_residual=stage.final_residual / stage.initial_residual,
+                equilibrium_eigenvalue=stage.eigenvalue)
+        elif stage.name == "release":
+            reactions = np.linalg.norm(pin_reactions(self.released))
+            self.noted["release_reaction_rel"] = float(reactions / stage.initial_residual)
 
     def interrupted(self, solution: Solution) -> Results:
         results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
@@ -316,12 +412,15 @@ class FoldingCase:
         results = self.interrupted(solution)
         results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
                             for branch, series in self.series.items() if series["t"]}
-        buckled = self.series["buckling"]["amplitude"]
-        if buckled and solution.converged:
-            results.metrics["fold_amplitude"] = buckled[-1]
-        sigma = postprocess.stresses(self.problem.energy_density, self.problem.u)["sigma"]
-        flds = {"u": self.problem.u, "theta": self.problem.theta, "sigma": sigma,
-                "sigma_max": postprocess.largest_principal_value(sigma)}
+        if self.series["buckling"]["t"] and solution.converged:
+            _, u3 = self.top_profile(self.problem.u)    # of the final equilibrium
+            results.metrics["fold_amplitude"] = float(np.ptp(u3) / 2)
+        flds = {"u": self.problem.u, "theta": self.problem.theta,
+                **self._stresses(self.problem, "", results.metrics)}
+        if self.released is not None and solution.converged:
+            flds["u_released"] = self.released.u
+            flds.update(self._stresses(self.released, "_released", results.metrics))
+            results.metrics["top_curvature_released"] = self.top_curvature(self.released.u)
         if self.mode is not None:
             flds["buckling_mode"] = self.mode
             x, w = self.top_profile(self.mode)
@@ -331,7 +430,6 @@ class FoldingCase:
             results.metrics.update(self.burgers_metrics(flds["|b|"]))
         mesh = self.mesh
         results.metrics["theta_a_max"] = postprocess.maximum(flds["theta_a"], mesh)
-        results.metrics["max_principal_stress"] = postprocess.maximum(flds["sigma_max"], mesh)
         with progress.phase("sampling"), timed(results.timings, "sampling"):
             results.profiles["section"] = self.section(flds)
             results.profiles["depth"] = self.depth_profile(flds)
@@ -349,6 +447,23 @@ class FoldingCase:
         return {"theta_a": self.mesh.MaterialCF({"subcortex": theta, "cortex": 1.0}),
                 "G": G, "b": b, "|b|": ngs.Norm(b),
                 "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
+
+    def _stresses(self, problem, suffix, metrics):
+        """The Cauchy stress of ``problem`` and its largest principal value (fields
+        ``sigma``, ``sigma_max`` + ``suffix``); into ``metrics`` that value's maximum over
+        the integration points and vertices (``max_principal_stress`` + ``suffix``) and the
+        reference depth below the top surface where it is reached (``peak_tension_depth``
+        + ``suffix``)."""
+        sigma = postprocess.stresses(problem.energy_density, problem.u)["sigma"]
+        largest = postprocess.largest_principal_value(sigma)
+        points = element_points(self.mesh, 4)
+        values = np.asarray(largest(points)).ravel()
+        peak = int(np.nanargmax(values))
+        metrics[f"max_principal_stress{suffix}"] = float(values[peak])
+        metrics[f"peak_tension_depth{suffix}"] = float(
+            self.scene.height - np.asarray(ngs.z(points)).ravel()[peak])
+        return {f"sigma{suffix}": sigma, f"sigma_max{suffix}": largest}
+
 
     def burgers_metrics(self, b_norm):
         """The largest |b|, its depth below the top and its X1."""
