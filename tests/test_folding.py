@@ -185,12 +185,13 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
 
 def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path):
     """``ngincompat folding`` for one axon field on the coarse flat state (theta_c = 1.08,
-    before the onset, no axon growth; then released, which bends it cortex out): Fg = I + (theta_c - 1) e1 (x) e1 in the cortex, I
-    below, so Curl Fg is the jump at the interface, (Curl Fg)_21 = dFg_11/dX3, and b = G^T e2
-    points along e1. Across the interface int (Curl Fg_h)_21 dX3 = theta_c - 1 exactly (the
-    interpolant equals Fg away from it) and G = Fg Curl Fg / Jg weighs it by 1/theta_c above
-    and 1 below: int b1 dX3 lies in [(theta_c - 1) / theta_c, theta_c - 1]; b vanishes
-    in the subcortex away from the interface, and the largest |b| is at the interface."""
+    before the onset, no axon growth; then released, which bends it, cortex outward):
+    Fg = I + (theta_c - 1) e1 (x) e1 in the cortex, I below, so Curl Fg is the jump at the
+    interface, (Curl Fg)_21 = dFg_11/dX3, and b = G^T e2 points along e1. Across the
+    interface int (Curl Fg_h)_21 dX3 = theta_c - 1 exactly (the interpolant equals Fg away
+    from it) and G = Fg Curl Fg / Jg weighs it by 1/theta_c above and 1 below: int b1 dX3
+    lies in [(theta_c - 1) / theta_c, theta_c - 1]; b vanishes in the subcortex away from
+    the interface, and the largest |b| is at the interface."""
     settings = dict(pair.split("=") for pair in FOLDING_COARSE[1::2])
     rows, results = folding.run_all(tmp_path, axons=("curved",), **settings)
     summary = json.loads((tmp_path / "summary.json").read_text())
