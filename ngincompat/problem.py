@@ -200,6 +200,13 @@ class GrowthMechanics:
         rest, g = self.material.bulk_split(Fe)
         return self.growth.Jg * (rest + p * g - p * p / (2 * self.material.lam))
 
+    def frozen_tangent(self):
+        """The tangent of the equilibrium at the current state (the growth is prescribed),
+        assembled into and returned as ``form.mat``: the Hessian of the energy, condensed as
+        the problem is (mixed: the pressure eliminated)."""
+        self.form.AssembleLinearization(self.state.vec)
+        return self.form.mat
+
     def energy_density(self, F):
         """Strain energy per reference volume, Jg Psi(Fe) with Fe = F Fg^-1 (mixed: with the
         computed pressure in the bulk term, so its derivative is the mixed stress)."""
@@ -579,6 +586,20 @@ class CoupledGrowth:
         Fs = ngs.Id(3) + ngs.Grad(u).Trace()
         x3 = ngs.z + u[2]
         return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
+
+    def frozen_tangent(self):
+        """The tangent at frozen growth (a step dt = 0: theta held at theta_n, no viscosity)
+        at the current state, assembled into and returned as ``form.mat``. Its growth rows
+        are then the identity and do not depend on u, so condensed onto u it is the Hessian
+        of the energy int Jg Psi(F Fg^-1) dV by the rule of the residual the problem solves
+        (NGSolve integrates the compound form more finely than an energy on u alone)."""
+        dt = self.dt.Get()
+        self.dt.Set(0.0)
+        try:
+            self.form.AssembleLinearization(self.state.vec)
+        finally:
+            self.dt.Set(dt)
+        return self.form.mat
 
     def energy_density(self, F):
         """Strain energy per reference volume at the current growth, Jg Psi(F Fg^-1)."""
