@@ -329,3 +329,23 @@ def test_released_flat_bilayer_bends_as_a_timoshenko_bimetal():
                                                                     abs=1e-6)
     assert metrics["max_principal_stress_released"] > 0
     assert {"u_released", "sigma_max", "sigma_max_released"} <= set(results.fields)
+
+
+@pytest.mark.slow
+def test_folded_bilayer_released_is_self_equilibrated_and_bent():
+    """Grown just past the onset (the notebook's coarse bilayer), the folds relaxed to a
+    stable equilibrium, then released: the supports' reactions ramped off, the released
+    equilibrium stable, its pins without reaction (1e-8 of the removed supports' forces),
+    the top bent with the longer cortex outside, the largest tension lower than before the
+    release and no higher than the interface (as in Fig. 7c: tension below the cortex)."""
+    scene = FoldingScene(length=1.0, height=0.6, cortex_thickness=0.1, cortex_maxh=0.05,
+                         maxh=0.3, t_end=42.0, dt=10.0, onset_dt=10.0, outputs="none")
+    results = scene.run()
+    metrics = results.metrics
+    assert results.status == "done", results.error
+    assert metrics["equilibrium_eigenvalue"] > 0
+    assert metrics["fold_amplitude"] > 10 * scene.imperfection * scene.cortex_thickness
+    assert metrics["release_reaction_rel"] < 1e-8
+    assert metrics["top_curvature_released"] > 0
+    assert 0 < metrics["max_principal_stress_released"] < metrics["max_principal_stress"]
+    assert metrics["peak_tension_depth_released"] >= scene.cortex_thickness - 1e-6
