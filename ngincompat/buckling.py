@@ -21,7 +21,6 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import eigsh
 
 from .errors import require
-from .kinematics import deformation_gradient
 
 
 def _scipy(matrix, free):
@@ -37,8 +36,11 @@ def smallest_eigenpairs(problem, count=1):
     Parameters
     ----------
     problem : GrowthMechanics or CoupledGrowth
-        Its displacement ``u`` (the current state), ``energy_density(F)`` at the current
-        growth, and the dofs it holds (Dirichlet and symmetry conditions, rigid-body pins).
+        Its displacement ``u`` (the current state), its tangent at frozen growth
+        (``frozen_tangent()``: K is the derivative of the very residual the problem solves,
+        with its integration rule; a Hessian integrated more coarsely has spurious modes in a
+        nearly incompressible body) and its free dofs (Dirichlet and symmetry conditions,
+        rigid-body pins).
     count : int
         How many, >= 1.
 
@@ -49,6 +51,12 @@ def smallest_eigenpairs(problem, count=1):
     modes : list of ngsolve.GridFunction
         The eigenvectors in the displacement space, each of unit L2 norm.
 
+    Raises
+    ------
+    ParameterError
+        The displacement space has element-internal dofs (order >= 4 on tetrahedra), which
+        the problem's tangent has condensed out.
+
     Notes
     -----
     Shift-invert Lanczos (ARPACK through ``scipy.sparse.linalg.eigsh``) about omega = 0 finds
@@ -56,18 +64,22 @@ def smallest_eigenpairs(problem, count=1):
     """
     require(isinstance(count, int) and count >= 1, "count", count, "an integer >= 1")
     V = problem.u.space
-    free = np.array(V.FreeDofs(), dtype=bool)
-    free[list(problem.pinned)] = False
+    n = V.ndof
+    free = np.array(problem.freedofs, dtype=bool)[:n]
+    admissible = np.array(V.FreeDofs(), dtype=bool)
+    admissible[list(problem.pinned)] = False
+    require(np.array_equal(free, admissible), "order", problem.order,
+            "one without element-internal displacement dofs (<= 3 on tetrahedra), which the "
+            "condensed tangent leaves out")
+    with ngs.TaskManager():
+        tangent = problem.frozen_tangent()
+    rows = np.zeros(tangent.height, dtype=bool)
+    rows[:n] = free
     u, v = V.TnT()
-    stiffness = ngs.BilinearForm(V)
-    stiffness += ngs.Variation(problem.energy_density(deformation_gradient(u)).Compile()
-                               * ngs.dx)
     mass = ngs.BilinearForm(V)
     mass += ngs.InnerProduct(u, v) * ngs.dx
-    with ngs.TaskManager():
-        stiffness.AssembleLinearization(problem.u.vec)
-        mass.Assemble()
-    K, M = _scipy(stiffness.mat, free), _scipy(mass.mat, free)
+    mass.Assemble()
+    K, M = _scipy(tangent, rows), _scipy(mass.mat, free)
     K = (K + K.T) / 2                    # symmetric up to round-off; ARPACK wants it exactly
     values, vectors = eigsh(K, k=count, M=M, sigma=0.0, which="LM")
     order = np.argsort(values)

@@ -200,6 +200,13 @@ class GrowthMechanics:
         rest, g = self.material.bulk_split(Fe)
         return self.growth.Jg * (rest + p * g - p * p / (2 * self.material.lam))
 
+    def frozen_tangent(self):
+        """The tangent of the equilibrium at the current state (the growth is prescribed),
+        assembled into and returned as ``form.mat``: the Hessian of the energy, condensed as
+        the problem is (mixed: the pressure eliminated)."""
+        self.form.AssembleLinearization(self.state.vec)
+        return self.form.mat
+
     def energy_density(self, F):
         """Strain energy per reference volume, Jg Psi(Fe) with Fe = F Fg^-1 (mixed: with the
         computed pressure in the bulk term, so its derivative is the mixed stress)."""
@@ -481,6 +488,11 @@ class CoupledGrowth:
         H int phi dA is ``volume_target``: its height H follows the target, so there is no
         extra unknown, and the volume under the boundary is measured (it exceeds the
         expander's where the skin leaves it and falls short by the penetration).
+    traction : str, optional
+        Boundaries (a region expression such as "left|right") on which a dead traction
+        ``load_scale`` t acts: the residual gains -load_scale int t . v dA, t the
+        GridFunction ``traction_field``; :meth:`hold_by_traction` sets it to the forces that
+        the supports of another problem exerted there, e.g. to remove them gradually.
     """
 
     has_energy = False
@@ -492,7 +504,8 @@ class CoupledGrowth:
                  fibers: Sequence[DirectionField] = (), dirichlet: str = "",
                  symmetry: Mapping[str, str] | None = None, volume: str | None = None,
                  condense: bool = True, viscous: bool = False,
-                 realcompile: bool | None = None, expander=None):
+                 realcompile: bool | None = None, expander=None,
+                 traction: str | None = None):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         require(expander is None or volume, "expander", expander,
                 "None without a volume boundary (the expander holds the volume)")
@@ -540,6 +553,12 @@ class CoupledGrowth:
         if viscous:
             rate = self.viscosity / ngs.IfPos(self.dt, self.dt, 1.0) * ngs.IfPos(self.dt, 1, 0)
             self.form += rate * ngs.InnerProduct(u - self.u_old, v) * ngs.dx
+        self.traction = traction
+        self.load_scale = ngs.Parameter(0.0)
+        self.traction_field = ngs.GridFunction(V, name="traction") if traction else None
+        if traction:
+            self.form += -self.load_scale * ngs.InnerProduct(self.traction_field, v) * ngs.ds(
+                traction)
         if expander is not None:    # the penalty's kink needs more integration points
             self.base_integral = ngs.Integrate(expander.shape(ngs.x, ngs.y)[0], mesh, ngs.BND,
                                                definedon=mesh.Boundaries(volume), order=8)
@@ -579,6 +598,47 @@ class CoupledGrowth:
         Fs = ngs.Id(3) + ngs.Grad(u).Trace()
         x3 = ngs.z + u[2]
         return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
+
+    def hold_by_traction(self):
+        """Set ``traction_field`` to the traction t that holds the current state in
+        equilibrium at ``load_scale`` = 1: int t . v dA = R(u) . v on the ``traction``
+        boundaries, R the residual without it (the reactions there of the supports of the
+        problem the state comes from; elsewhere R is its residual, about 0), i.e. t = M_b^-1 R
+        with M_b the boundary mass matrix on the free dofs of those boundaries. Returns the
+        norm of R there."""
+        require(self.traction is not None, "traction", self.traction,
+                "the boundaries of a dead traction, given when the problem is built")
+        V = self.u.space
+        on = V.GetDofs(self.mesh.Boundaries(self.traction)) & V.FreeDofs()
+        for dof in self.pinned:
+            on.Clear(dof)
+        scale = self.load_scale.Get()
+        self.load_scale.Set(0.0)
+        residual = self.state.vec.CreateVector()
+        self.form.Apply(self.state.vec, residual)
+        self.load_scale.Set(scale)
+        reactions = self.u.vec.CreateVector()
+        reactions.FV().NumPy()[:] = residual.FV().NumPy()[:V.ndof]
+        u, v = V.TnT()
+        mass = ngs.BilinearForm(V)
+        mass += ngs.InnerProduct(u, v) * ngs.ds(self.traction)
+        mass.Assemble()
+        self.traction_field.vec.data = mass.mat.Inverse(on, inverse="sparsecholesky") * reactions
+        return float(np.linalg.norm(reactions.FV().NumPy()[np.array(on, dtype=bool)]))
+
+    def frozen_tangent(self):
+        """The tangent at frozen growth (a step dt = 0: theta held at theta_n, no viscosity)
+        at the current state, assembled into and returned as ``form.mat``. Its growth rows
+        are then the identity and do not depend on u, so condensed onto u it is the Hessian
+        of the energy int Jg Psi(F Fg^-1) dV by the rule of the residual the problem solves
+        (NGSolve integrates the compound form more finely than an energy on u alone)."""
+        dt = self.dt.Get()
+        self.dt.Set(0.0)
+        try:
+            self.form.AssembleLinearization(self.state.vec)
+        finally:
+            self.dt.Set(dt)
+        return self.form.mat
 
     def energy_density(self, F):
         """Strain energy per reference volume at the current growth, Jg Psi(F Fg^-1)."""

@@ -19,7 +19,7 @@ Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import ngsolve as ngs
@@ -200,6 +200,42 @@ class ContactControlStage:
 
 
 @dataclass(eq=False)
+class UnloadingStage:
+    """A dead load removed at frozen growth: ``problem.load_scale`` falls linearly from 1 to
+    0 over the pseudo time ``duration``, in steps (the first ``duration`` / 8, at most / 4,
+    halved where Newton needs it) of the viscous regularisation (eta = ``viscosity``) of a
+    :class:`~ngincompat.problem.CoupledGrowth` (``viscous``), so that Newton's system stays
+    positive definite while the body finds its new shape; Newton with a line search on the
+    residual. Removing the supports of a grown body at once is a jump of their reactions
+    that Newton does not survive (the release of the folding scene: non-finite residuals
+    down to steps of 1e-3), nor does a step of the ramp without the viscosity (the released
+    tangent is indefinite there). The end is the viscous state at no load;
+    :class:`RelaxationStage` then finds the equilibrium. The problem is left with its
+    growth unfrozen (``growing`` = 1)."""
+
+    name: str
+    problem: object
+    viscosity: float
+    duration: float
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(
+        max_iter=12, line_search=True, min_step=1e-6))
+
+    def run(self, progress: Progress) -> SolverHistory:
+        problem = self.problem
+        problem.growing.Set(0.0)
+        problem.viscosity.Set(self.viscosity)
+        problem.u_old.vec.data = problem.u.vec
+        T = self.duration
+        options = replace(self.options, max_step=T / 4, min_step=self.options.min_step * T)
+        try:
+            return solve_coupled(problem, T, T / 8, options,
+                                 schedule=lambda t: problem.load_scale.Set(1.0 - t / T),
+                                 progress=progress, stage=self.name)
+        finally:
+            problem.growing.Set(1.0)
+
+
+@dataclass(eq=False)
 class RelaxationStage:
     """The equilibrium at frozen growth of a viscous :class:`~ngincompat.problem.CoupledGrowth`
     (``viscous``), reached by a gradient flow in pseudo time and then solved without the
@@ -223,7 +259,8 @@ class RelaxationStage:
 
     The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
     ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
-    equilibrium without viscosity (a frozen step, dt = 0) from there; if that fails the flow
+    equilibrium without viscosity (a frozen step, dt = 0, with a line search on the residual:
+    full steps from a state still far from it invert elements) from there; if that fails the flow
     goes on, and tries again once the residual has fallen ``switch``-fold more. An
     equilibrium Newton finds is kept only if it is stable, the smallest eigenvalue of its
     tangent at frozen growth (:func:`~ngincompat.buckling.smallest_eigenpairs`) >= 0:
@@ -299,7 +336,7 @@ class RelaxationStage:
                                   f"{energy:.10g}, residual without viscosity {residual:.3g}")
                     history.t_reached = t
                     if residual <= self.switch * attempt:
-                        if self._equilibrium(solver, history, saved, progress):
+                        if self._equilibrium(history, saved, progress):
                             history.converged = True
                             return history
                         attempt = residual
@@ -324,12 +361,12 @@ class RelaxationStage:
         self.problem.dt.Set(dt)
         return norm
 
-    def _equilibrium(self, solver, history, saved, progress) -> bool:
+    def _equilibrium(self, history, saved, progress) -> bool:
         """Newton without viscosity from the current state; unless it converges to a
         stable equilibrium the state is restored and False returned."""
         self.problem.dt.Set(0.0)
         record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
-        if solver.minimise(record):
+        if NewtonSolver(self.problem, replace(self.options, line_search=True)).minimise(record):
             values, _ = buckling.smallest_eigenpairs(self.problem, count=self.eigenpairs)
             self.eigenvalue = float(values[0])
             record.converged = self.eigenvalue >= 0

@@ -26,9 +26,10 @@
 # crosses zero, then the folds, grown from the buckling mode with a viscous regularisation;
 # then the incompatibility of the grown state. With `NGINCOMPAT_COARSE=1` (the tests) it is
 # one axon field on a 1 x 0.6 cm bilayer with a 0.1 cm cortex (two quadratic elements across
-# it), a coarse subcortex and 10-day steps, grown to 42 days, just past the onset (about a
-# minute); without, the three axon fields on a 1 x 0.5 cm bilayer with the 0.05 cm cortex, in
-# 5-day steps to 50 days.
+# it), a coarse subcortex and 10-day steps, grown to 42 days, just past the onset, without the
+# release (its unloading and relaxation take about ten minutes there); without, the three
+# axon fields on a 1 x 0.5 cm bilayer with the 0.05 cm cortex, in 5-day steps to 50 days,
+# released at the end.
 
 # %%
 import os
@@ -42,7 +43,7 @@ from ngincompat.scenes.folding import FoldingScene
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
 settings = (dict(length=1.0, height=0.6, cortex_thickness=0.1, cortex_maxh=0.05, maxh=0.3,
-                 t_end=42.0, dt=10.0, onset_dt=10.0) if COARSE else
+                 t_end=42.0, dt=10.0, onset_dt=10.0, release=False) if COARSE else
             dict(length=1.0, height=0.5, maxh=0.1, t_end=50.0, dt=5.0, onset_dt=5.0))
 axons = ("curved",) if COARSE else folding.AXON_FIELDS
 scene = FoldingScene(**settings)

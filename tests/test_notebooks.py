@@ -22,7 +22,7 @@ nbclient = pytest.importorskip("nbclient")
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.py"))
-TIMEOUT = 300  # seconds, per notebook (and so per cell)
+TIMEOUT = 600  # seconds, per notebook (and so per cell)
 
 
 #: What the scene pipeline does for a notebook: building and solving the mechanics, and the
