@@ -97,6 +97,8 @@ class SkinExpansionScene(Scene):
                                        "footprint (7 x 3.5 cm for the rectangle)", "area")
     expander: str = param("pressure", "how the expander acts: " + ", ".join(EXPANDERS))
     penalty: float = param(1000.0, "contact: pressure per unit penetration", "stress/length")
+    contact_width: float = param(0.005, "contact: penetration over which the penalty's ramp "
+                                        "is rounded", "length")
     volume: float = param(50.0, "expander volume at the end of inflation", "volume")
     inflation_steps: int = param(10, "initial number of inflation steps")
     hold_days: float = param(7.0, "duration of the hold", "time")
@@ -136,7 +138,7 @@ class SkinExpansionScene(Scene):
         if self.expander == "pressure":
             return None
         return contact.Expander(self.footprint, footprint_size(self.footprint, self.footprint_area),
-                        self.penalty)
+                                self.penalty, self.contact_width)
 
     def resumes(self, out) -> bool:
         return self.resume
