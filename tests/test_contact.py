@@ -214,3 +214,35 @@ def test_controlled_expander_converges_as_the_penalty_grows():
         heights.append(m["expander_height_inflated"])
     first, second = heights[0] - heights[1], heights[1] - heights[2]
     assert 0 < second < 0.5 * first
+
+
+def test_released_maps_and_the_compression_of_the_former_contact_zone(inflated):
+    """The mid-thickness maps (Fig. 6 a-c) hold every field inside the patch, the smallest
+    principal stress is below the largest, and the contact zone's compression is the
+    smallest principal stress sampled where the expander pressed."""
+    m, grid = inflated.metrics, inflated.profiles["map"]
+    for key in ("theta", "|b|", "sigma_max_released", "sigma_min_released"):
+        assert grid[f"mid_{key}"].shape == (81, 81)
+        assert np.isfinite(grid[f"mid_{key}"][1:-1, 1:-1]).all()
+    assert np.all(grid["mid_sigma_min_released"] <= grid["mid_sigma_max_released"] + 1e-12)
+    dome = SkinExpansionScene(expander="contact", penalty=1000.0, **COARSE).expander_body()
+    _, values = contact.sample(inflated.domain, dome,
+                               {"p": inflated.fields["contact_pressure"],
+                                "s": inflated.fields["sigma_min_released"]}, 0.1)
+    touched = values["s"][values["p"] > 0]
+    assert m["min_principal_stress_contact_zone"] == pytest.approx(np.min(touched))
+    assert m["min_principal_stress_contact_zone_mean"] == pytest.approx(np.mean(touched))
+
+
+def test_smallest_principal_value_is_the_largest_of_the_negated_tensor():
+    import ngsolve as ngs
+
+    from ngincompat.postprocess import largest_principal_value
+
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(3, 3))
+    T = A + A.T
+    cf = ngs.CoefficientFunction(tuple(T.ravel()), dims=(3, 3))
+    mesh = ngs.Mesh(ngs.unit_cube.GenerateMesh(maxh=1.0))
+    smallest = -largest_principal_value(-cf)
+    assert smallest(mesh(0.5, 0.5, 0.5)) == pytest.approx(np.linalg.eigvalsh(T)[0], abs=1e-10)
