@@ -163,19 +163,23 @@ def sample(mesh, expander, cfs, spacing):
 
 def measure(mesh, boundary, expander, height, gap, pressure):
     """The expander and its contact with the skin's lower surface ``boundary``: height,
-    contact area (where g < 0, reference area), largest penetration
-    (on a grid of spacing size / 50), largest contact pressure and the mean over the contact
-    area (the total contact force per contact area)."""
+    contact area (where g < 0, reference area), the contact force (the integral of the
+    pressure over the reference surface), largest penetration (on a grid of spacing
+    size / 50), largest contact pressure with its distance from the centre, and the mean
+    pressure over the contact area (the contact force per contact area)."""
     region = mesh.Boundaries(boundary)
 
     def integral(cf):
         return ngs.Integrate(cf, mesh, ngs.BND, definedon=region, order=8)
 
-    area = integral(ngs.IfPos(-gap, 1.0, 0.0))
-    _, values = sample(mesh, expander, {"gap": gap, "pressure": pressure},
-                       expander.size / 50)
+    area, force = integral(ngs.IfPos(-gap, 1.0, 0.0)), integral(pressure)
+    pts, values = sample(mesh, expander, {"gap": gap, "pressure": pressure},
+                         expander.size / 50)
+    top = int(np.argmax(values["pressure"]))
     return {"expander_height": height,
             "contact_area": area,
+            "contact_force": force,
             "penetration_max": max(0.0, -float(np.min(values["gap"]))),
-            "contact_pressure_max": float(np.max(values["pressure"])),
-            "contact_pressure_mean": integral(pressure) / area if area > 0 else 0.0}
+            "contact_pressure_max": float(values["pressure"][top]),
+            "contact_pressure_max_radius": float(np.hypot(*pts[top, :2])),
+            "contact_pressure_mean": force / area if area > 0 else 0.0}

@@ -199,21 +199,31 @@ def test_contact_pressure_is_zero_where_the_gap_is_open(inflated):
                                rtol=1e-12)
 
 
+#: The penalty study: the low dome (3 cc) on the order-2 mesh of 1.5 cm, no hold.
+STUDY = dict(footprint="circle", maxh=1.5, order=2, growth_order=0, g_order=2, volume=3.0,
+             hold_days=0.0, outputs="none")
+
+
 @pytest.mark.slow
 def test_controlled_expander_converges_as_the_penalty_grows():
-    """Penalty refinement on the low dome (3 cc): at every penalty the volume under the skin
-    is the target, and the expander's height that gives it converges (0.226, 0.197, 0.186 cm
-    measured: each change under half the one before, for a penalty 3.3 times larger)."""
-    heights = []
-    for penalty in (100.0, 300.0, 1000.0):
-        m = SkinExpansionScene(expander="contact", penalty=penalty,
-                               **{**COARSE, "hold_days": 0.0}).run().metrics
+    """Penalty refinement on the low dome (3 cc) on order 2, the ramp's width eps = 5 / kappa
+    (rounded over 5 MPa of pressure): at every penalty the volume under the skin is the
+    target, the largest pressure is kappa r(largest penetration), the largest penetration
+    falls, and the dome's height that gives the volume converges (each change under half the
+    one before, for a penalty 3.3 times larger)."""
+    heights, penetrations = [], []
+    for penalty in (300.0, 1000.0, 3000.0):
+        scene = SkinExpansionScene(expander="contact", penalty=penalty,
+                                   contact_width=5.0 / penalty, **STUDY)
+        m = scene.run().metrics
         assert m["volume_error_rel"] <= 1e-4
         assert m["contact_pressure_max_inflated"] == pytest.approx(
-            penalty * m["penetration_max_inflated"], rel=1e-9)
+            penalty * scene.expander_body().ramp(m["penetration_max_inflated"])[0], rel=1e-9)
         heights.append(m["expander_height_inflated"])
-    first, second = heights[0] - heights[1], heights[1] - heights[2]
-    assert 0 < second < 0.5 * first
+        penetrations.append(m["penetration_max_inflated"])
+    first, second = abs(heights[0] - heights[1]), abs(heights[1] - heights[2])
+    assert second < 0.5 * first
+    assert penetrations[0] > penetrations[1] > penetrations[2]
 
 
 def test_released_maps_and_the_compression_of_the_former_contact_zone(inflated):
