@@ -16,12 +16,27 @@ skin's lower surface is its distance above the dome to first order,
 
     g(x) = (x3 - H phi(x1, x2)) / sqrt(1 + H^2 |grad phi|^2),
 
-negative where the skin penetrates the expander. The contact is enforced by the penalty
-energy (kappa / 2) int min(g, 0)^2 dA over the skin's lower surface in the reference
-configuration; its force -kappa min(g, 0) grad g / |grad g| is normal to the dome
-(frictionless: the skin slides freely), and its magnitude p = kappa max(-g, 0) is the contact
-pressure per unit reference area. p is zero wherever the gap is open, and the penetration
-is p / kappa, so it vanishes like 1 / kappa as the penalty grows.
+negative where the skin penetrates the expander. The contact is enforced by a smoothed penalty:
+the contact pressure per unit reference area is p = kappa r(-g), with r the ramp max(s, 0)
+rounded over a width ``width`` eps (a quadratic blend, so that dp/dg is continuous):
+
+    r(s) = 0                   s <= 0,
+         = s^2 / (2 eps)       0 < s < eps,
+         = s - eps / 2         s >= eps,
+
+and the energy (kappa) int R(-g) dA over the skin's lower surface in the reference
+configuration, R(s) = int_0^s r = s^3 / (6 eps) on (0, eps), s^2 / 2 - eps s / 2 + eps^2 / 6
+beyond. Its force -kappa r(-g) dg/dx is normal to the dome (frictionless: the skin slides
+freely). R is twice continuously differentiable, so Newton's tangent does not jump where a
+point of the surface crosses g = 0 (the plain penalty (kappa / 2) min(g, 0)^2, eps = 0, has a
+tangent that switches between 0 and kappa there: on a skin laid onto the dome, g = 0 up to
+round-off, its Newton iterations did not converge). p is zero wherever the gap is open
+(g >= 0), and the penetration of a point that carries the pressure p is p / kappa + eps / 2
+(p >= kappa eps / 2), so it vanishes like 1 / kappa + eps / 2.
+
+The gap's derivative jumps on the footprint's edge (grad phi does), but the edge lies on the
+base (x3 = 0 there, g = 0 on both sides) and R vanishes with its first two derivatives at
+g = 0, so the energy is twice differentiable across it too.
 
 All functions accept NGSolve CoefficientFunctions (so Newton gets the exact tangent by
 symbolic differentiation) or numpy arrays.
@@ -48,11 +63,13 @@ def _ifpos(c, a, b):
 
 @dataclass(frozen=True)
 class Expander:
-    """A rigid dome over a footprint; ``penalty`` kappa (MPa/cm) enforces the contact."""
+    """A rigid dome over a footprint; ``penalty`` kappa (MPa/cm) enforces the contact, its
+    ramp rounded over the penetration ``width`` eps (cm)."""
 
     footprint: str
     size: float
     penalty: float
+    width: float = 0.0
 
     def __post_init__(self):
         require(self.footprint in FOOTPRINTS, "footprint", self.footprint,
@@ -60,6 +77,8 @@ class Expander:
         require(self.size > 0, "footprint_size", self.size, "> 0")
         require(math.isfinite(self.penalty) and self.penalty > 0, "penalty", self.penalty,
                 "> 0 (finite)")
+        require(math.isfinite(self.width) and self.width >= 0, "contact_width", self.width,
+                ">= 0 (finite)")
 
     def factors(self):
         """The dome as a product of quadratics: (sign, x0, y0, cx, cy) stands for
@@ -106,15 +125,23 @@ class Expander:
         slope = (1 + height * height * (dx * dx + dy * dy)) ** 0.5
         return (x[2] - height * phi) / slope
 
+    def ramp(self, s):
+        """The rounded ramp r(s) (0, s^2 / (2 eps), s - eps / 2) and its integral R(s)."""
+        eps = self.width
+        if eps == 0:
+            return _ifpos(s, s, 0 * s), _ifpos(s, s * s / 2, 0 * s)
+        inner = _ifpos(s - eps, s - eps / 2, s * s / (2 * eps))
+        integral = _ifpos(s - eps, s * s / 2 - eps * s / 2 + eps * eps / 6,
+                          s * s * s / (6 * eps))
+        return _ifpos(s, inner, 0 * s), _ifpos(s, integral, 0 * s)
+
     def energy(self, x, height):
-        """The penalty energy per reference area, (kappa / 2) min(g, 0)^2."""
-        g = self.gap(x, height)
-        return self.penalty / 2 * _ifpos(g, 0 * g, g * g)
+        """The penalty energy per reference area, kappa R(-g)."""
+        return self.penalty * self.ramp(-self.gap(x, height))[1]
 
     def pressure(self, x, height):
-        """The contact pressure kappa max(-g, 0) per reference area (zero where open)."""
-        g = self.gap(x, height)
-        return self.penalty * _ifpos(g, 0 * g, -g)
+        """The contact pressure kappa r(-g) per reference area (zero where open)."""
+        return self.penalty * self.ramp(-self.gap(x, height))[0]
 
     def points(self, spacing):
         """Points of the footprint (X3 = 0) on a square grid of ``spacing``, for sampling."""
@@ -136,19 +163,23 @@ def sample(mesh, expander, cfs, spacing):
 
 def measure(mesh, boundary, expander, height, gap, pressure):
     """The expander and its contact with the skin's lower surface ``boundary``: height,
-    contact area (where g < 0, reference area), largest penetration
-    (on a grid of spacing size / 50), largest contact pressure and the mean over the contact
-    area (the total contact force per contact area)."""
+    contact area (where g < 0, reference area), the contact force (the integral of the
+    pressure over the reference surface), largest penetration (on a grid of spacing
+    size / 50), largest contact pressure with its distance from the centre, and the mean
+    pressure over the contact area (the contact force per contact area)."""
     region = mesh.Boundaries(boundary)
 
     def integral(cf):
         return ngs.Integrate(cf, mesh, ngs.BND, definedon=region, order=8)
 
-    area = integral(ngs.IfPos(-gap, 1.0, 0.0))
-    _, values = sample(mesh, expander, {"gap": gap, "pressure": pressure},
-                       expander.size / 50)
+    area, force = integral(ngs.IfPos(-gap, 1.0, 0.0)), integral(pressure)
+    pts, values = sample(mesh, expander, {"gap": gap, "pressure": pressure},
+                         expander.size / 50)
+    top = int(np.argmax(values["pressure"]))
     return {"expander_height": height,
             "contact_area": area,
+            "contact_force": force,
             "penetration_max": max(0.0, -float(np.min(values["gap"]))),
-            "contact_pressure_max": float(np.max(values["pressure"])),
-            "contact_pressure_mean": integral(pressure) / area if area > 0 else 0.0}
+            "contact_pressure_max": float(values["pressure"][top]),
+            "contact_pressure_max_radius": float(np.hypot(*pts[top, :2])),
+            "contact_pressure_mean": force / area if area > 0 else 0.0}

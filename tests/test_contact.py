@@ -52,12 +52,88 @@ def test_circular_dome_is_the_inflated_membrane():
 
 
 def test_pressure_is_zero_where_the_gap_is_open_and_grows_with_penetration():
+    """The plain penalty (width 0): p = kappa max(-g, 0), energy kappa min(g, 0)^2 / 2."""
     dome = Expander("square", 4.0, 50.0)
     x = np.zeros(5), np.zeros(5), np.array([-0.2, -0.1, 0.0, 0.1, 2.0])
     gap = dome.gap(x, 1.0)                   # dome top at 1: flat there, g = x3 - 1
     np.testing.assert_allclose(gap, x[2] - 1.0)
     np.testing.assert_allclose(dome.pressure(x, 1.0), [60.0, 55.0, 50.0, 45.0, 0.0])
     np.testing.assert_allclose(dome.energy(x, 1.0), 25.0 * np.minimum(gap, 0) ** 2)
+
+
+def test_rounded_ramp_is_the_quadratic_blend_and_the_energy_its_integral():
+    """r(s) = 0, s^2 / (2 eps), s - eps / 2 on s <= 0, (0, eps), >= eps; R' = r and r' is
+    continuous (0 at s = 0, 1 at s = eps); a pressure p >= kappa eps / 2 has the penetration
+    p / kappa + eps / 2."""
+    eps, kappa = 0.01, 300.0
+    dome = Expander("circle", 4.0, kappa, eps)
+    s = np.array([-0.5, -1e-9, 0.0, 0.25 * eps, 0.5 * eps, eps, 3 * eps, 1.0])
+    r, R = dome.ramp(s)
+    np.testing.assert_allclose(r, [0, 0, 0, eps / 32, eps / 8, eps / 2, 2.5 * eps, 1 - eps / 2],
+                               rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(R[-1], 0.5 - eps / 2 + eps**2 / 6, rtol=1e-12)
+    grid = np.linspace(-2 * eps, 4 * eps, 6001)
+    r, R = dome.ramp(grid)
+    np.testing.assert_allclose(np.gradient(R, grid)[1:-1], r[1:-1], atol=1e-8)
+    slope = np.diff(r) / np.diff(grid)          # r' jumps nowhere by more than a grid step
+    assert np.max(np.abs(np.diff(slope))) < 2 * (grid[1] - grid[0]) / eps
+    assert slope[0] == 0 and slope[-1] == pytest.approx(1.0)
+    # pressure against penetration on the flat top of the dome (H = 1, g = x3 - 1)
+    p = np.array([2.0, 5.0, 40.0])
+    x = np.zeros(3), np.zeros(3), 1 - (p / kappa + eps / 2)
+    np.testing.assert_allclose(dome.pressure(x, 1.0), p, rtol=1e-12)
+
+
+def test_circular_dome_volume_is_half_the_cylinder():
+    """H int phi dA = H pi R^2 / 2 over the disc (the paraboloid's volume)."""
+    R = footprint_size("circle", 24.5) / 2
+    dome = Expander("circle", 2 * R, 1.0)
+    h = dome.size / 1000
+    pts = dome.points(h)
+    volume = np.sum(dome.shape(pts[:, 0], pts[:, 1])[0]) * h * h
+    assert volume == pytest.approx(math.pi * R * R / 2, rel=2e-3)
+
+
+def test_membrane_stretched_over_the_dome_presses_with_its_tension_times_curvature():
+    """A membrane of tension T on the disc of radius R, held at w = 0 on the circle and
+    pulled down by its tension onto the circular dome H phi (the penalty on the expander's
+    gap at x = (x, y, w)): the dome is superharmonic, so the membrane touches it everywhere
+    and the contact pressure is p = -T Lap(H phi) = 4 T H / R^2 (a finite element solve with
+    the smoothed penalty, checked against that closed form and the penetration it implies)."""
+    import ngsolve as ngs
+    from netgen.geom2d import SplineGeometry
+
+    R, T, H, kappa, eps = 1.0, 2.0, 0.05, 1e4, 1e-4
+    disc = SplineGeometry()
+    disc.AddCircle((0, 0), R, bc="edge")
+    mesh = ngs.Mesh(disc.GenerateMesh(maxh=0.1))
+    mesh.Curve(2)
+    dome = Expander("circle", 2 * R, kappa, eps)
+    fes = ngs.H1(mesh, order=2, dirichlet=".*")
+    w, v = fes.TnT()
+    x = (ngs.x, ngs.y, w)
+    a = ngs.BilinearForm(fes)
+    a += (T * ngs.grad(w) * ngs.grad(v) + dome.energy(x, H).Diff(w, v)) * ngs.dx(bonus_intorder=2)
+    gf = ngs.GridFunction(fes)
+    phi = dome.shape(ngs.x, ngs.y)[0]
+    gf.Set(H * phi)
+    free = np.array(list(fes.FreeDofs()))
+    for _ in range(20):
+        residual = gf.vec.CreateVector()
+        a.Apply(gf.vec, residual)
+        residual.FV().NumPy()[~free] = 0
+        a.AssembleLinearization(gf.vec)
+        gf.vec.data -= a.mat.Inverse(fes.FreeDofs()) * residual
+        if residual.Norm() < 1e-11:
+            break
+    assert residual.Norm() < 1e-11
+    pressure = dome.pressure((ngs.x, ngs.y, gf), H)
+    inner = [mesh(0.6 * R * math.cos(t), 0.6 * R * math.sin(t)) for t in np.linspace(0, 6, 7)]
+    values = np.array([pressure(p) for p in [mesh(0.0, 0.0), *inner]])
+    expected = 4 * T * H / R**2
+    np.testing.assert_allclose(values, expected, rtol=2e-2)
+    gap = np.array([dome.gap((ngs.x, ngs.y, gf), H)(mesh(0.0, 0.0))])
+    assert -gap[0] == pytest.approx(expected / kappa + eps / 2, rel=2e-2)
 
 
 @pytest.mark.parametrize("kwargs, name", [
@@ -103,10 +179,11 @@ def test_expander_holds_its_volume_and_the_skin_rests_on_it(inflated):
     own = m["expander_height_inflated"] * math.pi * R * R / 2
     assert 0.5 * 3.0 < own < 3.0
     assert 0 < m["contact_area_inflated"] < 24.5
-    # the largest pressure is the penalty times the largest penetration
+    # the largest pressure is the penalty times the rounded ramp of the largest penetration
+    dome = SkinExpansionScene(expander="contact", penalty=1000.0, **COARSE).expander_body()
     assert m["penetration_max_inflated"] > 0
     assert m["contact_pressure_max_inflated"] == pytest.approx(
-        1000.0 * m["penetration_max_inflated"], rel=1e-9)
+        1000.0 * dome.ramp(m["penetration_max_inflated"])[0], rel=1e-9)
     assert 0 < m["contact_pressure_mean_inflated"] <= m["contact_pressure_max_inflated"]
 
 
@@ -118,21 +195,64 @@ def test_contact_pressure_is_zero_where_the_gap_is_open(inflated):
     gap, pressure = values["gap"], values["contact_pressure"]
     assert np.any(gap < 0) and np.any(gap > 0)
     assert np.all(pressure[gap >= 0] == 0)
-    np.testing.assert_allclose(pressure[gap < 0], -1000.0 * gap[gap < 0], rtol=1e-12)
+    np.testing.assert_allclose(pressure[gap < 0], 1000.0 * dome.ramp(-gap[gap < 0])[0],
+                               rtol=1e-12)
+
+
+#: The penalty study: the low dome (3 cc) on the order-2 mesh of 1.5 cm, no hold.
+STUDY = dict(footprint="circle", maxh=1.5, order=2, growth_order=0, g_order=2, volume=3.0,
+             hold_days=0.0, outputs="none")
 
 
 @pytest.mark.slow
 def test_controlled_expander_converges_as_the_penalty_grows():
-    """Penalty refinement on the low dome (3 cc): at every penalty the volume under the skin
-    is the target, and the expander's height that gives it converges (0.226, 0.197, 0.186 cm
-    measured: each change under half the one before, for a penalty 3.3 times larger)."""
-    heights = []
-    for penalty in (100.0, 300.0, 1000.0):
-        m = SkinExpansionScene(expander="contact", penalty=penalty,
-                               **{**COARSE, "hold_days": 0.0}).run().metrics
+    """Penalty refinement on the low dome (3 cc) on order 2, the ramp's width eps = 5 / kappa
+    (rounded over 5 MPa of pressure): at every penalty the volume under the skin is the
+    target, the largest pressure is kappa r(largest penetration), the largest penetration
+    falls, and the dome's height that gives the volume converges (each change under half the
+    one before, for a penalty 3.3 times larger)."""
+    heights, penetrations = [], []
+    for penalty in (300.0, 1000.0, 3000.0):
+        scene = SkinExpansionScene(expander="contact", penalty=penalty,
+                                   contact_width=5.0 / penalty, **STUDY)
+        m = scene.run().metrics
         assert m["volume_error_rel"] <= 1e-4
         assert m["contact_pressure_max_inflated"] == pytest.approx(
-            penalty * m["penetration_max_inflated"], rel=1e-9)
+            penalty * scene.expander_body().ramp(m["penetration_max_inflated"])[0], rel=1e-9)
         heights.append(m["expander_height_inflated"])
-    first, second = heights[0] - heights[1], heights[1] - heights[2]
-    assert 0 < second < 0.5 * first
+        penetrations.append(m["penetration_max_inflated"])
+    first, second = abs(heights[0] - heights[1]), abs(heights[1] - heights[2])
+    assert second < 0.5 * first
+    assert penetrations[0] > penetrations[1] > penetrations[2]
+
+
+def test_released_maps_and_the_compression_of_the_former_contact_zone(inflated):
+    """The mid-thickness maps (Fig. 6 a-c) hold every field inside the patch, the smallest
+    principal stress is below the largest, and the contact zone's compression is the
+    smallest principal stress sampled where the expander pressed."""
+    m, grid = inflated.metrics, inflated.profiles["map"]
+    for key in ("theta", "|b|", "sigma_max_released", "sigma_min_released"):
+        assert grid[f"mid_{key}"].shape == (81, 81)
+        assert np.isfinite(grid[f"mid_{key}"][1:-1, 1:-1]).all()
+    assert np.all(grid["mid_sigma_min_released"] <= grid["mid_sigma_max_released"] + 1e-12)
+    dome = SkinExpansionScene(expander="contact", penalty=1000.0, **COARSE).expander_body()
+    _, values = contact.sample(inflated.domain, dome,
+                               {"p": inflated.fields["contact_pressure"],
+                                "s": inflated.fields["sigma_min_released"]}, 0.1)
+    touched = values["s"][values["p"] > 0]
+    assert m["min_principal_stress_contact_zone"] == pytest.approx(np.min(touched))
+    assert m["min_principal_stress_contact_zone_mean"] == pytest.approx(np.mean(touched))
+
+
+def test_smallest_principal_value_is_the_largest_of_the_negated_tensor():
+    import ngsolve as ngs
+
+    from ngincompat.postprocess import largest_principal_value
+
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(3, 3))
+    T = A + A.T
+    cf = ngs.CoefficientFunction(tuple(T.ravel()), dims=(3, 3))
+    mesh = ngs.Mesh(ngs.unit_cube.GenerateMesh(maxh=1.0))
+    smallest = -largest_principal_value(-cf)
+    assert smallest(mesh(0.5, 0.5, 0.5)) == pytest.approx(np.linalg.eigvalsh(T)[0], abs=1e-10)
