@@ -600,11 +600,11 @@ class CoupledGrowth:
         return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
 
     def hold_by_traction(self):
-        """Set ``traction_field`` to the traction t that holds the current state in
-        equilibrium at ``load_scale`` = 1: int t . v dA = R(u) . v on the ``traction``
-        boundaries, R the residual without it (the reactions there of the supports of the
-        problem the state comes from; elsewhere R is its residual, about 0), i.e. t = M_b^-1 R
-        with M_b the boundary mass matrix on the free dofs of those boundaries. Returns the
+        """Hold the current state in equilibrium by a dead traction: ``traction_field`` t
+        with int t . v dA = R(u) . v on the ``traction`` boundaries, R the residual without
+        it (the reactions there of the supports of the problem the state comes from;
+        elsewhere R is its residual, about 0), i.e. t = M_b^-1 R with M_b the boundary mass
+        matrix on the free dofs of those boundaries, and ``load_scale`` = 1. Returns the
         norm of R there."""
         require(self.traction is not None, "traction", self.traction,
                 "the boundaries of a dead traction, given when the problem is built")
@@ -612,11 +612,9 @@ class CoupledGrowth:
         on = V.GetDofs(self.mesh.Boundaries(self.traction)) & V.FreeDofs()
         for dof in self.pinned:
             on.Clear(dof)
-        scale = self.load_scale.Get()
         self.load_scale.Set(0.0)
         residual = self.state.vec.CreateVector()
         self.form.Apply(self.state.vec, residual)
-        self.load_scale.Set(scale)
         reactions = self.u.vec.CreateVector()
         reactions.FV().NumPy()[:] = residual.FV().NumPy()[:V.ndof]
         u, v = V.TnT()
@@ -624,6 +622,7 @@ class CoupledGrowth:
         mass += ngs.InnerProduct(u, v) * ngs.ds(self.traction)
         mass.Assemble()
         self.traction_field.vec.data = mass.mat.Inverse(on, inverse="sparsecholesky") * reactions
+        self.load_scale.Set(1.0)
         return float(np.linalg.norm(reactions.FV().NumPy()[np.array(on, dtype=bool)]))
 
     def frozen_tangent(self):

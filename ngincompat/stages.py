@@ -8,6 +8,8 @@
   given a checkpoint file;
 * :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
   until the volume under the skin is the target;
+* :class:`UnloadingStage`: at frozen growth, a dead load (e.g. the reactions of supports that
+  are removed) ramped to zero with a viscous regularisation;
 * :class:`RelaxationStage`: at frozen growth, from a state that is not an equilibrium (a
   viscous march's end, a body whose constraints were just removed), a viscous gradient flow
   to a stable equilibrium, finished by Newton without the viscosity.

@@ -374,12 +374,11 @@ class FoldingCase:
         """The stages of the release from the current state, growth frozen: the bilayer
         without the supports (:data:`RELEASED`) held by their reactions as a dead traction,
         which ``unloading`` removes, then the relaxation to the released equilibrium."""
-        self.released = self.coupled(RELEASED, traction="|".join(set(GROWING) -
-                                                                 set(RELEASED)))
+        self.released = self.coupled(RELEASED, traction="|".join(sorted(set(GROWING) -
+                                                                        set(RELEASED))))
         self.released.state.vec.data = self.problem.state.vec
         self.released.theta_old.vec.data = self.problem.theta.vec
         self.reactions = self.released.hold_by_traction()
-        self.released.load_scale.Set(1.0)
         return [UnloadingStage("unloading", self.released, self.eta, self.viscous_step()),
                 self.relaxation("release", self.released)]
 
