@@ -43,12 +43,24 @@ def degree(order):
 
 def check_quadrature(quadrature, order):
     """Raise ParameterError unless ``quadrature`` names a rule (:data:`QUADRATURES`) that
-    exists for a displacement of ``order``."""
+    exists for a displacement of ``order`` (symmetric: and basix is installed)."""
     require(quadrature in QUADRATURES, "quadrature", quadrature, " or ".join(QUADRATURES))
     if quadrature == "symmetric":
         require(degree(order) <= SYMMETRIC_MAX_DEGREE, "quadrature", quadrature,
                 f"gauss for order {order} (symmetric rules of degree 2 order - 2 <= "
                 f"{SYMMETRIC_MAX_DEGREE}: order <= {SYMMETRIC_MAX_DEGREE // 2 + 1})")
+        _basix()
+
+
+def _basix():
+    """The module basix; ParameterError naming the setting if it is not installed."""
+    try:
+        import basix
+    except ImportError:
+        raise ParameterError(
+            "quadrature = symmetric needs the library basix: pip install fenics-basix (or "
+            "the extra: pip install 'ngincompat[fast]'); or set quadrature=gauss") from None
+    return basix
 
 
 def symmetric_rule(degree):
@@ -64,12 +76,7 @@ def symmetric_rule(degree):
     ParameterError
         basix is not installed (``quadrature`` names the setting).
     """
-    try:
-        import basix
-    except ImportError:
-        raise ParameterError(
-            "quadrature = symmetric needs the library basix: pip install fenics-basix (or "
-            "the extra: pip install 'ngincompat[fast]'); or set quadrature=gauss") from None
+    basix = _basix()
     points, weights = basix.make_quadrature(basix.CellType.tetrahedron, degree,
                                             rule=basix.QuadratureType.xiao_gimbutas)
     return ngs.IntegrationRule([tuple(map(float, p)) for p in points],

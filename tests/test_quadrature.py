@@ -136,6 +136,10 @@ def test_the_symmetric_rule_refuses_other_elements(unit_cube_hex):
 
 
 def test_without_basix_the_error_says_what_to_install(monkeypatch):
+    """Before anything is computed: the scene's settings are refused."""
     monkeypatch.setitem(sys.modules, "basix", None)
     with pytest.raises(ParameterError, match="fenics-basix.*quadrature=gauss"):
+        CubeScene(elements="tet", quadrature="symmetric")
+    with pytest.raises(ParameterError, match="fenics-basix.*quadrature=gauss"):
         quadrature.symmetric_rule(10)
+    CubeScene(elements="tet", quadrature="gauss")
