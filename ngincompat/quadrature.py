@@ -10,12 +10,12 @@ integrates the energy, its residual and its tangent with its rule of that degree
 "symmetric" integrates the same three with a fully symmetric rule of the same degree
 (Xiao & Gimbutas, Comput. Math. Appl. 59, 2010), taken from the library basix of FEniCS
 (the optional extra ``fast``): 74 points at degree 10, 122 at 12. Both rules integrate every
-polynomial of degree 2 p - 2 exactly, so the linearised elastic energy of any displacement of
-order p is integrated exactly and neither rule has a displacement mode without energy (a rule
-of lower degree can: NGSolve's Gauss rule of degree 9 on order 6 has five points per
-direction, and a mode vanishing at all of them left the solution's own energy accurate while
-its true energy was off by a factor 4500). Energy, residual and tangent share the rule, so
-Newton's tangent stays consistent.
+polynomial of degree 2 p - 2 exactly, so on straight-sided tetrahedra the linearised elastic
+energy of any displacement of order p is integrated exactly and neither rule has a
+displacement mode without energy (a rule of lower degree can: NGSolve's Gauss rule of
+degree 9 on order 6 has five points per direction, and a mode vanishing at all of them left
+the solution's own energy accurate while its true energy was off by a factor 4500).
+Energy, residual and tangent share the rule, so Newton's tangent stays consistent.
 
 The nonlinear energy density is not a polynomial: the two rules give energies that differ by
 the quadrature error, of the order of the discretisation error. :data:`CHECK_DEGREE` is the
