@@ -29,6 +29,7 @@ from .fields import DirectionField
 from .growth import GrowthKind, GrowthModel, growth_kind
 from .growth_laws import GrowthLaw, euler_residual
 from .materials import Material, MixedMaterial
+from .quadrature import volume_measure
 
 log = logging.getLogger(__name__)
 
@@ -121,15 +122,20 @@ class GrowthMechanics:
         assembles it on VectorH1, as NGSolve's BDDC preconditioner (the iterative linear
         solvers) needs: built on the component spaces, its coarse problem is singular
         (measured: GMRES then stalls on the cube).
+    quadrature : {"gauss", "symmetric"}
+        The rule of energy, residual and tangent (:mod:`ngincompat.quadrature`): NGSolve's
+        Gauss rule of degree 2 order - 2, or on tetrahedra the symmetric rule of that degree
+        with about a third of the points at order 6 (basix needed).
     """
 
     def __init__(self, mesh: ngs.Mesh, growth: GrowthModel, material: Material, order: int = 2,
                  fibers: Sequence[DirectionField] = (), dirichlet: str = "",
                  symmetry: Mapping[str, str] | None = None, condense: bool = True,
                  formulation: Literal["displacement", "mixed"] = "displacement",
-                 components: bool = True):
+                 components: bool = True, quadrature: str = "gauss"):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         check_formulation(material, formulation, order)
+        dx = volume_measure(mesh, order, quadrature)
         mixed = formulation == "mixed"
         ensure_heap(order)
         if material.needs_fibers:
@@ -173,7 +179,7 @@ class GrowthMechanics:
             pressure = trial[1] if mixed else None
         density = self._density(F, pressure)
         self.form = ngs.BilinearForm(form_space, symmetric=True, condense=condense)
-        self.form += ngs.Variation(density.Compile() * ngs.dx)
+        self.form += ngs.Variation(density.Compile() * dx)
 
     has_energy = True
     inverse = "sparsecholesky"
@@ -212,9 +218,15 @@ class GrowthMechanics:
         computed pressure in the bulk term, so its derivative is the mixed stress)."""
         return self._density(F, self.pressure)
 
-    def strain_energy(self):
+    def strain_energy(self, degree=None):
         """Total elastic energy int Jg Psi dV of the current state (mixed: the value of the
-        discrete saddle-point functional); summed over the ranks of a distributed mesh."""
+        discrete saddle-point functional); summed over the ranks of a distributed mesh.
+
+        By the form's own rule, or with ``degree`` integrated again by NGSolve's Gauss rule
+        of that degree (the check of a cheaper rule, see :mod:`ngincompat.quadrature`)."""
+        if degree is not None:
+            F = kinematics.deformation_gradient(self.u)
+            return ngs.Integrate(self.energy_density(F), self.mesh, order=degree)
         return parallel.total(self.mesh, self.form.Energy(self.state.vec))
 
     def growth_load(self):

@@ -47,6 +47,9 @@ class CubeScene(prescribed.PrescribedScene):
         super().__post_init__()
         require(self.a * self.side > -1, "a", self.a, "> -1 / side (theta stays positive)")
         require(self.model in ("full", "quarter"), "model", self.model, "full or quarter")
+        require(self.quadrature == "gauss" or self.elements == "tet", "quadrature",
+                self.quadrature, "gauss with elements=hex (symmetric rules are for "
+                "tetrahedra: elements=tet)")
 
     def build(self):
         """The mesh and the prescribed-growth case."""
