@@ -559,7 +559,12 @@ class CoupledGrowth:
                                          stretch)
         if realcompile is None:
             realcompile = self.fes.ndof >= REALCOMPILE_NDOF
-        self.form += compiled(W.Diff(u, v) + growth_residual * eta, realcompile) * ngs.dx
+        # dW/du . v as P : Grad v with P = dW/dF: the same residual and tangent, the tangent's
+        # element matrices in about 0.4 of the time of the symbolic Diff of W by u (measured:
+        # 0.30 s against 0.81 s, order 3, 0.4-cube, area growth)
+        stress = W.Diff(F)
+        self.form += compiled(ngs.InnerProduct(stress, ngs.Grad(v)) + growth_residual * eta,
+                              realcompile) * ngs.dx
         self.viscosity = ngs.Parameter(0.0)
         self.u_old = ngs.GridFunction(V) if viscous else None
         if viscous:

@@ -7,12 +7,12 @@ import pytest
 from scipy.optimize import brentq
 
 from geometries import cube, skin_patch
-from ngincompat import fields
+from ngincompat import fields, kinematics
 from ngincompat.errors import ParameterError
 from ngincompat.growth import IsotropicGrowth
 from ngincompat.growth_laws import ConstantRateLaw, HillLaw, StrainDrivenLaw
 from ngincompat.materials import NeoHookean
-from ngincompat.problem import CoupledGrowth
+from ngincompat.problem import CoupledGrowth, euler_residual
 from ngincompat.progress import SILENT
 from ngincompat.solver import NewtonOptions, solve_coupled
 from ngincompat.stages import CoupledStage
@@ -205,3 +205,31 @@ def test_viscous_regularisation_lags_and_a_frozen_step_removes_it():
     CoupledStage("equilibrium", problem, t_end=1.0, dt=1.0, grow=False).run(SILENT)
     np.testing.assert_allclose(problem.u.vec.FV().NumPy(), plain.u.vec.FV().NumPy(),
                                atol=1e-9)
+
+
+def test_stress_form_equals_the_symbolic_derivative_in_u():
+    """The residual written as P : Grad v with P = dW/dF gives the residual and tangent of
+    the form dW/du . v differentiated symbolically in u (built here independently), growth
+    unknowns included, to round-off."""
+    problem = CoupledGrowth(cube(maxh=0.5), "area", fields.constant("e3"), LAW,
+                            NeoHookean.from_nu(1.0, 0.3), order=3)
+    problem.dt.Set(0.1)
+    (u, theta), (v, eta) = (list(t)[:2] for t in problem.fes.TnT())
+    F = kinematics.deformation_gradient(u)
+    growth = euler_residual(LAW, theta, problem.theta_old, problem.dt,
+                            problem._growth(theta).stretch(F))
+    symbolic = ngs.BilinearForm(problem.fes, condense=True)
+    symbolic += (problem._energy_density(F, theta).Diff(u, v) + growth * eta) * ngs.dx
+    x = problem.state.vec.CreateVector()
+    x.data = problem.state.vec
+    x.FV().NumPy()[:] += 0.01 * np.random.default_rng(1).standard_normal(len(x))
+    r, r_symbolic = x.CreateVector(), x.CreateVector()
+    problem.form.Apply(x, r)
+    symbolic.Apply(x, r_symbolic)
+    assert r.Norm() > 1e-3
+    r_symbolic.data -= r
+    assert r_symbolic.Norm() < 1e-12 * r.Norm()
+    problem.form.AssembleLinearization(x)
+    symbolic.AssembleLinearization(x)
+    K, K_symbolic = (np.array(f.mat.COO()[2]) for f in (problem.form, symbolic))
+    assert np.abs(K - K_symbolic).max() < 1e-12 * np.abs(K).max()

@@ -14,7 +14,7 @@ from geometries import bilayer, cube
 from ngincompat import buckling, fields, folding, postprocess
 from ngincompat.bifurcation import critical_growth, onset, prebuckled_cortex
 from ngincompat.cli import main
-from ngincompat.errors import ParameterError
+from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual
 from ngincompat.materials import NeoHookean, Regional
 from ngincompat.pipeline import Solution
@@ -146,6 +146,33 @@ def test_eigenpairs_are_those_of_the_residuals_derivative():
     for value, mode in zip(values, modes, strict=True):
         curvature = (4 * slope(mode, 5e-8) - slope(mode, 1e-7)) / 3     # Richardson: O(h^4)
         assert curvature == pytest.approx(value, rel=1e-7)
+
+
+def test_eigenpairs_fall_back_to_lu_when_a_factorisation_gives_inaccurate_pairs(monkeypatch):
+    """A shift-invert operator whose pairs are not those of K (here K^-1 scaled by 1.001, as
+    an inaccurate factorisation of an indefinite K could give) is rejected by the pairs'
+    residual and the next factorisation is used; with none left the call raises."""
+    problem = coupled_block(bilayer(length=0.4, height=0.2, depth=0.05, cortex=0.05,
+                                    maxh=0.1, cortex_maxh=0.025))
+    exact, _ = buckling.smallest_eigenpairs(problem, count=2)
+    operator = buckling._inverse_operator
+    used = []
+
+    def inaccurate(matrix, rows, inverse):
+        used.append(inverse)
+        good = operator(matrix, rows, inverse)
+        if inverse != "sparsecholesky":
+            return good
+        return buckling.LinearOperator(good.shape, matvec=lambda b: 1.001 * good.matvec(b),
+                                       dtype=float)
+
+    monkeypatch.setattr(buckling, "_inverse_operator", inaccurate)
+    values, _ = buckling.smallest_eigenpairs(problem, count=2)
+    assert used == ["sparsecholesky", "umfpack"]
+    np.testing.assert_allclose(values, exact, rtol=1e-8)
+    monkeypatch.setattr(buckling, "INVERSES", ("sparsecholesky",))
+    with pytest.raises(ConvergenceError, match="residual"):
+        buckling.smallest_eigenpairs(problem, count=2)
 
 
 def test_eigenpairs_need_a_space_without_condensed_displacement_dofs():
