@@ -88,7 +88,10 @@ def smallest_eigenpairs(problem, count=1):
     values : numpy.ndarray
         The eigenvalues in ascending order (stress / length^2).
     modes : list of ngsolve.GridFunction
-        The eigenvectors in the displacement space, each of unit L2 norm.
+        The eigenvectors in the displacement space, each of unit L2 norm and signed so that
+        its largest dof is positive. With Lanczos started from a fixed (seeded) vector, the same state
+        gives the same modes: a buckled branch seeded by a mode is reproducible (with a random
+        start the folds of one run came out in the opposite phase of another's).
 
     Raises
     ------
@@ -126,7 +129,8 @@ def smallest_eigenpairs(problem, count=1):
     K = (K + K.T) / 2                    # symmetric up to round-off; ARPACK wants it exactly
     for inverse in INVERSES:
         values, vectors = eigsh(K, k=count, M=M, sigma=0.0, which="LM",
-                                OPinv=_inverse_operator(tangent, rows, inverse))
+                                OPinv=_inverse_operator(tangent, rows, inverse),
+                                v0=np.random.default_rng(0).standard_normal(K.shape[0]))
         if _residual(K, M, values, vectors) <= RESIDUAL_TOL:
             break
     else:
@@ -137,7 +141,8 @@ def smallest_eigenpairs(problem, count=1):
     modes = []
     for i in order:
         mode = ngs.GridFunction(V, name="buckling mode")
-        mode.vec.FV().NumPy()[free] = vectors[:, i]
+        w = vectors[:, i]
+        mode.vec.FV().NumPy()[free] = w * np.sign(w[np.argmax(np.abs(w))])
         mode.vec.data *= 1.0 / np.sqrt(ngs.Integrate(ngs.InnerProduct(mode, mode), V.mesh))
         modes.append(mode)
     return values[order], modes

@@ -175,6 +175,19 @@ def test_eigenpairs_fall_back_to_lu_when_a_factorisation_gives_inaccurate_pairs(
         buckling.smallest_eigenpairs(problem, count=2)
 
 
+def test_eigenpairs_are_reproducible_and_signed():
+    """The same state gives the same modes, each with its largest dof positive (a mode seeds
+    the buckled branch: with a random sign the folds' phase changed from run to run)."""
+    problem = coupled_block(bilayer(length=0.4, height=0.2, depth=0.05, cortex=0.05,
+                                    maxh=0.1, cortex_maxh=0.025))
+    first, second = (buckling.smallest_eigenpairs(problem, count=3) for _ in range(2))
+    np.testing.assert_array_equal(first[0], second[0])
+    for a, b in zip(first[1], second[1], strict=True):
+        w = a.vec.FV().NumPy()
+        np.testing.assert_allclose(w, b.vec.FV().NumPy(), rtol=0, atol=1e-12 * np.abs(w).max())
+        assert w[np.argmax(np.abs(w))] > 0
+
+
 def test_eigenpairs_need_a_space_without_condensed_displacement_dofs():
     with pytest.raises(ParameterError, match="order"):
         buckling.smallest_eigenpairs(coupled_block(cube(maxh=1.0)))     # hexahedra, order 2
