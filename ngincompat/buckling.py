@@ -89,9 +89,10 @@ def smallest_eigenpairs(problem, count=1):
         The eigenvalues in ascending order (stress / length^2).
     modes : list of ngsolve.GridFunction
         The eigenvectors in the displacement space, each of unit L2 norm and signed so that
-        its largest dof is positive. With Lanczos started from a fixed (seeded) vector, the same state
-        gives the same modes: a buckled branch seeded by a mode is reproducible (with a random
-        start the folds of one run came out in the opposite phase of another's).
+        its largest dof is positive. With Lanczos started from a fixed (seeded) vector, the
+        same state gives the same modes: a buckled branch seeded by a mode is reproducible
+        (with a random start the folds of one run came out in the opposite phase of
+        another's).
 
     Raises
     ------
