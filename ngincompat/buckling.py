@@ -45,14 +45,14 @@ RESIDUAL_TOL = 1e-10
 def _inverse_operator(matrix, rows, inverse):
     """K^-1 on the dofs ``rows`` of the NGSolve ``matrix`` K, factorised by ``inverse``, as a
     scipy LinearOperator on those dofs."""
+    index = np.flatnonzero(rows)
     free = ngs.BitArray(len(rows))
     free.Clear()
-    for i in np.flatnonzero(rows):
+    for i in index:
         free.Set(int(i))
     with ngs.TaskManager():
         factor = matrix.Inverse(free, inverse=inverse)
     x, y = matrix.CreateColVector(), matrix.CreateColVector()
-    index = np.flatnonzero(rows)
 
     def solve(b):
         x.FV().NumPy()[:] = 0.0
