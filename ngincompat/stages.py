@@ -1,7 +1,8 @@
 """Stages of a load history, as data: what a case's solve walks through in order.
 
 * :class:`PrescribedGrowthStage`: prescribed growth Fg(X, t) applied from t = 0 to ``t_end``
-  in adaptive load steps (:func:`~ngincompat.solver.solve_growth`);
+  in adaptive load steps (:func:`~ngincompat.solver.solve_growth`), or solved at ``t_end`` at
+  once from a given start state (the state before a load or a support was removed);
 * :class:`CoupledStage`: mechanically coupled growth marched in time
   (:func:`~ngincompat.solver.solve_coupled`), with growth on or frozen and the enclosed volume
   driven linearly between two targets (inflation, hold), checkpointed after every step when
@@ -20,6 +21,7 @@ Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -43,7 +45,15 @@ from .solver import (
 @dataclass(eq=False)
 class PrescribedGrowthStage:
     """Prescribed growth: ``time`` (the Parameter that Fg depends on) from ``t_start`` to
-    ``t_end``."""
+    ``t_end``.
+
+    With a ``start`` (a displacement, as a CoefficientFunction) the equilibrium at ``t_end``
+    is first sought by Newton (``start_options``) from that state at once: where a body in
+    equilibrium loses a load or a support (the skin's expander taken out, then its clamp),
+    the state before is the physical path's start and a far better guess than u = 0. Only if
+    Newton fails from there is the growth applied in load steps from the problem's state
+    before the stage (the history then holds the failed attempt first).
+    """
 
     name: str
     problem: object
@@ -51,11 +61,44 @@ class PrescribedGrowthStage:
     options: NewtonOptions = field(default_factory=NewtonOptions)
     t_start: float = 0.0
     t_end: float = 1.0
+    start: object = None
+    start_options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=50))
 
     def run(self, progress: Progress) -> SolverHistory:
+        attempt = None
+        if self.start is not None:
+            attempt = self._from_start(progress)
+            if attempt.converged:
+                return attempt
         self.time.Set(self.t_start)
-        return solve_growth(self.problem, self.time, self.options, self.t_end,
-                            progress=progress, stage=self.name)
+        history = solve_growth(self.problem, self.time, self.options, self.t_end,
+                               progress=progress, stage=self.name)
+        if attempt is not None:
+            history.steps[:0] = attempt.steps
+        return history
+
+    def _from_start(self, progress: Progress) -> SolverHistory:
+        """Newton at ``t_end`` from ``start``; on failure the problem's state is restored."""
+        u = self.problem.u
+        before = u.vec.CreateVector()
+        before.data = u.vec
+        u.Set(self.start)
+        self.time.Set(self.t_end)
+        record = StepRecord(t=self.t_end, dt=self.t_end - self.t_start, converged=False)
+        started = time.perf_counter()
+        with ngs.TaskManager():
+            record.converged = NewtonSolver(self.problem, self.start_options).minimise(record)
+        record.seconds = time.perf_counter() - started
+        history = SolverHistory(steps=[record], converged=record.converged,
+                                t_reached=self.t_end if record.converged else self.t_start)
+        if record.converged:
+            progress.line(f"{self.name}: equilibrium from the start state in "
+                          f"{record.iterations} Newton iterations")
+        else:
+            u.vec.data = before
+            progress.line(f"{self.name}: from the start state {record.reason}; applying the "
+                          "growth in load steps instead")
+        return history
 
 
 @dataclass(eq=False)
@@ -69,7 +112,8 @@ class CoupledStage:
         Growth evolves (implicit Euler with the step as dt); False freezes it (dt = 0), as
         during a quasi-static inflation.
     volume : tuple of float, optional
-        Target of the constrained volume at ``t_start`` and ``t_end``, linear in between.
+        Target of the constrained volume at ``t_start`` and ``t_end``, linear in between;
+        None as the first: the target the problem has when the stage starts.
     checkpoint : Path, optional
         File that receives the state after every converged step (atomically).
     observe : callable, optional
@@ -85,7 +129,7 @@ class CoupledStage:
     dt: float
     t_start: float = 0.0
     grow: bool = True
-    volume: tuple[float, float] | None = None
+    volume: tuple[float | None, float] | None = None
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
     observe: Callable[[float], bool] | None = None
@@ -116,6 +160,8 @@ class CoupledStage:
         return self.observe is not None and bool(self.observe(t))
 
     def run(self, progress: Progress) -> SolverHistory:
+        if self.volume is not None and self.volume[0] is None:
+            self.volume = (self.problem.volume_target.Get(), self.volume[1])
         self.load(self.t_start)
         self.save(self.t_start)
         return solve_coupled(self.problem, self.t_end, self.dt, self.options,

@@ -6,9 +6,14 @@ import math
 import numpy as np
 import pytest
 
+from ngincompat import buckling
 from ngincompat.errors import ConvergenceError
+from ngincompat.problem import GrowthMechanics, pin_reactions
+from ngincompat.progress import SILENT
 from ngincompat.scenes import SkinExpansionScene
+from ngincompat.scenes.skin import CLAMP
 from ngincompat.solver import NewtonSolver
+from ngincompat.stages import PrescribedGrowthStage
 
 #: The circle 7 cm across that these checks were set up on (base 38.5 cm^2, not the default).
 COARSE = dict(maxh=2.5, order=2, growth_order=2, g_order=3, inflation_steps=5,
@@ -16,8 +21,20 @@ COARSE = dict(maxh=2.5, order=2, growth_order=2, g_order=3, inflation_steps=5,
 
 
 @pytest.fixture(scope="module")
-def expanded():
-    return SkinExpansionScene(footprint="circle", hold_days=2.0, **COARSE).run()
+def expanded_case():
+    """The coarse circle's results and its case (the problems of every stage)."""
+    cases = []
+    build = SkinExpansionScene.build
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(SkinExpansionScene, "build", lambda scene: cases.append(build(scene))
+                      or cases[-1])
+        results = SkinExpansionScene(footprint="circle", hold_days=2.0, **COARSE).run()
+    return results, cases[0]
+
+
+@pytest.fixture(scope="module")
+def expanded(expanded_case):
+    return expanded_case[0]
 
 
 def test_inflation_meets_the_target_volume(expanded):
@@ -77,3 +94,38 @@ def test_interrupted_hold_keeps_its_state_and_resumes(tmp_path, monkeypatch):
     assert hold.converged and hold.t_reached == pytest.approx(2.0)
     assert "inflation" not in resumed.solver
     assert hold.steps[0].t == pytest.approx(2.0)
+
+
+def test_deflation_and_release_start_from_the_state_before(expanded_case):
+    """The expander emptied quasi-statically, then the clamp taken off: each equilibrium
+    found at once from the state before. The clamped skin stays bulged above its base, in a
+    state of lower energy than the one that applying the grown field in load steps from
+    u = 0 reaches (on this mesh that path buckles the skin downward, through the base); the
+    released skin is self-equilibrated and stable."""
+    results, case = expanded_case
+    # the volume lowered until the pressure no longer holds it, short of an empty expander;
+    # what is measured of the inflated skin is the state at the end of the hold
+    deflation = results.solver["deflation"]
+    assert deflation.converged and 0 < deflation.t_reached < 1
+    assert case.problem.pressure() == results.metrics["pressure_end_of_hold"] > 0
+    for stage in ("deflation_clamped", "deflation_released"):
+        steps = results.solver[stage].steps
+        assert len(steps) == 1 and steps[0].converged and steps[0].dt == 1.0
+    clamped, released = case.relaxed["clamped"], case.relaxed["released"]
+    centre = case.mesh(1e-6, 1e-6, 0.0)
+    assert clamped.u(centre)[2] > 0.5
+    stepped = GrowthMechanics(case.mesh, clamped.growth, case.material,
+                              order=case.scene.order, **CLAMP)
+    case.ramp.Set(0.0)
+    assert PrescribedGrowthStage("stepped", stepped, case.ramp).run(SILENT).converged
+    assert stepped.u(centre)[2] < 0
+    assert clamped.strain_energy() < stepped.strain_energy()
+
+    # released: the pins hold nothing of the clamp's forces (the residual of the free patch
+    # in the clamped state) and no direction lowers the energy
+    removed = results.solver["deflation_released"].steps[0].residuals[0]
+    assert np.linalg.norm(pin_reactions(released)) <= 1e-8 * removed
+    values, _ = buckling.smallest_eigenpairs(released)
+    assert values[0] > 0
+    assert results.metrics["strain_energy_released"] == pytest.approx(
+        released.strain_energy(), rel=1e-12)

@@ -11,6 +11,7 @@ from conftest import cube_problem
 from geometries import cube
 from ngincompat.errors import ParameterError
 from ngincompat.progress import SILENT
+from ngincompat.solver import NewtonOptions
 from ngincompat.stages import (
     CoupledStage,
     PrescribedGrowthStage,
@@ -32,6 +33,51 @@ def test_growth_in_two_stages_reaches_the_state_of_one():
     assert [(s.t, s.dt) for s in second.steps] == [(1.0, pytest.approx(0.6))]
     assert problem.strain_energy() == pytest.approx(one, rel=1e-9)
     assert one > 1e-8
+
+
+def test_growth_from_a_start_state_is_solved_at_once_and_falls_back_to_load_steps():
+    """With a start, the equilibrium at t_end is solved from it at once: the unique
+    equilibrium of the load-stepped path, in one step. Where Newton fails from the start,
+    the state before the stage is restored and the growth applied in load steps."""
+    problem, time = cube_problem(order=2)
+    stepped = PrescribedGrowthStage("growth", problem, time).run(SILENT)
+    reference = problem.u.vec.CreateVector()
+    reference.data = problem.u.vec
+
+    # a start near the equilibrium: 90 % of its displacement; the rigid-body pins keep
+    # the start's values, so the two states are compared by C = F^T F
+    equilibrium = ngs.GridFunction(problem.u.space)
+    equilibrium.vec.data = reference
+    start = ngs.GridFunction(problem.u.space)
+    start.vec.data = 0.9 * reference
+    problem.u.vec[:] = 0.0
+    time.Set(0.0)
+    direct = PrescribedGrowthStage("growth", problem, time, start=start).run(SILENT)
+    assert direct.converged and len(direct.steps) == 1
+    assert direct.steps[0].t == 1.0 and direct.steps[0].dt == 1.0
+
+    def cauchy_green(u):
+        F = ngs.Id(3) + ngs.Grad(u)
+        return F.trans * F
+
+    change = cauchy_green(problem.u) - cauchy_green(equilibrium)
+    strain = cauchy_green(equilibrium) - ngs.Id(3)
+    mesh = problem.u.space.mesh
+    assert ngs.Integrate(ngs.InnerProduct(change, change), mesh) <= \
+        1e-16 * ngs.Integrate(ngs.InnerProduct(strain, strain), mesh)
+
+    # Newton limited to one iteration cannot converge from u = 0 at full growth
+    problem, time = cube_problem(order=2)
+    zero = ngs.CoefficientFunction((0, 0, 0))
+    fallback = PrescribedGrowthStage("growth", problem, time, start=zero,
+                                     start_options=NewtonOptions(max_iter=1)).run(SILENT)
+    assert not fallback.steps[0].converged and fallback.steps[0].dt == 1.0
+    assert fallback.converged and fallback.t_reached == pytest.approx(1.0)
+    assert [(s.t, s.iterations) for s in fallback.steps[1:]] == \
+        [(s.t, s.iterations) for s in stepped.steps]
+    difference = problem.u.vec.CreateVector()
+    difference.data = problem.u.vec - reference
+    assert difference.Norm() <= 1e-12 * reference.Norm()
 
 
 def _coupled_stub(mesh, order=1):

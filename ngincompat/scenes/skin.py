@@ -10,10 +10,13 @@ Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
    steps until the volume under the skin is the target to 1e-4;
 2. **hold** for ``hold_days`` at that volume (the contact model: at that expander) while the
    skin grows in area about its normal N0 = e3 (Hill law, eq. 46, implicit Euler, eq. 48);
-3. **deflation**: the pressure is removed, the periphery still clamped: residual stress of the
-   clamped patch;
+3. **deflation**: the expander is emptied, the periphery still clamped: the volume (the
+   contact model: the expander) is lowered quasi-statically at frozen growth until nothing
+   holds the skin up any more (the pressure, or the contact force, reaches zero); the
+   clamped patch's equilibrium without the expander, found from there, has the residual
+   stress of the clamped patch;
 4. **release**: the clamp is removed too (rigid-body constraints only): what stress remains is
-   due to the incompatibility of the grown skin alone.
+   due to the incompatibility of the grown skin alone (found from the clamped state).
 
 The patch lies on its base: outside the footprint the bottom face keeps X3 = 0 (it may slide),
 which also keeps the footprint's edge in the plane, so the enclosed volume is exactly
@@ -160,6 +163,9 @@ class SkinExpansionScene(Scene):
         return SkinCase(self, mesh)
 
 
+#: Step of the quasi-static deflation, as a fraction of the inflated volume (a larger one
+#: fails and is cut at the square expander; without a cut the deflation needs no more).
+DEFLATION_STEP = 0.1
 #: Boundary conditions while the patch is held: the periphery clamped, the base sliding.
 CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
 
@@ -171,16 +177,24 @@ class SkinCase:
     Stages: ``inflation`` (volume 0 -> V, growth frozen), with an expander in contact
     ``contact`` (the expander resized until the volume under the skin is V), ``hold`` (V, or
     the expander, held, Hill-law area growth for ``hold_days``, checkpointed),
-    ``deflation_clamped`` and
-    ``deflation_released`` (the grown field applied to the unloaded patch in load steps
-    from u = 0, clamped, then free: the path the prescribed-growth solver is built for;
-    starting from the inflated dome instead, Newton could not find the released state of
-    the rectangular expander).
+    ``deflation`` (growth frozen, the volume, or the expander's, lowered in steps of
+    :data:`DEFLATION_STEP` of it until the load that holds it, the pressure or the contact
+    force, is no longer positive), ``deflation_clamped`` (the equilibrium of the grown,
+    clamped patch without a load, found by Newton from the deflated state) and
+    ``deflation_released`` (the clamp taken off: the free patch's equilibrium, found from the
+    clamped one). This follows the physical path, and it costs tens of Newton iterations
+    where applying the grown field to the flat patch in load steps from u = 0 cost
+    hundreds: a grown, clamped patch has more area than its frame and must buckle out of the
+    flat state, and that path let it buckle either way, also down through its base. Where
+    Newton fails from the state before, a stage falls back to those load steps. The grown
+    skin has more than one equilibrium, clamped and free; the deflated path keeps the bulge
+    above the base. The state at the end of the hold is kept for what is measured of it.
     """
 
     scene: SkinExpansionScene
     mesh: ngs.Mesh
     noted: dict = field(default_factory=dict)
+    end_of_hold: tuple | None = None
 
     def __post_init__(self):
         scene, mesh = self.scene, self.mesh
@@ -214,13 +228,20 @@ class SkinCase:
                                    options=NewtonOptions(max_iter=20, max_step=scene.dt,
                                                          reuse_tangent=True),
                                    checkpoint=checkpoint, unit="days"))
+        stages.append(CoupledStage("deflation", problem, t_end=1.0, dt=DEFLATION_STEP,
+                                   grow=False, volume=(None, 0.0),
+                                   observe=lambda t: self._holding_load() <= 0,
+                                   options=NewtonOptions(max_iter=12, max_step=DEFLATION_STEP,
+                                                         reuse_tangent=True)))
         ramped = AreaGrowth(1 + (problem.theta - 1) * self.ramp, self.N0)
+        before = problem.u
         for stage, bcs in (("clamped", CLAMP), ("released", {})):
             relaxed = GrowthMechanics(self.mesh, ramped, self.material, order=scene.order,
                                       **bcs)
             self.relaxed[stage] = relaxed
             stages.append(PrescribedGrowthStage(f"deflation_{stage}", relaxed, self.ramp,
-                                                NewtonOptions(max_iter=30)))
+                                                NewtonOptions(max_iter=30), start=before))
+            before = relaxed.u
         return stages
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
@@ -244,6 +265,18 @@ class SkinCase:
             self._note_inflated()
         elif stage.name == "hold":
             self.noted.update(self._loads("end_of_hold"))
+            self.end_of_hold = (self.problem.state.vec.CreateVector(),
+                         self.problem.volume_target.Get())
+            self.end_of_hold[0].data = self.problem.state.vec
+
+    def _holding_load(self):
+        """What holds the skin up in the current state: the pressure, or the contact force
+        (the integral of the contact pressure over the footprint)."""
+        problem = self.problem
+        if problem.expander is None:
+            return problem.pressure()
+        return ngs.Integrate(problem.contact_pressure(), self.mesh, ngs.BND,
+                             definedon=self.mesh.Boundaries("footprint"))
 
     def _note_inflated(self):
         volume = self.problem.volume()
@@ -274,6 +307,9 @@ class SkinCase:
         results = self.interrupted(solution)
         if "hold" not in solution.histories or not solution.histories["hold"].converged:
             return results          # the hold did not end: its checkpoint is the result
+        if self.end_of_hold is not None:    # the deflation moved on from the held state
+            self.problem.state.vec.data = self.end_of_hold[0]
+            self.problem.volume_target.Set(self.end_of_hold[1])
         scene, mesh, theta = self.scene, self.mesh, self.problem.theta
         metrics, timings = results.metrics, results.timings
         footprint = mesh.Boundaries("footprint")
