@@ -96,11 +96,11 @@ def test_interrupted_hold_keeps_its_state_and_resumes(tmp_path, monkeypatch):
     assert hold.steps[0].t == pytest.approx(2.0)
 
 
-def test_deflation_and_release_start_from_the_state_before(expanded_case):
-    """The expander emptied quasi-statically, then the clamp taken off: each equilibrium
-    found at once from the state before. The clamped skin stays bulged above its base, in a
-    state of lower energy than the one that applying the grown field in load steps from
-    u = 0 reaches (on this mesh that path buckles the skin downward, through the base); the
+def test_clamped_and_released_states_are_found_from_the_deflated_one(expanded_case):
+    """The expander emptied quasi-statically, then taken out, with the clamp or without: each
+    equilibrium found at once from the deflated state. The clamped skin stays bulged above its
+    base, in a state of lower energy than the one that applying the grown field in load steps
+    from u = 0 reaches (on this mesh that path buckles the skin downward, through the base); the
     released skin is self-equilibrated and stable."""
     results, case = expanded_case
     # the volume lowered until the pressure no longer holds it, short of an empty expander;
@@ -121,8 +121,8 @@ def test_deflation_and_release_start_from_the_state_before(expanded_case):
     assert stepped.u(centre)[2] < 0
     assert clamped.strain_energy() < stepped.strain_energy()
 
-    # released: the pins hold nothing of the clamp's forces (the residual of the free patch
-    # in the clamped state) and no direction lowers the energy
+    # released: the pins hold nothing of the forces removed at once (the residual of the free
+    # patch in the deflated state) and no direction lowers the energy
     removed = results.solver["deflation_released"].steps[0].residuals[0]
     assert np.linalg.norm(pin_reactions(released)) <= 1e-8 * removed
     values, _ = buckling.smallest_eigenpairs(released)

@@ -11,12 +11,12 @@ Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 2. **hold** for ``hold_days`` at that volume (the contact model: at that expander) while the
    skin grows in area about its normal N0 = e3 (Hill law, eq. 46, implicit Euler, eq. 48);
 3. **deflation**: the expander is emptied, the periphery still clamped: the volume (the
-   contact model: the expander) is lowered quasi-statically at frozen growth until nothing
-   holds the skin up any more (the pressure, or the contact force, reaches zero); the
-   clamped patch's equilibrium without the expander, found from there, has the residual
-   stress of the clamped patch;
+   contact model: the expander) is lowered quasi-statically at frozen growth until the load
+   that holds the skin up (the pressure, or the contact force) has mostly gone; the clamped
+   patch's equilibrium without the expander, found from there, has the residual stress of
+   the clamped patch;
 4. **release**: the clamp is removed too (rigid-body constraints only): what stress remains is
-   due to the incompatibility of the grown skin alone (found from the clamped state).
+   due to the incompatibility of the grown skin alone (found from the deflated state).
 
 The patch lies on its base: outside the footprint the bottom face keeps X3 = 0 (it may slide),
 which also keeps the footprint's edge in the plane, so the enclosed volume is exactly
@@ -163,9 +163,15 @@ class SkinExpansionScene(Scene):
         return SkinCase(self, mesh)
 
 
-#: Step of the quasi-static deflation, as a fraction of the inflated volume (a larger one
-#: fails and is cut at the square expander; without a cut the deflation needs no more).
+#: Step of the quasi-static deflation, as a fraction of the inflated volume (steps of twice
+#: that fail and are cut).
 DEFLATION_STEP = 0.1
+#: The deflation ends where the load that holds the skin up (pressure, contact force) has
+#: fallen to this fraction of its value at the end of the hold: Newton without the expander
+#: goes on from there to the same clamped state as from where the load vanishes (the four
+#: expanders at the defaults, to 1e-13 in energy), and the steps close to zero load are the
+#: ones that fail and are cut (the skin goes slack).
+DEFLATED = 0.25
 #: Boundary conditions while the patch is held: the periphery clamped, the base sliding.
 CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
 
@@ -179,22 +185,26 @@ class SkinCase:
     the expander, held, Hill-law area growth for ``hold_days``, checkpointed),
     ``deflation`` (growth frozen, the volume, or the expander's, lowered in steps of
     :data:`DEFLATION_STEP` of it until the load that holds it, the pressure or the contact
-    force, is no longer positive), ``deflation_clamped`` (the equilibrium of the grown,
-    clamped patch without a load, found by Newton from the deflated state) and
-    ``deflation_released`` (the clamp taken off: the free patch's equilibrium, found from the
-    clamped one). This follows the physical path, and it costs tens of Newton iterations
-    where applying the grown field to the flat patch in load steps from u = 0 cost
-    hundreds: a grown, clamped patch has more area than its frame and must buckle out of the
-    flat state, and that path let it buckle either way, also down through its base. Where
-    Newton fails from the state before, a stage falls back to those load steps. The grown
-    skin has more than one equilibrium, clamped and free; the deflated path keeps the bulge
-    above the base. The state at the end of the hold is kept for what is measured of it.
+    force, has fallen to :data:`DEFLATED` of its value at the end of the hold),
+    ``deflation_clamped`` (the expander taken out: the equilibrium of the grown, clamped
+    patch without a load) and ``deflation_released`` (the expander and the clamp taken out:
+    the free patch's equilibrium), each found by Newton from the deflated state. This
+    follows the physical path, and it costs tens of Newton iterations where applying the
+    grown field to the flat patch in load steps from u = 0 cost hundreds: a grown, clamped
+    patch has more area than its frame and must buckle out of the flat state, and that path
+    let it buckle either way, also down through its base. Where Newton fails from the
+    deflated state, a stage falls back to those load steps. The grown skin has more than one
+    equilibrium, clamped and free; the deflated path keeps the bulge on the side it was
+    inflated to. (From the clamped equilibrium, Newton finds the free rectangle no step that
+    lowers its energy: its tangent is indefinite there.) The state at the end of the hold is
+    kept for what is measured of it.
     """
 
     scene: SkinExpansionScene
     mesh: ngs.Mesh
     noted: dict = field(default_factory=dict)
     end_of_hold: tuple | None = None
+    load_end_of_hold: float = float("nan")
 
     def __post_init__(self):
         scene, mesh = self.scene, self.mesh
@@ -230,18 +240,16 @@ class SkinCase:
                                    checkpoint=checkpoint, unit="days"))
         stages.append(CoupledStage("deflation", problem, t_end=1.0, dt=DEFLATION_STEP,
                                    grow=False, volume=(None, 0.0),
-                                   observe=lambda t: self._holding_load() <= 0,
+                                   observe=self._deflated,
                                    options=NewtonOptions(max_iter=12, max_step=DEFLATION_STEP,
                                                          reuse_tangent=True)))
         ramped = AreaGrowth(1 + (problem.theta - 1) * self.ramp, self.N0)
-        before = problem.u
         for stage, bcs in (("clamped", CLAMP), ("released", {})):
             relaxed = GrowthMechanics(self.mesh, ramped, self.material, order=scene.order,
                                       **bcs)
             self.relaxed[stage] = relaxed
             stages.append(PrescribedGrowthStage(f"deflation_{stage}", relaxed, self.ramp,
-                                                NewtonOptions(max_iter=30), start=before))
-            before = relaxed.u
+                                                NewtonOptions(max_iter=30), start=problem.u))
         return stages
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
@@ -268,6 +276,12 @@ class SkinCase:
             self.end_of_hold = (self.problem.state.vec.CreateVector(),
                          self.problem.volume_target.Get())
             self.end_of_hold[0].data = self.problem.state.vec
+            self.load_end_of_hold = self._holding_load()
+
+    def _deflated(self, t) -> bool:
+        """Whether the deflation has gone far enough: the load that holds the skin up has
+        fallen to :data:`DEFLATED` of its value at the end of the hold."""
+        return self._holding_load() <= DEFLATED * self.load_end_of_hold
 
     def _holding_load(self):
         """What holds the skin up in the current state: the pressure, or the contact force
