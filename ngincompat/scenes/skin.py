@@ -274,7 +274,7 @@ class SkinCase:
         elif stage.name == "hold":
             self.noted.update(self._loads("end_of_hold"))
             self.end_of_hold = (self.problem.state.vec.CreateVector(),
-                         self.problem.volume_target.Get())
+                                self.problem.volume_target.Get())
             self.end_of_hold[0].data = self.problem.state.vec
             self.load_end_of_hold = self._holding_load()
 
