@@ -176,7 +176,8 @@ DEFLATED = 0.25
 #: contact model's take 11-16 (the skin leaves the lowered dome): with 12 allowed, its steps
 #: were cut to a quarter and stayed there (a step doubles only after at most four
 #: iterations): on the coarse circle at 20 cc (maxh 1.5) 212 iterations in 26 steps and two
-#: failed tries, against 89 in 7 steps with 25 allowed.
+#: failed tries, against 89 in 7 steps with 25 allowed. At 50 cc on the default mesh the
+#: contact model's first step is still cut to an eighth (README, skin section).
 DEFLATION_MAX_ITER = 25
 #: Boundary conditions while the patch is held: the periphery clamped, the base sliding.
 CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
