@@ -268,6 +268,8 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
         np.testing.assert_allclose(sigma(sub), 0.0, atol=1e-6 * scene.mu_white)
         assert theta(sub) == pytest.approx(1.0, abs=1e-10)
     assert "onset_growth" not in results.metrics
+    # the top is not stretched along e1 (u1 = 0), so its elastic stretch is 1 / theta_c
+    assert results.metrics["top_stretch_min"] == pytest.approx(1 / theta_c, rel=1e-8)
 
 
 def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path):
@@ -335,6 +337,39 @@ def test_top_curvature_of_a_prescribed_circular_bending():
     assert case.top_curvature(case.problem.u) == pytest.approx(1 / radius, rel=1e-4)
     case.problem.u.Set(ngs.CF((0, 0, 0.01 * ngs.x)))
     assert case.top_curvature(case.problem.u) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_top_stretch_of_prescribed_displacements():
+    """The top surface's elastic stretch |F e1| / theta_c: sqrt((1 + a)^2 + c^2) / theta_c
+    for u = (a X1, 0, c X1), and 1 / theta_c for a bending onto a circle, which does not
+    stretch the top line (to the interpolation error)."""
+    scene = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1})
+    case = scene.build()
+    a, c, theta_c = -0.3, 0.2, 1.25
+    case.problem.u.Set(ngs.CF((a * ngs.x, 0, c * ngs.x)))
+    assert case.top_stretch(case.problem.u, theta_c) == pytest.approx(
+        np.hypot(1 + a, c) / theta_c, rel=1e-10)
+    radius, s = 0.8, ngs.x - scene.length / 2
+    case.problem.u.Set(ngs.CF((radius * ngs.sin(s / radius) - s, 0,
+                               -radius * (1 - ngs.cos(s / radius)))))
+    assert case.top_stretch(case.problem.u, theta_c) == pytest.approx(1 / theta_c, rel=1e-4)
+
+
+def test_a_failed_march_past_the_creasing_stretch_says_so():
+    """A buckling march that gave up after the top's stretch fell below CREASE_STRETCH gets
+    the time and growth where it did in its error; one that stayed above gets nothing."""
+    case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1}).build()
+    series = case.series["buckling"]
+    series.update(t=[60.0, 62.0, 64.0], theta_c=[1.48, 1.496, 1.512],
+                  stretch=[0.70, 0.62, 0.55])
+    failed = Solution(status="not converged", error="buckling: the step fell below min_step")
+    case._explain_crease(failed)
+    assert "fell below 0.65" in failed.error and "t = 62" in failed.error
+    assert "theta_c = 1.496" in failed.error and "0.55 at the last step" in failed.error
+    series["stretch"] = [0.8, 0.75, 0.7]
+    above = Solution(status="not converged", error="buckling: the step fell below min_step")
+    case._explain_crease(above)
+    assert above.error == "buckling: the step fell below min_step"
 
 
 def timoshenko_curvature(mismatch, cortex, substrate, stiffness_ratio):

@@ -37,8 +37,13 @@ faces of the slab (plane strain). Stages:
    definite, only for dt < eta / |omega| (a longer step converges back to the flat state: seen
    with eta = 10 mu and 5-day steps), so the steps are capped at eta / (2 |omega_onset|),
    omega_onset the first negative eigenvalue: the mode at most doubles per step. The fold
-   amplitude (half the peak-to-peak u3 along the top) and the smallest eigenvalue are
-   recorded every step.
+   amplitude (half the peak-to-peak u3 along the top), the smallest eigenvalue and the
+   smallest elastic stretch of the top surface along it are recorded every step. That
+   stretch, lambda_e = |F e1| / theta_c (the cortex's Fe = F Fg^-1, Fg e1 = theta_c e1), is
+   1 / theta_c on the flat branch and falls at the bottoms of the sulci as the folds deepen;
+   below :data:`CREASE_STRETCH` a neo-Hookean surface creases, which a mesh of smooth
+   elements does not resolve: the march's steps are then cut until it gives up, and its
+   error says so.
 3. **equilibrium**: the viscous march's end is not an equilibrium (residual without the
    viscosity 5.4e-5 on the small bilayer of the tests), and plain Newton without the
    viscosity diverged from it. At ``t_end`` the growth is held and the same viscous term
@@ -62,7 +67,9 @@ faces of the slab (plane strain). Stages:
    viscous regularisation on; the relaxation then finds the released equilibrium. The
    remaining stress is the incompatibility's.
 
-Measured after the stages: ``fold_amplitude`` of the final equilibrium, the max principal
+Measured after the stages: ``fold_amplitude`` of the final equilibrium,
+``top_stretch_min`` (the smallest elastic stretch of the top surface recorded while growing),
+the max principal
 Cauchy stress before (``sigma_max`` field,
 ``max_principal_stress``) and after the release (``sigma_max_released``,
 ``max_principal_stress_released``, with the displacement ``u_released``), the reference
@@ -115,6 +122,11 @@ AXONS = (*fields.AXONS, "none")
 #: cluster of nearly equal wrinkling modes and miss the smallest (seen: 10.8 after 3.5).
 EIGENPAIRS = 6
 
+#: Elastic compressive stretch at which the surface of a neo-Hookean half-space creases in
+#: plane strain (critical strain 0.35: Hong, Zhao and Suo, Appl. Phys. Lett. 95 (2009)
+#: 111901), well before the wrinkling stretch 0.54 of Biot's analysis.
+CREASE_STRETCH = 0.65
+
 #: Boundary conditions while growing: ends on rollers, bottom on rollers, plane strain.
 GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
 
@@ -145,7 +157,8 @@ class FoldingScene(Scene):
                "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
                "equilibrium_residual", "equilibrium_eigenvalue", "max_principal_stress",
                "max_principal_stress_released", "top_curvature_released",
-               "peak_tension_depth", "peak_tension_depth_released", "release_reaction_rel")
+               "peak_tension_depth", "peak_tension_depth_released", "release_reaction_rel",
+               "top_stretch_min")
     metric_quantities = {**Scene.metric_quantities, "onset_wavelength": "length",
                          "fold_amplitude": "length", "onset_time": "time",
                          "burgers_max_depth": "length", "burgers_max_X1": "length",
@@ -244,15 +257,16 @@ class FoldingCase:
     """The folding scene's case: the coupled bilayer and the observations of its growth.
 
     ``series`` holds, per converged step of the perfect branch and of the buckling stage,
-    the time, the cortex growth, the smallest tangent eigenvalue and the fold amplitude (half
-    the peak-to-peak u3 along the top surface).
+    the time, the cortex growth, the smallest tangent eigenvalue, the fold amplitude (half
+    the peak-to-peak u3 along the top surface) and the top surface's smallest elastic
+    stretch (:meth:`top_stretch`).
     """
 
     scene: FoldingScene
     mesh: ngs.Mesh
     noted: dict = field(default_factory=dict)
     series: dict = field(default_factory=lambda: {
-        branch: {"t": [], "theta_c": [], "eigenvalue": [], "amplitude": []}
+        branch: {"t": [], "theta_c": [], "eigenvalue": [], "amplitude": [], "stretch": []}
         for branch in ("perfect", "buckling")})
 
     def __post_init__(self):
@@ -297,13 +311,27 @@ class FoldingCase:
         third = (x >= self.scene.length / 3) & (x <= 2 * self.scene.length / 3)
         return circle_curvature(x[third] + u1[third], self.scene.height + u3[third])
 
+    def top_stretch(self, u, theta_c, n=301):
+        """The smallest elastic stretch of the top surface along it, lambda_e = |F e1| /
+        theta_c (F = I + Grad u; the cortex grows along e1 by theta_c), over ``n`` points
+        along the middle of the top."""
+        s = self.scene
+        grad = ngs.Grad(u)
+        tangent = ngs.CF((1 + grad[0, 0], grad[1, 0], grad[2, 0]))
+        _, values = postprocess.sample_line(
+            self.mesh, {"t": ngs.Norm(tangent)}, (0.0, s.depth / 2, s.height),
+            (s.length, s.depth / 2, s.height), n=n)
+        return float(np.nanmin(values["t"])) / theta_c
+
     def _observe(self, branch, t):
-        """Append the time, cortex growth, smallest eigenvalue and fold amplitude of the
-        current state to ``series[branch]``; return the eigenpairs."""
+        """Append the time, cortex growth, smallest eigenvalue, fold amplitude and smallest
+        top stretch of the current state to ``series[branch]``; return the eigenpairs."""
         values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS)
         _, u3 = self.top_profile(self.problem.u)
-        for key, value in (("t", t), ("theta_c", 1 + self.scene.cortex_rate * t),
-                           ("eigenvalue", values[0]), ("amplitude", np.ptp(u3) / 2)):
+        theta_c = 1 + self.scene.cortex_rate * t
+        for key, value in (("t", t), ("theta_c", theta_c),
+                           ("eigenvalue", values[0]), ("amplitude", np.ptp(u3) / 2),
+                           ("stretch", self.top_stretch(self.problem.u, theta_c))):
             self.series[branch][key].append(float(value))
         return values, modes
 
@@ -393,9 +421,24 @@ class FoldingCase:
             solve_stages([self.buckling_stage(), self.relaxation("equilibrium", self.problem)],
                          progress, solution, after=self._note)
             if not solution.converged:
+                self._explain_crease(solution)
                 return
         if self.scene.release:
             solve_stages(self.release(), progress, solution, after=self._note)
+
+    def _explain_crease(self, solution):
+        """Add to the error of a failed march where the top surface went below
+        :data:`CREASE_STRETCH`, if it did."""
+        series = self.series["buckling"]
+        below = [i for i, v in enumerate(series["stretch"]) if v < CREASE_STRETCH]
+        if below and solution.error:
+            i = below[0]
+            solution.error += (
+                f"; the top surface's elastic stretch fell below {CREASE_STRETCH} (the "
+                f"creasing threshold of a neo-Hookean surface) at t = {series['t'][i]:.4g} "
+                f"(theta_c = {series['theta_c'][i]:.4g}), {min(series['stretch']):.3g} at "
+                "the last step: the folds crease at the sulci, which the mesh does not "
+                "resolve; a t_end before that avoids it")
 
     def _note(self, stage):
         """After the equilibrium its residual (relative to the start's) and smallest
@@ -422,6 +465,9 @@ class FoldingCase:
         if self.series["buckling"]["t"] and solution.converged:
             _, u3 = self.top_profile(self.problem.u)    # of the final equilibrium
             results.metrics["fold_amplitude"] = float(np.ptp(u3) / 2)
+        stretches = self.series["perfect"]["stretch"] + self.series["buckling"]["stretch"]
+        if stretches:
+            results.metrics["top_stretch_min"] = min(stretches)
         flds = {"u": self.problem.u, "theta": self.problem.theta,
                 **self._stresses(self.problem, "", results.metrics)}
         if self.released is not None and solution.converged:
