@@ -436,7 +436,7 @@ class FoldingCase:
             solution.error += (
                 f"; the top surface's elastic stretch fell below {CREASE_STRETCH} (the "
                 f"creasing threshold of a neo-Hookean surface) at t = {series['t'][i]:.4g} "
-                f"(theta_c = {series['theta_c'][i]:.4g}), {min(series['stretch']):.3g} at "
+                f"(theta_c = {series['theta_c'][i]:.4g}), {series['stretch'][-1]:.3g} at "
                 "the last step: the folds crease at the sulci, which the mesh does not "
                 "resolve; a t_end before that avoids it")
 
