@@ -98,7 +98,7 @@ import numpy as np
 
 from geometries import bilayer
 
-from .. import buckling, fields, postprocess
+from .. import buckling, fields, kinematics, postprocess
 from .. import incompatibility as inc
 from ..bifurcation import Bilayer
 from ..errors import require
@@ -295,13 +295,16 @@ class FoldingCase:
                              order=scene.order, growth_order=scene.growth_order,
                              symmetry=symmetry, viscous=True, traction=traction)
 
+    def _along_top(self, cf, n):
+        """X1 and the values of ``cf`` at ``n`` points along the middle of the top surface."""
+        s = self.scene
+        x, values = postprocess.sample_line(self.mesh, {"v": cf}, (0.0, s.depth / 2, s.height),
+                                            (s.length, s.depth / 2, s.height), n=n)
+        return x, values["v"]
+
     def top_profile(self, u, n=301, component=2):
         """X1 and the displacement ``component`` along the middle of the top surface."""
-        s = self.scene
-        x, values = postprocess.sample_line(
-            self.mesh, {"u": u[component]}, (0.0, s.depth / 2, s.height),
-            (s.length, s.depth / 2, s.height), n=n)
-        return x, values["u"]
+        return self._along_top(u[component], n)
 
     def top_curvature(self, u, n=301):
         """The curvature of the circle fitted to the deformed top line (X1 + u1, X3 + u3)
@@ -315,13 +318,9 @@ class FoldingCase:
         """The smallest elastic stretch of the top surface along it, lambda_e = |F e1| /
         theta_c (F = I + Grad u; the cortex grows along e1 by theta_c), over ``n`` points
         along the middle of the top."""
-        s = self.scene
-        grad = ngs.Grad(u)
-        tangent = ngs.CF((1 + grad[0, 0], grad[1, 0], grad[2, 0]))
-        _, values = postprocess.sample_line(
-            self.mesh, {"t": ngs.Norm(tangent)}, (0.0, s.depth / 2, s.height),
-            (s.length, s.depth / 2, s.height), n=n)
-        return float(np.nanmin(values["t"])) / theta_c
+        F_e1 = kinematics.deformation_gradient(u) * ngs.CF((1, 0, 0))
+        _, values = self._along_top(ngs.Norm(F_e1), n)
+        return float(np.nanmin(values)) / theta_c
 
     def _observe(self, branch, t):
         """Append the time, cortex growth, smallest eigenvalue, fold amplitude and smallest
