@@ -222,6 +222,25 @@ def test_onset_matches_the_bifurcation_oracle(onset_run):
         found, rel=0.01)
 
 
+def test_without_buckling_the_run_ends_at_the_onset():
+    """``buckle = false`` (the refinement study's setting): the perfect branch up to its first
+    negative eigenvalue, the onset measured, and nothing after it (no viscous march, no
+    equilibrium, no release) although t_end is far beyond it."""
+    scene = FoldingScene(length=1.0, height=0.6, cortex_thickness=0.1, cortex_maxh=0.05,
+                         maxh=0.3, axons="none", t_end=75.0, dt=10.0, onset_dt=10.0,
+                         buckle=False, outputs="none")
+    results = scene.run()
+    assert results.status == "done", results.error
+    assert set(results.solver) == {"perfect"}
+    eigenvalues = results.profiles["perfect"]["eigenvalue"]
+    assert eigenvalues[-1] < 0 < min(eigenvalues[:-1])
+    theta = results.profiles["perfect"]["theta_c"]
+    assert theta[-2] < results.metrics["onset_growth"] < theta[-1]
+    assert results.metrics["onset_wavelength"] > 0
+    assert "fold_amplitude" not in results.metrics
+    assert "release_reaction_rel" not in results.metrics
+
+
 @pytest.mark.slow
 def test_perfect_branch_stays_flat_before_the_onset(onset_run):
     """Every step before the onset: no undulation of the top, a positive tangent."""

@@ -36,10 +36,11 @@ RUN = {
     "atrophy": ["--maxh", "1", "--set", "semi_axes=3,2.5,2", "--set", "gray_thickness=0.5",
                 "--set", "seed=0,0,-2", "--set", "t_end=4", "--set", "dt=1", "--set",
                 "snapshots=1", "--set", "g_order=2"],
-    "folding": [*FOLDING_COARSE, "--set", "release=false"],
+    "folding": [*FOLDING_COARSE, "--set", "release=false", "--set", "cortex_maxh=0.025"],
 }
 #: The folding commands without the release: it is most of their time (two thirds on the
-#: coarse bilayer), and test_folding.py's driver test runs it on these coarse settings.
+#: coarse bilayer), and test_folding.py's driver test runs it on these coarse settings; and
+#: with the default cortex mesh (the refinement study's finer ones took 20 and 43 s).
 FOLDING = RUN["folding"]
 #: The real brain coarser still: 2 cm voxels (a few hundred hexahedra), seed inside it.
 RUN_MNI152 = [*RUN["atrophy"], "--maxh", "2"]

@@ -25,7 +25,8 @@ faces of the slab (plane strain). Stages:
    eigenvalue of the elastic tangent (:mod:`ngincompat.buckling`) is computed. Where it
    crosses zero the bilayer buckles: ``onset_growth`` (theta_c there, interpolated) and
    ``onset_wavelength`` (the eigenmode's, along the top surface, reference length) are
-   measured, and the stage ends.
+   measured, and the stage ends. With ``buckle`` false the run ends there, without stages
+   2 to 4 (the onset alone, for a refinement study).
 2. **buckling**: the state of that step (the first with a negative eigenvalue) is perturbed
    by the first buckling mode, scaled so that the top surface moves by ``imperfection`` x
    ``cortex_thickness`` at most (a perturbation of the displacement, not of the body: the
@@ -195,6 +196,8 @@ class FoldingScene(Scene):
                                   "the onset)", "time")
     imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
                                       "onset / cortex_thickness")
+    buckle: bool = param(True, "past the onset, perturb by the buckling mode and follow the "
+                               "folds to t_end (false: end at the onset)")
     release: bool = param(True, "at the end remove the supports but the rigid-motion pins "
                                 "(growth frozen)")
     viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
@@ -412,7 +415,7 @@ class FoldingCase:
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
         solve_stages(self.stages(), progress, solution)
-        if not solution.converged:
+        if not solution.converged or (self.mode is not None and not self.scene.buckle):
             return
         if self.mode is not None:
             self.perturb()
