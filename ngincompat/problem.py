@@ -650,6 +650,18 @@ class CoupledGrowth:
         self.load_scale.Set(1.0)
         return float(np.linalg.norm(reactions.FV().NumPy()[np.array(on, dtype=bool)]))
 
+    def expander_to_traction(self):
+        """Hand the expander's load over to a dead traction (the expander being emptied):
+        the force the expander exerts on the ``volume`` boundary in the current state becomes
+        ``traction_field`` t (``load_scale`` = 1, :meth:`hold_by_traction`) and the expander
+        is lowered to height 0, under the boundary (which stays in X3 >= 0), so the state
+        remains an equilibrium. Returns the norm of that force."""
+        require(self.expander is not None and self.traction == self.volume_region,
+                "traction", self.traction, f"the expander's boundary {self.volume_region!r} "
+                "(built with an expander)")
+        self.volume_target.Set(0.0)
+        return self.hold_by_traction()
+
     def frozen_tangent(self):
         """The tangent at frozen growth (a step dt = 0: theta held at theta_n, no viscosity)
         at the current state, assembled into and returned as ``form.mat``. Its growth rows

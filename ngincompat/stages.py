@@ -116,6 +116,12 @@ class CoupledStage:
         None as the first: the target the problem has when the stage starts.
     checkpoint : Path, optional
         File that receives the state after every converged step (atomically).
+    traction : tuple of float, optional
+        Scale of the problem's dead traction (``load_scale``) at ``t_start`` and ``t_end``,
+        linear in between.
+    start : callable, optional
+        ``start()`` as the stage begins, before its first load (e.g. a load handed over
+        from one kind to another).
     observe : callable, optional
         ``observe(t)`` after every converged step (after the checkpoint): measures the state;
         returning True ends the stage there.
@@ -130,6 +136,8 @@ class CoupledStage:
     t_start: float = 0.0
     grow: bool = True
     volume: tuple[float | None, float] | None = None
+    traction: tuple[float, float] | None = None
+    start: Callable[[], object] | None = None
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
     observe: Callable[[float], bool] | None = None
@@ -137,16 +145,20 @@ class CoupledStage:
     _loaded: float = field(default=float("inf"), init=False, repr=False)
 
     def load(self, t: float) -> None:
-        """Set the loads of time ``t``: the volume target and, if frozen, dt = 0. Moving
+        """Set the loads of time ``t``: the volume target, the dead traction's scale and, if
+        frozen, dt = 0. Moving
         forward from the last converged time (not back to it after a failed step), the state
         is lifted with an expander (:meth:`~ngincompat.problem.CoupledGrowth.set_volume_target`)."""
         if not self.grow:
             self.problem.dt.Set(0.0)
+        span = self.t_end - self.t_start
+        s = 1.0 if span <= 0 else (t - self.t_start) / span
         if self.volume is not None:
             v0, v1 = self.volume
-            span = self.t_end - self.t_start
-            s = 1.0 if span <= 0 else (t - self.t_start) / span
             self.problem.set_volume_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
+        if self.traction is not None:
+            self.problem.load_scale.Set(self.traction[0] + (self.traction[1]
+                                                             - self.traction[0]) * s)
         self._loaded = t
 
     def save(self, t: float) -> None:
@@ -160,6 +172,8 @@ class CoupledStage:
         return self.observe is not None and bool(self.observe(t))
 
     def run(self, progress: Progress) -> SolverHistory:
+        if self.start is not None:
+            self.start()
         if self.volume is not None and self.volume[0] is None:
             self.volume = (self.problem.volume_target.Get(), self.volume[1])
         self.load(self.t_start)

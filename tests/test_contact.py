@@ -256,3 +256,36 @@ def test_smallest_principal_value_is_the_largest_of_the_negated_tensor():
     mesh = ngs.Mesh(ngs.unit_cube.GenerateMesh(maxh=1.0))
     smallest = -largest_principal_value(-cf)
     assert smallest(mesh(0.5, 0.5, 0.5)) == pytest.approx(np.linalg.eigvalsh(T)[0], abs=1e-10)
+
+
+def test_expander_handed_over_to_its_dead_traction_keeps_the_equilibrium():
+    """The deflation's first act: the dome's contact force becomes a dead traction and the
+    dome is lowered under the skin; the inflated state stays an equilibrium and nothing
+    touches the dome any more."""
+    import ngsolve as ngs
+
+    from ngincompat.pipeline import solve_stages
+
+    case = SkinExpansionScene(expander="contact", penalty=1000.0, **COARSE).build()
+    problem = case.problem
+    with ngs.TaskManager():
+        solve_stages([s for s in case.stages(None, None) if s.name in ("inflation", "contact")])
+    footprint = case.mesh.Boundaries("footprint")
+    pushed = ngs.Integrate(problem.contact_pressure(), case.mesh, ngs.BND, definedon=footprint)
+    volume = problem.volume()
+    force = problem.expander_to_traction()
+    assert pushed > 0 and force > 0
+    assert problem.expander_height() == 0.0 and problem.load_scale.Get() == 1.0
+    assert ngs.Integrate(problem.contact_pressure(), case.mesh, ngs.BND,
+                         definedon=footprint) == 0.0
+    assert problem.volume() == volume
+    residual = problem.state.vec.CreateVector()
+    problem.form.Apply(problem.state.vec, residual)
+    free = np.array(problem.freedofs, dtype=bool)[:problem.u.space.ndof]
+    assert np.linalg.norm(residual.FV().NumPy()[:problem.u.space.ndof][free]) <= 1e-8 * force
+
+
+def test_only_an_expander_with_a_traction_on_its_boundary_is_handed_over():
+    case = SkinExpansionScene(**COARSE).build()         # the pressure model: no expander
+    with pytest.raises(ParameterError, match="^traction = "):
+        case.problem.expander_to_traction()
