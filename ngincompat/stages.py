@@ -7,6 +7,7 @@
   (:func:`~ngincompat.solver.solve_coupled`), with growth on or frozen and the enclosed volume
   driven linearly between two targets (inflation, hold), checkpointed after every step when
   given a checkpoint file;
+* :class:`FallbackStage`: one stage, and where it fails another from the same start;
 * :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
   until the volume under the skin is the target;
 * :class:`UnloadingStage`: at frozen growth, a dead load (e.g. the reactions of supports that
@@ -181,6 +182,32 @@ class CoupledStage:
         return solve_coupled(self.problem, self.t_end, self.dt, self.options,
                              t_start=self.t_start, schedule=self.load, on_step=self.after_step,
                              progress=progress, stage=self.name, unit=self.unit)
+
+
+@dataclass(eq=False)
+class FallbackStage:
+    """``first``; where it does not converge, ``reset()`` (back to the state it started
+    from) and ``second`` instead, under ``first``'s name. The history holds the failed
+    attempt's steps first."""
+
+    first: object
+    second: object
+    reset: Callable[[], object]
+
+    @property
+    def name(self) -> str:
+        return self.first.name
+
+    def run(self, progress: Progress) -> SolverHistory:
+        try:
+            return self.first.run(progress)
+        except ConvergenceError as err:
+            progress.line(f"{self.name}: {err}; starting again on the other path")
+            self.reset()
+            history = self.second.run(progress)
+            if err.history is not None:
+                history.steps[:0] = err.history.steps
+            return history
 
 
 @dataclass(eq=False)
