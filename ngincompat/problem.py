@@ -650,6 +650,18 @@ class CoupledGrowth:
         self.load_scale.Set(1.0)
         return float(np.linalg.norm(reactions.FV().NumPy()[np.array(on, dtype=bool)]))
 
+    def expander_to_traction(self):
+        """Hand the expander's load over to a dead traction (the expander being emptied):
+        the force the expander exerts on the ``volume`` boundary in the current state becomes
+        ``traction_field`` t (``load_scale`` = 1, :meth:`hold_by_traction`) and the expander
+        is lowered to height 0, under the boundary (which stays in X3 >= 0), so the state
+        remains an equilibrium. Returns the norm of that force."""
+        require(self.expander is not None and self.traction == self.volume_region,
+                "traction", self.traction, f"the expander's boundary {self.volume_region!r} "
+                "(built with an expander)")
+        self.volume_target.Set(0.0)
+        return self.hold_by_traction()
+
     def frozen_tangent(self):
         """The tangent at frozen growth (a step dt = 0: theta held at theta_n, no viscosity)
         at the current state, assembled into and returned as ``form.mat``. Its growth rows
@@ -687,12 +699,16 @@ class CoupledGrowth:
 
     def set_volume_target(self, volume, lift=False):
         """Set the volume target; with an expander and ``lift``, the state moves with the
-        expander's top (u += dH phi(X) e3, dH its change of height): a predictor that puts
-        the skin onto the expander's new shape, for Newton to start close to contact."""
+        expander's top (u += dH phi(x1, x2) e3, dH its change of height, x = X + u the
+        point's current place): a predictor that keeps every point's height above the
+        expander, for Newton to start close to contact. (Lifted by phi at the reference X
+        instead, the skin, drawn in over the dome, sank into it, and each inflation step
+        began with Newton steps shortened 128-fold: the default circle's inflation took 152
+        iterations against 79.)"""
         change = volume - self.volume_target.Get()
         self.volume_target.Set(volume)
         if lift and self.expander is not None and change != 0:
-            phi = self.expander.shape(ngs.x, ngs.y)[0]
+            phi = self.expander.shape(ngs.x + self.u[0], ngs.y + self.u[1])[0]
             step = ngs.GridFunction(self.u.space)
             step.Set(ngs.CoefficientFunction((0, 0, change / self.base_integral * phi)))
             self.u.vec.data += step.vec

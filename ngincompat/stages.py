@@ -7,6 +7,7 @@
   (:func:`~ngincompat.solver.solve_coupled`), with growth on or frozen and the enclosed volume
   driven linearly between two targets (inflation, hold), checkpointed after every step when
   given a checkpoint file;
+* :class:`FallbackStage`: one stage, and where it fails another from the same start;
 * :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
   until the volume under the skin is the target;
 * :class:`UnloadingStage`: at frozen growth, a dead load (e.g. the reactions of supports that
@@ -116,6 +117,12 @@ class CoupledStage:
         None as the first: the target the problem has when the stage starts.
     checkpoint : Path, optional
         File that receives the state after every converged step (atomically).
+    traction : tuple of float, optional
+        Scale of the problem's dead traction (``load_scale``) at ``t_start`` and ``t_end``,
+        linear in between.
+    start : callable, optional
+        ``start()`` as the stage begins, before its first load (e.g. a load handed over
+        from one kind to another).
     observe : callable, optional
         ``observe(t)`` after every converged step (after the checkpoint): measures the state;
         returning True ends the stage there.
@@ -130,6 +137,8 @@ class CoupledStage:
     t_start: float = 0.0
     grow: bool = True
     volume: tuple[float | None, float] | None = None
+    traction: tuple[float, float] | None = None
+    start: Callable[[], object] | None = None
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
     observe: Callable[[float], bool] | None = None
@@ -137,16 +146,20 @@ class CoupledStage:
     _loaded: float = field(default=float("inf"), init=False, repr=False)
 
     def load(self, t: float) -> None:
-        """Set the loads of time ``t``: the volume target and, if frozen, dt = 0. Moving
+        """Set the loads of time ``t``: the volume target, the dead traction's scale and, if
+        frozen, dt = 0. Moving
         forward from the last converged time (not back to it after a failed step), the state
         is lifted with an expander (:meth:`~ngincompat.problem.CoupledGrowth.set_volume_target`)."""
         if not self.grow:
             self.problem.dt.Set(0.0)
+        span = self.t_end - self.t_start
+        s = 1.0 if span <= 0 else (t - self.t_start) / span
         if self.volume is not None:
             v0, v1 = self.volume
-            span = self.t_end - self.t_start
-            s = 1.0 if span <= 0 else (t - self.t_start) / span
             self.problem.set_volume_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
+        if self.traction is not None:
+            self.problem.load_scale.Set(self.traction[0] + (self.traction[1]
+                                                             - self.traction[0]) * s)
         self._loaded = t
 
     def save(self, t: float) -> None:
@@ -160,6 +173,8 @@ class CoupledStage:
         return self.observe is not None and bool(self.observe(t))
 
     def run(self, progress: Progress) -> SolverHistory:
+        if self.start is not None:
+            self.start()
         if self.volume is not None and self.volume[0] is None:
             self.volume = (self.problem.volume_target.Get(), self.volume[1])
         self.load(self.t_start)
@@ -167,6 +182,32 @@ class CoupledStage:
         return solve_coupled(self.problem, self.t_end, self.dt, self.options,
                              t_start=self.t_start, schedule=self.load, on_step=self.after_step,
                              progress=progress, stage=self.name, unit=self.unit)
+
+
+@dataclass(eq=False)
+class FallbackStage:
+    """``first``; where it does not converge, ``reset()`` (back to the state it started
+    from) and ``second`` instead, under ``first``'s name. The history holds the failed
+    attempt's steps first."""
+
+    first: object
+    second: object
+    reset: Callable[[], object]
+
+    @property
+    def name(self) -> str:
+        return self.first.name
+
+    def run(self, progress: Progress) -> SolverHistory:
+        try:
+            return self.first.run(progress)
+        except ConvergenceError as err:
+            progress.line(f"{self.name}: {err}; starting again on the other path")
+            self.reset()
+            history = self.second.run(progress)
+            if err.history is not None:
+                history.steps[:0] = err.history.steps
+            return history
 
 
 @dataclass(eq=False)

@@ -256,3 +256,65 @@ def test_smallest_principal_value_is_the_largest_of_the_negated_tensor():
     mesh = ngs.Mesh(ngs.unit_cube.GenerateMesh(maxh=1.0))
     smallest = -largest_principal_value(-cf)
     assert smallest(mesh(0.5, 0.5, 0.5)) == pytest.approx(np.linalg.eigvalsh(T)[0], abs=1e-10)
+
+
+def test_expander_handed_over_to_its_dead_traction_keeps_the_equilibrium():
+    """The deflation's first act: the dome's contact force becomes a dead traction and the
+    dome is lowered under the skin; the inflated state stays an equilibrium and nothing
+    touches the dome any more."""
+    import ngsolve as ngs
+
+    from ngincompat.pipeline import solve_stages
+
+    case = SkinExpansionScene(expander="contact", penalty=1000.0, **COARSE).build()
+    problem = case.problem
+    with ngs.TaskManager():
+        solve_stages([s for s in case.stages(None, None) if s.name in ("inflation", "contact")])
+    footprint = case.mesh.Boundaries("footprint")
+    pushed = ngs.Integrate(problem.contact_pressure(), case.mesh, ngs.BND, definedon=footprint)
+    volume = problem.volume()
+    force = problem.expander_to_traction()
+    assert pushed > 0 and force > 0
+    assert problem.expander_height() == 0.0 and problem.load_scale.Get() == 1.0
+    assert ngs.Integrate(problem.contact_pressure(), case.mesh, ngs.BND,
+                         definedon=footprint) == 0.0
+    assert problem.volume() == volume
+    residual = problem.state.vec.CreateVector()
+    problem.form.Apply(problem.state.vec, residual)
+    free = np.array(problem.freedofs, dtype=bool)[:problem.u.space.ndof]
+    assert np.linalg.norm(residual.FV().NumPy()[:problem.u.space.ndof][free]) <= 1e-8 * force
+
+
+def test_only_an_expander_with_a_traction_on_its_boundary_is_handed_over():
+    case = SkinExpansionScene(**COARSE).build()         # the pressure model: no expander
+    with pytest.raises(ParameterError, match="^traction = "):
+        case.problem.expander_to_traction()
+
+
+def test_lift_keeps_every_point_at_its_height_above_the_raised_dome():
+    """The inflation's predictor: raising the dome by dH lifts each point of the skin by
+    dH phi at its current place (x = X + u), so x3 - H phi(x1, x2) does not change. The skin
+    here is drawn in by a fifth, where phi at the reference place would miss by up to 18 %
+    of dH; what is left is the interpolation of the order-2 lift (1 %)."""
+    import ngsolve as ngs
+
+    scene = SkinExpansionScene(expander="contact", **{**COARSE, "maxh": 1.5, "order": 2})
+    case = scene.build()
+    problem, mesh, dome = case.problem, case.mesh, scene.expander_body()
+    problem.u.Set(ngs.CoefficientFunction((-0.2 * ngs.x, -0.2 * ngs.y,
+                                           0.3 * dome.shape(ngs.x, ngs.y)[0])))
+    R = dome.size / 2
+    points = [mesh(r * math.cos(a), r * math.sin(a), 0.0)
+              for r in np.linspace(0, 0.7 * R, 8) for a in np.linspace(0, 2 * math.pi, 7)[:-1]]
+
+    def above():
+        x = ngs.CoefficientFunction((ngs.x, ngs.y, ngs.z)) + problem.u
+        height = x[2] - problem.expander_height() * dome.shape(x[0], x[1])[0]
+        return np.array([height(p) for p in points])
+
+    problem.set_volume_target(2.0)
+    before, H = above(), problem.expander_height()
+    problem.set_volume_target(3.0, lift=True)
+    dH = problem.expander_height() - H
+    assert dH > 0
+    assert np.max(np.abs(above() - before)) <= 0.02 * dH

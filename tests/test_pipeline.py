@@ -117,3 +117,38 @@ def test_an_interrupted_run_is_marked_and_keeps_its_history(tmp_path, outcome):
     assert written["status"] == INTERRUPTED and written["metrics"] == {}
     assert "stage0" in written["solver"]
     assert err.value.results.status == INTERRUPTED
+
+
+@pytest.mark.parametrize("outcome", ["converge", "fail"])
+def test_fallback_stage_runs_the_second_path_only_after_a_reset(outcome):
+    """A failed first path is reset, then the second runs under the first's name; its
+    history starts with the failed attempt's steps. A second path that fails too fails the
+    stage."""
+    from ngincompat.solver import StepRecord
+    from ngincompat.stages import FallbackStage
+
+    log = []
+
+    class Failing(FakeStage):
+        def run(self, progress):
+            self.log.append(self.name)
+            attempt = SolverHistory(steps=[StepRecord(t=0.1, dt=0.1, converged=True,
+                                                      iterations=5)])
+            raise ConvergenceError("limit point", history=attempt, t_converged=0.1)
+
+    stage = FallbackStage(Failing("deflation", log), FakeStage("lowered", log, outcome),
+                          reset=lambda: log.append("reset"))
+    assert stage.name == "deflation"
+    if outcome == "fail":
+        with pytest.raises(ConvergenceError):
+            stage.run(pipeline.SILENT)
+        assert log == ["deflation", "reset", "lowered"]
+        return
+    history = stage.run(pipeline.SILENT)
+    assert log == ["deflation", "reset", "lowered"]
+    assert [s.iterations for s in history.steps] == [5] and history.converged
+    # a first path that converges is all there is
+    log.clear()
+    assert FallbackStage(FakeStage("deflation", log), FakeStage("lowered", log),
+                         reset=lambda: log.append("reset")).run(pipeline.SILENT).converged
+    assert log == ["deflation"]

@@ -110,6 +110,31 @@ def test_coupled_stage_drives_the_volume_linearly_and_freezes_growth():
     assert growing.dt.Get() == 0.25 and growing.volume_target.Get() == 0.0
 
 
+def test_coupled_stage_ramps_a_dead_traction_after_its_start():
+    """``traction`` scales the problem's dead load linearly over the stage (the contact
+    expander's deflation: 1 -> 0), and ``start`` runs once, before the first load."""
+    problem = _coupled_stub(cube(maxh=1.0))
+    problem.load_scale = ngs.Parameter(0.0)
+    started = []
+
+    class Started(Exception):
+        pass
+
+    def start():
+        started.append(problem.load_scale.Get())
+        raise Started
+
+    stage = CoupledStage("deflation", problem, t_end=1.0, dt=0.25, grow=False,
+                         traction=(1.0, 0.0), start=start)
+    with pytest.raises(Started):
+        stage.run(SILENT)
+    assert started == [0.0]
+    for t, expected in ((0.0, 1.0), (0.25, 0.75), (0.6, 0.4), (1.0, 0.0)):
+        stage.load(t)
+        assert problem.load_scale.Get() == pytest.approx(expected)
+    assert problem.volume_target.Get() == 0.0 and problem.lifts == []
+
+
 def test_checkpoint_restores_the_state_and_refuses_another_mesh(tmp_path):
     mesh = cube(maxh=1.0)
     problem = _coupled_stub(mesh)
