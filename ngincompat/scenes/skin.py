@@ -364,8 +364,7 @@ class SkinCase:
         if "hold" not in solution.histories or not solution.histories["hold"].converged:
             return results          # the hold did not end: its checkpoint is the result
         if self.end_of_hold is not None:    # the deflation moved on from the held state
-            self.problem.state.vec.data = self.end_of_hold[0]
-            self.problem.volume_target.Set(self.end_of_hold[1])
+            self._back_to_end_of_hold()
         scene, mesh, theta = self.scene, self.mesh, self.problem.theta
         metrics, timings = results.metrics, results.timings
         footprint = mesh.Boundaries("footprint")
