@@ -2,13 +2,13 @@
 one summary table.
 
 Each expander runs into its own folder ``out/<footprint>``; the summary (``summary.md``,
-``.csv``, ``.json``) has one row per expander with the volume and pressure after inflation
-(with ``--set expander=contact``: the expander's height, the contact area, the largest
-penetration, the largest and mean contact pressure), growth (largest, mean over the
-footprint, at the apex), incompatibility (largest |b|, at the apex, the distance of the
-largest from the centre) and the largest residual stress after
-deflation (clamped, then released). An expander whose run fails is a row with its status;
-the others still run.
+``.csv``, ``.json``) has one row per expander with the volume after inflation and what holds
+it (the contact model, the default: the expander's height, the contact area, the largest
+penetration, the largest and mean contact pressure; with ``--set expander=pressure``: the
+pressure), growth (largest, mean over the footprint, at the apex), incompatibility (largest
+|b|, at the apex, the distance of the largest from the centre) and the largest residual
+stress after deflation (clamped, then released). An expander whose run fails is a row with
+its status; the others still run.
 """
 
 from geometries import FOOTPRINTS
@@ -37,7 +37,7 @@ def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, *
     """
     scenes = {f: SkinExpansionScene.from_settings({**settings, "footprint": f})
               for f in footprints}
-    model = next(iter(scenes.values())).expander if scenes else "pressure"
+    model = next(iter(scenes.values())).expander if scenes else SkinExpansionScene.expander
     columns = [c for c in COLUMNS if c not in UNUSED[model]]
     rows, _ = run_variants(scenes, out, key="footprint", metrics=columns[4:],
                            progress=progress, overwrite=overwrite, label="skin")

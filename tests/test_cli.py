@@ -83,7 +83,7 @@ def test_skin_runs_through_the_command_line(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 0, out
     assert "skin: done" in out and "inflation" in out and "hold" in out
-    assert "volume_inflated" in out
+    assert "volume_inflated" in out and "expander_height_inflated" in out   # the default
 
 
 def test_outputs_name_every_optional_output_of_a_scene():

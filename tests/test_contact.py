@@ -286,7 +286,7 @@ def test_expander_handed_over_to_its_dead_traction_keeps_the_equilibrium():
 
 
 def test_only_an_expander_with_a_traction_on_its_boundary_is_handed_over():
-    case = SkinExpansionScene(**COARSE).build()         # the pressure model: no expander
+    case = SkinExpansionScene(**{**COARSE, "expander": "pressure"}).build()   # no expander
     with pytest.raises(ParameterError, match="^traction = "):
         case.problem.expander_to_traction()
 

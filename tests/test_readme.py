@@ -97,11 +97,11 @@ def coarse(argv, scheduler=None):
     command = argv[0]
     if command == "run":
         rule = RUN_MNI152 if "geometry=mni152" in argv else RUN[argv[1]]
-        return [*argv, *rule, *_contact(argv), "-q"]
+        return [*argv, *rule, "-q"]
     if command == "paper":
         return [*argv, "--quick", "-q"]
     if command == "expansion":
-        return [*argv, "--footprints", "circle", *SKIN_COARSE, *_contact(argv), "-q"]
+        return [*argv, "--footprints", "circle", *SKIN_COARSE, "-q"]
     if command == "folding":
         return [*argv, "--axons", "curved", *FOLDING, "-q"]
     if command == "bench":
@@ -123,14 +123,6 @@ def _sweep_cases(file):
     defaults, 70 s on the quiet machine; its settings are the file's)."""
     with open(ROOT / file, "rb") as f:
         return 1 if tomllib.load(f)["scene"] == "skin" else 2
-
-
-def _contact(argv):
-    """The skin's expander in contact, coarse: a low dome (3 cc) on the coarse mesh, as in
-    test_contact.py (at 50 cc the order-1 mesh of 3 cm concentrates the contact force at the
-    apex, and its deflation takes 3 minutes: the dead traction's path has a limit point
-    there and the stage starts again, lowering the dome)."""
-    return ["--set", "volume=3"] if "expander=contact" in argv else []
 
 
 def expected_code(argv, scratch):

@@ -1,4 +1,6 @@
-"""The skin-expansion scene (section 3.6), on coarse meshes."""
+"""The skin-expansion scene (section 3.6) with the pressure model, on coarse meshes: the
+pressure is the volume's Lagrange multiplier, so these checks hold it to the volume and
+follow it through the deflation (the contact model, the default, is tests/test_contact.py's)."""
 
 import json
 import math
@@ -15,9 +17,10 @@ from ngincompat.scenes.skin import CLAMP
 from ngincompat.solver import NewtonSolver
 from ngincompat.stages import PrescribedGrowthStage
 
-#: The circle 7 cm across that these checks were set up on (base 38.5 cm^2, not the default).
-COARSE = dict(maxh=2.5, order=2, growth_order=2, g_order=3, inflation_steps=5,
-              outputs="none", footprint_area=math.pi * 3.5**2)
+#: The circle 7 cm across that these checks were set up on (base 38.5 cm^2, not the default),
+#: pushed by a uniform pressure (not the default expander).
+COARSE = dict(expander="pressure", maxh=2.5, order=2, growth_order=2, g_order=3,
+              inflation_steps=5, outputs="none", footprint_area=math.pi * 3.5**2)
 
 
 @pytest.fixture(scope="module")

@@ -2,12 +2,13 @@
 
 Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 
-1. **inflation** to ``volume`` cc, volume-controlled: with ``expander=pressure`` the
-   expander pressure is the unknown conjugate to the volume under the footprint, so the
-   target is met, not guessed; with ``expander=contact`` the expander is a rigid dome
-   (:mod:`ngincompat.contact`) on which the skin rests (penalty contact, frictionless),
-   raised until its own volume is the target, then (stage ``contact``) resized by secant
-   steps until the volume under the skin is the target to 1e-4;
+1. **inflation** to ``volume`` cc, volume-controlled: with ``expander=contact`` (the
+   default) the expander is a rigid dome (:mod:`ngincompat.contact`) on which the skin
+   rests (penalty contact, frictionless), raised until its own volume is the target, then
+   (stage ``contact``) resized by secant steps until the volume under the skin is the
+   target to 1e-4; with ``expander=pressure`` (kept for comparison) the expander pressure
+   is the unknown conjugate to the volume under the footprint, so the target is met, not
+   guessed;
 2. **hold** for ``hold_days`` at that volume (the contact model: at that expander) while the
    skin grows in area about its normal N0 = e3 (Hill law, eq. 46, implicit Euler, eq. 48);
 3. **deflation**: the expander is emptied, the periphery still clamped, at frozen growth,
@@ -21,10 +22,11 @@ Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 
 The patch lies on its base: outside the footprint the bottom face keeps X3 = 0 (it may slide),
 which also keeps the footprint's edge in the plane, so the enclosed volume is exactly
-int x3 det(dx_a/dX_b) dA over the footprint. The pressure model pushes the footprint with a
-uniform pressure (the expander's shape is not modelled); the contact model lifts a dome of the
-footprint's shape under the skin, and the volume under the skin exceeds the dome's where the
-skin bridges it and falls short by the penetration, hence the volume control. Every
+int x3 det(dx_a/dX_b) dA over the footprint. The contact model (the default) lifts a dome of
+the footprint's shape under the skin, and the volume under the skin exceeds the dome's where
+the skin bridges it and falls short by the penetration, hence the volume control; the
+pressure model pushes the footprint with a uniform pressure (the expander's shape is not
+modelled: growth and stress then concentrate at the footprint's edge, not at the apex). Every
 footprint has the base area ``footprint_area`` (the paper's comparison of shapes).
 
 Parameters and their sources:
@@ -69,8 +71,9 @@ from ..stages import (
 from .base import Scene, param
 
 CHECKPOINT = "checkpoint.npz"
-#: How the expander pushes the skin: a uniform pressure, or a rigid dome in contact.
-EXPANDERS = ("pressure", "contact")
+#: How the expander pushes the skin: a rigid dome in contact (the default), or a uniform
+#: pressure on the footprint (for comparison).
+EXPANDERS = ("contact", "pressure")
 #: What the contact model reports after inflation and at the end of the hold.
 CONTACT_QUANTITIES = {"expander_height": "length", "contact_area": "area",
                       "contact_force": "stress area", "penetration_max": "length",
@@ -84,7 +87,8 @@ class SkinExpansionScene(Scene):
     """Tissue expansion of a 10 x 10 x 0.3 cm skin patch (section 3.6)."""
 
     name = "skin"
-    summary = "section 3.6: skin expansion, inflation to 50 cc, 7 days of area growth"
+    summary = ("section 3.6: skin expansion, an expander dome in contact inflated to 50 cc, "
+               "7 days of area growth")
     variant = ("footprint",)
     metrics = ("volume_inflated", "volume_error_rel", "pressure_inflated",
                "pressure_end_of_hold", *CONTACT_METRICS, "theta_max", "theta_mean_footprint",
@@ -109,7 +113,8 @@ class SkinExpansionScene(Scene):
     footprint: str = param("rectangle", "expander base: " + ", ".join(FOOTPRINTS))
     footprint_area: float = param(24.5, "area of the expander's base, the same for every "
                                        "footprint (7 x 3.5 cm for the rectangle)", "area")
-    expander: str = param("pressure", "how the expander acts: " + ", ".join(EXPANDERS))
+    expander: str = param("contact", "how the expander acts: contact (a rigid dome the skin "
+                                     "rests on) or pressure (uniform on the footprint)")
     penalty: float = param(1000.0, "contact: pressure per unit penetration", "stress/length")
     contact_width: float = param(0.005, "contact: penetration over which the penalty's ramp "
                                         "is rounded", "length")
