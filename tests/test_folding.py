@@ -22,6 +22,7 @@ from ngincompat.problem import CoupledGrowth
 from ngincompat.progress import SILENT
 from ngincompat.scenes.folding import FoldingScene
 from ngincompat.shape import circle_curvature
+from ngincompat.solver import NewtonOptions, solve_coupled
 
 #: A short, shallow bilayer that buckles like the long one (its substrate is still many
 #: cortical thicknesses deep) on a coarse but adequate mesh: two quadratic elements across
@@ -191,6 +192,40 @@ def test_eigenpairs_are_reproducible_and_signed():
 def test_eigenpairs_need_a_space_without_condensed_displacement_dofs():
     with pytest.raises(ParameterError, match="order"):
         buckling.smallest_eigenpairs(coupled_block(cube(maxh=1.0)))     # hexahedra, order 2
+
+
+def test_symmetric_gmres_newton_matches_the_lu_factorisation_on_coupled_growth():
+    """Newton on the flat branch of a small bilayer with curved axons (a tangent that is not
+    symmetric: 0.6 % of its norm on the default bilayer) reaches the same states in the same
+    iterations with "symmetric-gmres" (GMRES preconditioned by the Cholesky factorisation of
+    the tangent's symmetric part) as with UMFPACK's LU, and GMRES does iterate (the
+    preconditioner is not the tangent's inverse)."""
+    states, histories = [], []
+    for solver in ("direct", "symmetric-gmres"):
+        case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1,
+                               "axons": "curved"}).build()
+        options = NewtonOptions(max_iter=12, line_search=False, linear_solver=solver)
+        histories.append(solve_coupled(case.problem, 2.5, 1.25, options))
+        states.append(case.problem.state.vec.FV().NumPy().copy())
+    direct, gmres = histories
+    assert np.linalg.norm(states[1] - states[0]) <= 1e-10 * np.linalg.norm(states[0])
+    assert [s.iterations for s in gmres.steps] == [s.iterations for s in direct.steps]
+    linear = [n for s in gmres.steps for n in s.linear_iterations]
+    assert linear and 2 <= max(linear) <= 30
+
+
+def test_the_march_is_recorded_every_observe_dt_of_growth():
+    """The viscous march computes its eigenpairs (and records amplitude and stretch) at its
+    first step, then once ``observe_dt`` of growth has passed since the last record, and at
+    t_end; ``observe_dt`` = 0 records every step."""
+    for observe_dt, expected in ((1.25, [36.25, 37.6, 39.0, 40.0]),
+                                 (0.0, [36.25, 36.5, 37.0, 37.6, 38.0, 39.0, 40.0])):
+        case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1},
+                            t_end=40.0, observe_dt=observe_dt).build()
+        case._observe = lambda branch, t, case=case: case.series[branch]["t"].append(t)
+        for t in (36.25, 36.5, 37.0, 37.6, 38.0, 39.0, 40.0):
+            assert case._observe_buckling(t) is False
+        assert case.series["buckling"]["t"] == expected
 
 
 @pytest.fixture(scope="module")
