@@ -214,6 +214,26 @@ def test_symmetric_gmres_newton_matches_the_lu_factorisation_on_coupled_growth()
     assert linear and 2 <= max(linear) <= 30
 
 
+def test_the_short_steps_start_two_onset_steps_before_the_analysis_onset():
+    """The perfect branch: ``approach`` up to 2 onset_dt before the analysis' onset (the
+    small bilayer's: theta_c = 1.2802688, n = 6), in steps up to ``approach_dt``, then
+    ``perfect``; no approach where it would not hold two long steps or passes t_end."""
+    scene = FoldingScene(**SMALL)
+    case = scene.build()
+    near = (1.2802688 - 1) / scene.cortex_rate - 2 * scene.onset_dt
+    assert case.approach_end() == pytest.approx(near, rel=1e-6)
+    approach, perfect = case.stages()
+    assert (approach.name, approach.t_start, approach.t_end) == ("approach", 0.0,
+                                                                  case.approach_end())
+    assert approach.options.max_step == scene.approach_dt
+    assert (perfect.name, perfect.t_start, perfect.options.max_step) == (
+        "perfect", case.approach_end(), scene.onset_dt)
+    for short in (dict(approach_dt=20.0), dict(t_end=30.0)):
+        case = FoldingScene(**SMALL, **short).build()
+        assert case.approach_end() == 0.0
+        assert [(s.name, s.t_start) for s in case.stages()] == [("perfect", 0.0)]
+
+
 def test_the_march_is_recorded_every_observe_dt_of_growth():
     """The viscous march computes its eigenpairs (and records amplitude and stretch) at its
     first step, then once ``observe_dt`` of growth has passed since the last record, and at

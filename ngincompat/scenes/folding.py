@@ -26,7 +26,11 @@ faces of the slab (plane strain). Stages:
    crosses zero the bilayer buckles: ``onset_growth`` (theta_c there, interpolated) and
    ``onset_wavelength`` (the eigenmode's, along the top surface, reference length) are
    measured, and the stage ends. With ``buckle`` false the run ends there, without stages
-   2 to 4 (the onset alone, for a refinement study).
+   2 to 4 (the onset alone, for a refinement study). Only the steps near the onset need to
+   be short (``onset_dt``); before them (stage ``approach``) they may grow to
+   ``approach_dt``: the short steps start 2 ``onset_dt`` before the onset that the
+   bifurcation analysis (:mod:`ngincompat.bifurcation`) predicts, which so places the steps
+   but not the onset, still found where the tangent's eigenvalue crosses zero.
 2. **buckling**: the state of that step (the first with a negative eigenvalue) is perturbed
    by the first buckling mode, scaled so that the top surface moves by ``imperfection`` x
    ``cortex_thickness`` at most (a perturbation of the displacement, not of the body: the
@@ -92,7 +96,7 @@ a panel whose fields a run has, e.g. after the release, is drawn), and along the
 through the middle (profile "depth").
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import ngsolve as ngs
 import numpy as np
@@ -101,7 +105,7 @@ from geometries import bilayer
 
 from .. import buckling, fields, kinematics, postprocess
 from .. import incompatibility as inc
-from ..bifurcation import Bilayer
+from ..bifurcation import Bilayer, onset
 from ..errors import require
 from ..growth import FiberGrowth
 from ..growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
@@ -202,6 +206,9 @@ class FoldingScene(Scene):
     t_end: float = param(75.0, "end of growth", "time")
     dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
                       "time")
+    approach_dt: float = param(10.0, "largest time step on the perfect branch until "
+                                     "2 onset_dt before the bifurcation analysis' onset",
+                               "time")
     onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
                                   "the onset)", "time")
     observe_dt: float = param(1.25, "growth time between the records of the viscous march "
@@ -238,6 +245,8 @@ class FoldingScene(Scene):
         require(self.t_end > 0, "t_end", self.t_end, "> 0")
         require(self.dt > 0, "dt", self.dt, "> 0")
         require(self.onset_dt > 0, "onset_dt", self.onset_dt, "> 0")
+        require(self.approach_dt >= self.onset_dt, "approach_dt", self.approach_dt,
+                f">= onset_dt = {self.onset_dt:g}")
         require(self.observe_dt >= 0, "observe_dt", self.observe_dt, ">= 0")
         require(0 < self.imperfection <= 0.1, "imperfection", self.imperfection,
                 "in (0, 0.1] (of the cortex thickness)")
@@ -384,7 +393,24 @@ class FoldingCase:
         self.problem.u.vec.data += scale * self.mode.vec
         self.problem.u_old.vec.data = self.problem.u.vec
 
+    def approach_end(self):
+        """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the onset of
+        the bifurcation analysis (:func:`~ngincompat.bifurcation.onset`, roller ends, scanned
+        in theta_c steps of 0.02: it only places the steps), or 0 (no approach) if that is
+        not after 2 ``approach_dt``, beyond ``t_end`` or not found."""
+        scene = self.scene
+        try:
+            growth = onset(scene.bifurcation_bilayer(), length=scene.length,
+                           resolution=0.02).growth
+        except ValueError:
+            return 0.0
+        t = (growth - 1) / scene.cortex_rate - 2 * scene.onset_dt
+        return t if 2 * scene.approach_dt <= t < scene.t_end else 0.0
+
     def stages(self):
+        """The perfect branch: ``approach`` in steps up to ``approach_dt`` to
+        :meth:`approach_end` (if after 0), ``perfect`` from there in steps up to
+        ``onset_dt``; both stop at the first negative eigenvalue."""
         scene = self.scene
         # Plain Newton steps: the residual norm mixes the growth residual (small: dt r times
         # element volumes) with forces, and the first full step, quadratically convergent
@@ -392,9 +418,16 @@ class FoldingCase:
         # iterations against 3 for a step of dt = 5). A failed step is cut instead.
         options = NewtonOptions(max_iter=12, max_step=scene.onset_dt, line_search=False,
                                 linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
-        return [CoupledStage("perfect", self.problem, t_end=scene.t_end, dt=scene.dt,
-                             options=options,
-                             observe=self._observe_perfect, unit="days")]
+        near = self.approach_end()
+        perfect = CoupledStage("perfect", self.problem, t_end=scene.t_end,
+                               dt=min(scene.dt, scene.onset_dt) if near else scene.dt,
+                               t_start=near, options=options, observe=self._observe_perfect,
+                               unit="days")
+        if not near:
+            return [perfect]
+        return [CoupledStage("approach", self.problem, t_end=near, dt=scene.dt,
+                             options=replace(options, max_step=scene.approach_dt),
+                             observe=self._observe_perfect, unit="days"), perfect]
 
     @property
     def eta(self):
@@ -440,7 +473,11 @@ class FoldingCase:
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
-        solve_stages(self.stages(), progress, solution)
+        for stage in self.stages():     # the perfect branch, ended at the onset
+            if self.mode is None:
+                solve_stages([stage], progress, solution)
+            if not solution.converged:
+                return
         if not solution.converged or (self.mode is not None and not self.scene.buckle):
             return
         if self.mode is not None:
