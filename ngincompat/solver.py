@@ -142,6 +142,10 @@ class NewtonOptions:
     predictor : bool
         Start each load step from the best compatible approximation of the growth increment
         (:meth:`GrowthMechanics.compatible_displacement`) rather than from the last state.
+    extrapolate : bool
+        :func:`solve_coupled` starts each step from the linear extrapolation in time of the
+        last two converged states, u_n + dt / dt_prev (u_n - u_n-1), rather than from u_n
+        (from the second converged step on, and again after a cut step).
     max_step : float
         Largest step the adaptive stepping may grow to (time accuracy of coupled growth).
     line_search : bool
@@ -184,6 +188,7 @@ class NewtonOptions:
     inverse: str | None = None
     predictor: bool = True
     line_search: bool = True
+    extrapolate: bool = False
     max_step: float = float("inf")
     reuse_tangent: bool = False
     reuse_contraction: float = 0.1
@@ -487,16 +492,26 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
     ConvergenceError
         Below ``options.min_step``; the state then holds the last converged step.
     """
+    state = problem.state.vec
+    start, previous = state.CreateVector(), state.CreateVector()
+    times = {"start": t_start, "previous": None}    # of ``start`` and ``previous``
+
     def advance(t, t_new):
         problem.dt.Set(t_new - t)
         if schedule is not None:
             schedule(t_new)
+        start.data = state                  # the last converged state
+        times["start"] = t
+        if options.extrapolate and times["previous"] is not None:
+            state.data += (t_new - t) / (t - times["previous"]) * (start - previous)
 
     def restore(t):
         if schedule is not None:
             schedule(t)
 
     def accept(t):
+        previous.data = start
+        times["previous"] = times["start"]
         problem.accept_step()
         return on_step is not None and on_step(t)
 

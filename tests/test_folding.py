@@ -214,6 +214,25 @@ def test_symmetric_gmres_newton_matches_the_lu_factorisation_on_coupled_growth()
     assert linear and 2 <= max(linear) <= 30
 
 
+def test_extrapolated_steps_reach_the_same_states_in_fewer_iterations():
+    """Started from the extrapolation in time of the last two converged states, Newton on the
+    flat branch of a small bilayer with curved axons reaches the same states (to Newton's
+    tolerance) in fewer iterations from the second step on."""
+    states, iterations = [], []
+    for extrapolate in (False, True):
+        case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1,
+                               "axons": "curved"}).build()
+        options = NewtonOptions(max_iter=12, line_search=False, max_step=2.5,
+                                extrapolate=extrapolate)
+        history = solve_coupled(case.problem, 10.0, 2.5, options)
+        states.append(case.problem.state.vec.FV().NumPy().copy())
+        iterations.append([s.iterations for s in history.steps])
+    assert np.linalg.norm(states[1] - states[0]) <= 1e-8 * np.linalg.norm(states[0])
+    plain, extrapolated = iterations
+    assert len(plain) == len(extrapolated) == 4 and extrapolated[0] == plain[0]
+    assert all(e < p for e, p in zip(extrapolated[1:], plain[1:], strict=True))
+
+
 def test_the_short_steps_start_two_onset_steps_before_the_analysis_onset():
     """The perfect branch: ``approach`` up to 2 onset_dt before the analysis' onset (the
     small bilayer's: theta_c = 1.2802688, n = 6), in steps up to ``approach_dt``, then
