@@ -247,7 +247,8 @@ def test_the_short_steps_start_two_onset_steps_before_the_analysis_onset():
     assert approach.options.max_step == scene.approach_dt
     assert (perfect.name, perfect.t_start, perfect.options.max_step) == (
         "perfect", case.approach_end(), scene.onset_dt)
-    for short in (dict(approach_dt=20.0), dict(t_end=30.0)):
+    for short in (dict(approach_dt=20.0), dict(approach_dt=1.0, onset_dt=20.0),
+                  dict(t_end=30.0)):
         case = FoldingScene(**SMALL, **short).build()
         assert case.approach_end() == 0.0
         assert [(s.name, s.t_start) for s in case.stages()] == [("perfect", 0.0)]

@@ -208,9 +208,9 @@ class FoldingScene(Scene):
     t_end: float = param(75.0, "end of growth", "time")
     dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
                       "time")
-    approach_dt: float = param(10.0, "largest time step on the perfect branch until "
-                                     "2 onset_dt before the bifurcation analysis' onset",
-                               "time")
+    approach_dt: float = param(10.0, "largest time step on the perfect branch (at least "
+                                     "onset_dt) until 2 onset_dt before the bifurcation "
+                                     "analysis' onset", "time")
     onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
                                   "the onset)", "time")
     observe_dt: float = param(1.25, "growth time between the records of the viscous march "
@@ -247,8 +247,7 @@ class FoldingScene(Scene):
         require(self.t_end > 0, "t_end", self.t_end, "> 0")
         require(self.dt > 0, "dt", self.dt, "> 0")
         require(self.onset_dt > 0, "onset_dt", self.onset_dt, "> 0")
-        require(self.approach_dt >= self.onset_dt, "approach_dt", self.approach_dt,
-                f">= onset_dt = {self.onset_dt:g}")
+        require(self.approach_dt > 0, "approach_dt", self.approach_dt, "> 0")
         require(self.observe_dt >= 0, "observe_dt", self.observe_dt, ">= 0")
         require(0 < self.imperfection <= 0.1, "imperfection", self.imperfection,
                 "in (0, 0.1] (of the cortex thickness)")
@@ -400,7 +399,7 @@ class FoldingCase:
         """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the onset of
         the bifurcation analysis (:func:`~ngincompat.bifurcation.onset`, roller ends, scanned
         in theta_c steps of 0.02: it only places the steps), or 0 (no approach) if that is
-        not after 2 ``approach_dt``, beyond ``t_end`` or not found."""
+        not after two of the approach's longest steps, beyond ``t_end`` or not found."""
         scene = self.scene
         try:
             growth = onset(scene.bifurcation_bilayer(), length=scene.length,
@@ -408,7 +407,7 @@ class FoldingCase:
         except ValueError:
             return 0.0
         t = (growth - 1) / scene.cortex_rate - 2 * scene.onset_dt
-        return t if 2 * scene.approach_dt <= t < scene.t_end else 0.0
+        return t if 2 * max(scene.approach_dt, scene.onset_dt) <= t < scene.t_end else 0.0
 
     def stages(self):
         """The perfect branch: ``approach`` in steps up to ``approach_dt`` to
@@ -432,7 +431,8 @@ class FoldingCase:
         if not near:
             return [perfect]
         return [CoupledStage("approach", self.problem, t_end=near, dt=scene.dt,
-                             options=replace(options, max_step=scene.approach_dt),
+                             options=replace(options, max_step=max(scene.approach_dt,
+                                                                   scene.onset_dt)),
                              observe=self._observe_perfect, unit="days"), perfect]
 
     @property
