@@ -254,6 +254,19 @@ def test_the_short_steps_start_two_onset_steps_before_the_analysis_onset():
         assert [(s.name, s.t_start) for s in case.stages()] == [("perfect", 0.0)]
 
 
+def test_the_march_steps_are_capped_by_the_unstable_mode_and_onset_dt():
+    """The viscous march starts at the onset step with steps up to eta / (2 |omega_onset|)
+    (the unstable mode at most doubles per step) and ``onset_dt``."""
+    case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1}).build()
+    case.series["perfect"].update(t=[35.0, 36.25], eigenvalue=[3.0, -60.0])
+    stage = case.buckling_stage()
+    assert stage.t_start == 36.25
+    assert stage.dt == stage.options.max_step == pytest.approx(case.eta / 120.0)
+    case.series["perfect"]["eigenvalue"][-1] = -6.0
+    stage = case.buckling_stage()
+    assert stage.dt == stage.options.max_step == case.scene.onset_dt
+
+
 def test_the_march_is_recorded_every_observe_dt_of_growth():
     """The viscous march computes its eigenpairs (and records amplitude and stretch) at its
     first step, then once ``observe_dt`` of growth has passed since the last record, and at

@@ -41,7 +41,8 @@ faces of the slab (plane strain). Stages:
    implicit Euler follows that growth, and the step's tangent K + eta / dt M stays positive
    definite, only for dt < eta / |omega| (a longer step converges back to the flat state: seen
    with eta = 10 mu and 5-day steps), so the steps are capped at eta / (2 |omega_onset|),
-   omega_onset the first negative eigenvalue: the mode at most doubles per step. The fold
+   omega_onset the first negative eigenvalue: the mode at most doubles per step; and at
+   ``onset_dt`` (longer steps of the default bilayer's march all failed). The fold
    amplitude (half the peak-to-peak u3 along the top), the smallest eigenvalue and the
    smallest elastic stretch of the top surface along it are recorded at the first step,
    then every ``observe_dt`` of growth (the eigenpairs cost more than a Newton iteration),
@@ -446,8 +447,11 @@ class FoldingCase:
         return min(self.scene.dt, self.eta / (2 * abs(eigenvalue)))
 
     def buckling_stage(self):
-        """The viscous march from the onset step to ``t_end``."""
-        step = self.viscous_step()
+        """The viscous march from the onset step to ``t_end``, in steps up to
+        :meth:`viscous_step` and ``onset_dt``: on the default bilayer every longer step
+        (2.5 days) failed, a full Newton step from the growing folds inverting an element
+        after about six iterations."""
+        step = min(self.viscous_step(), self.scene.onset_dt)
         options = NewtonOptions(max_iter=12, max_step=step, line_search=False, min_step=1e-6,
                                 linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
