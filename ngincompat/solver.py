@@ -71,7 +71,7 @@ class NewtonProblem(Protocol):
 
 
 #: Linear solvers of the Newton directions (see :class:`NewtonOptions`).
-LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres")
+LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres")
 
 
 def resolve_linear_solver(name, mesh):
@@ -80,6 +80,38 @@ def resolve_linear_solver(name, mesh):
     if name != "auto":
         return name
     return "cg" if parallel.distributed(mesh) else "direct"
+
+
+class SymmetricPart:
+    """The symmetric part (A + A^T) / 2 of sparse matrices A of one structurally symmetric
+    sparsity pattern, as an NGSolve sparse matrix of that pattern.
+
+    The pattern's transpose permutation (entry (i, j) -> entry (j, i)) is found once, from
+    the first matrix; :meth:`of` then only averages the values.
+
+    Raises
+    ------
+    ParameterError
+        The pattern is not structurally symmetric.
+    """
+
+    def __init__(self, matrix):
+        rows, cols, _ = matrix.COO()
+        rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
+        n = matrix.height
+        key, key_t = rows * n + cols, cols * n + rows
+        order = np.argsort(key)
+        where = np.minimum(np.searchsorted(key, key_t, sorter=order), len(key) - 1)
+        self.transpose = order[where]
+        require(np.array_equal(key[self.transpose], key_t), "matrix", "its sparsity pattern",
+                "a structurally symmetric one")
+        self.matrix = matrix.CreateMatrix()
+
+    def of(self, matrix):
+        """(A + A^T) / 2 of ``matrix`` A (of the pattern this was made for)."""
+        values = matrix.AsVector().FV().NumPy()
+        self.matrix.AsVector().FV().NumPy()[:] = 0.5 * (values + values[self.transpose])
+        return self.matrix
 
 
 @dataclass(frozen=True)
@@ -110,6 +142,10 @@ class NewtonOptions:
     predictor : bool
         Start each load step from the best compatible approximation of the growth increment
         (:meth:`GrowthMechanics.compatible_displacement`) rather than from the last state.
+    extrapolate : bool
+        :func:`solve_coupled` starts each step from the linear extrapolation in time of the
+        last two converged states, u_n + dt / dt_prev (u_n - u_n-1), rather than from u_n
+        (from the second converged step on, and again after a cut step).
     max_step : float
         Largest step the adaptive stepping may grow to (time accuracy of coupled growth).
     line_search : bool
@@ -123,15 +159,20 @@ class NewtonOptions:
         factorising cost far more than a residual (high order, few elements).
     reuse_contraction : float
         The contraction in (0, 1) a reused tangent must achieve per iteration.
-    linear_solver : {"auto", "direct", "cg", "gmres"}
+    linear_solver : {"auto", "direct", "cg", "gmres", "symmetric-gmres"}
         How the tangent system is solved: "direct" factorises it (``inverse``); "cg" and
         "gmres" iterate, preconditioned by BDDC (NGSolve's balancing domain decomposition by
         constraints, on the condensed system where the problem condenses), to a residual
-        ``krylov_rtol`` relative to the right-hand side. CG needs a positive definite tangent,
-        as near equilibrium; GMRES also copes with the indefinite tangent that the start of a
-        load step can have (and with the indefinite BDDC built from it). "auto": "direct" in a
-        serial run, "cg" on a distributed mesh (the pip wheels have no distributed direct
-        solver; a direct inverse there is gathered onto rank 0).
+        ``krylov_rtol`` relative to the right-hand side. "symmetric-gmres" iterates with
+        GMRES preconditioned by the sparse Cholesky factorisation (LDL^T) of the tangent's
+        symmetric part (K + K^T) / 2: for a tangent that is symmetric but for a weak
+        coupling, as coupled growth's (the condensed growth block), where it needs a few
+        iterations and costs far less than an LU factorisation of K (serial only). CG
+        needs a positive definite tangent, as near equilibrium; GMRES also copes with the
+        indefinite tangent that the start of a load step can have (and with the indefinite
+        BDDC built from it). "auto": "direct" in a serial run, "cg" on a distributed mesh
+        (the pip wheels have no distributed direct solver; a direct inverse there is
+        gathered onto rank 0).
     krylov_rtol : float
         Relative residual at which the iterative linear solver stops.
     krylov_maxiter : int
@@ -147,6 +188,7 @@ class NewtonOptions:
     inverse: str | None = None
     predictor: bool = True
     line_search: bool = True
+    extrapolate: bool = False
     max_step: float = float("inf")
     reuse_tangent: bool = False
     reuse_contraction: float = 0.1
@@ -231,7 +273,8 @@ class NewtonSolver:
         self.linear_solver = resolve_linear_solver(options.linear_solver, mesh)
         self._preconditioner = None
         self._linear = None
-        if self.linear_solver != "direct":
+        self._symmetric = None
+        if self.linear_solver in ("cg", "gmres"):
             # registered with the form: rebuilt by every AssembleLinearization
             self._preconditioner = ngs.Preconditioner(problem.form, "bddc")
 
@@ -255,10 +298,17 @@ class NewtonSolver:
             self._inverse = p.form.mat.Inverse(p.freedofs,
                                                inverse=self.options.inverse or p.inverse)
             return
-        krylov = CGSolver if self.linear_solver == "cg" else GMResSolver
-        free = ngs.Projector(p.freedofs, True)
-        self._linear = krylov(p.form.mat, free @ self._preconditioner.mat @ free,
-                              tol=self.options.krylov_rtol,
+        if self.linear_solver == "symmetric-gmres":
+            if self._symmetric is None:
+                self._symmetric = SymmetricPart(p.form.mat)
+            preconditioner = self._symmetric.of(p.form.mat).Inverse(
+                p.freedofs, inverse="sparsecholesky")
+            krylov = GMResSolver
+        else:
+            free = ngs.Projector(p.freedofs, True)
+            preconditioner = free @ self._preconditioner.mat @ free
+            krylov = CGSolver if self.linear_solver == "cg" else GMResSolver
+        self._linear = krylov(p.form.mat, preconditioner, tol=self.options.krylov_rtol,
                               maxiter=self.options.krylov_maxiter)
         self._inverse = self._linear
 
@@ -302,16 +352,20 @@ class NewtonSolver:
         no step length was acceptable."""
         opts = self.options
         u = self.problem.state.vec
-        energy = self.energy if self.problem.has_energy else _finite_residual(self)
         du = self.direction()
         slope = -ngs.InnerProduct(du, r)
         r_norm = r.Norm()
         self._u0.data = u
+        if not opts.line_search:
+            # the full step; without an energy the caller's residual there is the merit
+            u.data = self._u0 - du
+            return 1.0, self.energy(u) if self.problem.has_energy else E
         alpha = 1.0
-        for _ in range(opts.max_backtracks if opts.line_search else 1):
+        for _ in range(opts.max_backtracks):
             u.data = self._u0 - alpha * du
-            E_new = energy(u)
-            if not opts.line_search or self._acceptable(E, E_new, alpha, slope, r_norm):
+            E_new = self.energy(u) if self.problem.has_energy else _merit(
+                self.residual().Norm())
+            if self._acceptable(E, E_new, alpha, slope, r_norm):
                 return alpha, E_new
             alpha /= 2
         u.data = self._u0
@@ -322,11 +376,10 @@ class NewtonSolver:
         """Newton iterations at the current load; fills ``record``; returns True if converged."""
         opts = self.options
         u = self.problem.state.vec
-        energy = self.energy if self.problem.has_energy else _finite_residual(self)
         r = self.residual()
         r0 = r.Norm()
         record.residuals.append(r0)
-        E = energy(u)
+        E = self.energy(u) if self.problem.has_energy else _merit(r0)
         if not math.isfinite(E):
             record.reason = "energy or residual is not finite at the start of the step"
             return False
@@ -365,11 +418,9 @@ class NewtonSolver:
         return False
 
 
-def _finite_residual(solver):
+def _merit(residual_norm):
     """Stand-in for the energy of a problem without one: 0 where the residual is finite."""
-    def merit(vec):
-        return 0.0 if math.isfinite(solver.residual(vec).Norm()) else float("nan")
-    return merit
+    return 0.0 if math.isfinite(residual_norm) else float("nan")
 
 
 def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Progress = SILENT,
@@ -441,16 +492,26 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
     ConvergenceError
         Below ``options.min_step``; the state then holds the last converged step.
     """
+    state = problem.state.vec
+    start, previous = state.CreateVector(), state.CreateVector()
+    times = {"start": t_start, "previous": None}    # of ``start`` and ``previous``
+
     def advance(t, t_new):
         problem.dt.Set(t_new - t)
         if schedule is not None:
             schedule(t_new)
+        start.data = state                  # the last converged state
+        times["start"] = t
+        if options.extrapolate and times["previous"] is not None:
+            state.data += (t_new - t) / (t - times["previous"]) * (start - previous)
 
     def restore(t):
         if schedule is not None:
             schedule(t)
 
     def accept(t):
+        previous.data = start
+        times["previous"] = times["start"]
         problem.accept_step()
         return on_step is not None and on_step(t)
 

@@ -22,6 +22,7 @@ from ngincompat.problem import CoupledGrowth
 from ngincompat.progress import SILENT
 from ngincompat.scenes.folding import FoldingScene
 from ngincompat.shape import circle_curvature
+from ngincompat.solver import NewtonOptions, solve_coupled
 
 #: A short, shallow bilayer that buckles like the long one (its substrate is still many
 #: cortical thicknesses deep) on a coarse but adequate mesh: two quadratic elements across
@@ -191,6 +192,93 @@ def test_eigenpairs_are_reproducible_and_signed():
 def test_eigenpairs_need_a_space_without_condensed_displacement_dofs():
     with pytest.raises(ParameterError, match="order"):
         buckling.smallest_eigenpairs(coupled_block(cube(maxh=1.0)))     # hexahedra, order 2
+
+
+def test_symmetric_gmres_newton_matches_the_lu_factorisation_on_coupled_growth():
+    """Newton on the flat branch of a small bilayer with curved axons (a tangent that is not
+    symmetric: 0.6 % of its norm on the default bilayer) reaches the same states in the same
+    iterations with "symmetric-gmres" (GMRES preconditioned by the Cholesky factorisation of
+    the tangent's symmetric part) as with UMFPACK's LU, and GMRES does iterate (the
+    preconditioner is not the tangent's inverse)."""
+    states, histories = [], []
+    for solver in ("direct", "symmetric-gmres"):
+        case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1,
+                               "axons": "curved"}).build()
+        options = NewtonOptions(max_iter=12, line_search=False, linear_solver=solver)
+        histories.append(solve_coupled(case.problem, 2.5, 1.25, options))
+        states.append(case.problem.state.vec.FV().NumPy().copy())
+    direct, gmres = histories
+    assert np.linalg.norm(states[1] - states[0]) <= 1e-10 * np.linalg.norm(states[0])
+    assert [s.iterations for s in gmres.steps] == [s.iterations for s in direct.steps]
+    linear = [n for s in gmres.steps for n in s.linear_iterations]
+    assert linear and 2 <= max(linear) <= 30
+
+
+def test_extrapolated_steps_reach_the_same_states_in_fewer_iterations():
+    """Started from the extrapolation in time of the last two converged states, Newton on the
+    flat branch of a small bilayer with curved axons reaches the same states (to Newton's
+    tolerance) in fewer iterations from the second step on."""
+    states, iterations = [], []
+    for extrapolate in (False, True):
+        case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1,
+                               "axons": "curved"}).build()
+        options = NewtonOptions(max_iter=12, line_search=False, max_step=2.5,
+                                extrapolate=extrapolate)
+        history = solve_coupled(case.problem, 10.0, 2.5, options)
+        states.append(case.problem.state.vec.FV().NumPy().copy())
+        iterations.append([s.iterations for s in history.steps])
+    assert np.linalg.norm(states[1] - states[0]) <= 1e-8 * np.linalg.norm(states[0])
+    plain, extrapolated = iterations
+    assert len(plain) == len(extrapolated) == 4 and extrapolated[0] == plain[0]
+    assert all(e < p for e, p in zip(extrapolated[1:], plain[1:], strict=True))
+
+
+def test_the_short_steps_start_two_onset_steps_before_the_analysis_onset():
+    """The perfect branch: ``approach`` up to 2 onset_dt before the analysis' onset (the
+    small bilayer's: theta_c = 1.2802688, n = 6), in steps up to ``approach_dt``, then
+    ``perfect``; no approach where it would not hold two long steps or passes t_end."""
+    scene = FoldingScene(**SMALL)
+    case = scene.build()
+    near = (1.2802688 - 1) / scene.cortex_rate - 2 * scene.onset_dt
+    assert case.approach_end() == pytest.approx(near, rel=1e-6)
+    approach, perfect = case.stages()
+    assert (approach.name, approach.t_start, approach.t_end) == ("approach", 0.0,
+                                                                  case.approach_end())
+    assert approach.options.max_step == scene.approach_dt
+    assert (perfect.name, perfect.t_start, perfect.options.max_step) == (
+        "perfect", case.approach_end(), scene.onset_dt)
+    for short in (dict(approach_dt=20.0), dict(approach_dt=1.0, onset_dt=20.0),
+                  dict(t_end=30.0)):
+        case = FoldingScene(**SMALL, **short).build()
+        assert case.approach_end() == 0.0
+        assert [(s.name, s.t_start) for s in case.stages()] == [("perfect", 0.0)]
+
+
+def test_the_march_steps_are_capped_by_the_unstable_mode_and_onset_dt():
+    """The viscous march starts at the onset step with steps up to eta / (2 |omega_onset|)
+    (the unstable mode at most doubles per step) and ``onset_dt``."""
+    case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1}).build()
+    case.series["perfect"].update(t=[35.0, 36.25], eigenvalue=[3.0, -60.0])
+    stage = case.buckling_stage()
+    assert stage.t_start == 36.25
+    assert stage.dt == stage.options.max_step == pytest.approx(case.eta / 120.0)
+    case.series["perfect"]["eigenvalue"][-1] = -6.0
+    stage = case.buckling_stage()
+    assert stage.dt == stage.options.max_step == case.scene.onset_dt
+
+
+def test_the_march_is_recorded_every_observe_dt_of_growth():
+    """The viscous march computes its eigenpairs (and records amplitude and stretch) at its
+    first step, then once ``observe_dt`` of growth has passed since the last record, and at
+    t_end; ``observe_dt`` = 0 records every step."""
+    for observe_dt, expected in ((1.25, [36.25, 37.6, 39.0, 40.0]),
+                                 (0.0, [36.25, 36.5, 37.0, 37.6, 38.0, 39.0, 40.0])):
+        case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1},
+                            t_end=40.0, observe_dt=observe_dt).build()
+        case._observe = lambda branch, t, case=case: case.series[branch]["t"].append(t)
+        for t in (36.25, 36.5, 37.0, 37.6, 38.0, 39.0, 40.0):
+            assert case._observe_buckling(t) is False
+        assert case.series["buckling"]["t"] == expected
 
 
 @pytest.fixture(scope="module")

@@ -1,12 +1,14 @@
 """The robust Newton solver on the growing cube: quadratic convergence, the full growth step,
-step cutting that keeps the last converged state, tangent reuse."""
+step cutting that keeps the last converged state, tangent reuse; the symmetric part of a
+sparse matrix (the preconditioner of "symmetric-gmres")."""
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import cube_problem
 
-from ngincompat.errors import ConvergenceError
-from ngincompat.solver import NewtonOptions, solve_growth
+from ngincompat.errors import ConvergenceError, ParameterError
+from ngincompat.solver import NewtonOptions, SymmetricPart, solve_growth
 
 
 def _orders(residuals):
@@ -85,3 +87,28 @@ def test_reused_tangents_reach_the_same_state_with_fewer_assemblies():
     assert h_full.tangent_assemblies == h_full.newton_iterations
     assert h_reuse.tangent_assemblies < h_full.tangent_assemblies
     assert e_reuse == pytest.approx(e_full, rel=1e-9)
+
+
+def _dense(matrix):
+    rows, cols, values = matrix.COO()
+    dense = np.zeros((matrix.height, matrix.width))
+    dense[np.asarray(rows), np.asarray(cols)] = np.asarray(values)
+    return dense
+
+
+def test_symmetric_part_averages_a_matrix_with_its_transpose():
+    """(A + A^T) / 2 on A's pattern, for every matrix of that pattern; a pattern that is not
+    structurally symmetric is refused."""
+    rows, cols = [0, 0, 1, 1, 1, 2, 2], [0, 1, 0, 1, 2, 1, 2]
+    first = ngs.la.SparseMatrixd.CreateFromCOO(rows, cols, [4.0, 1.0, 3.0, 5.0, 7.0, -2.0, 6.0],
+                                               3, 3)
+    second = ngs.la.SparseMatrixd.CreateFromCOO(rows, cols, [1.0, 0.0, 2.0, 1.0, -1.0, 3.0, 1.0],
+                                                3, 3)
+    part = SymmetricPart(first)
+    for matrix in (first, second):
+        expected = (_dense(matrix) + _dense(matrix).T) / 2
+        assert np.allclose(_dense(part.of(matrix)), expected, rtol=0, atol=1e-15)
+    assert _dense(part.of(first))[0, 1] == 2.0 and _dense(part.of(first))[1, 2] == 2.5
+    lopsided = ngs.la.SparseMatrixd.CreateFromCOO([0, 0, 1], [0, 1, 1], [1.0, 1.0, 1.0], 2, 2)
+    with pytest.raises(ParameterError, match="structurally symmetric"):
+        SymmetricPart(lopsided)

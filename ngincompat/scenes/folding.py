@@ -26,7 +26,11 @@ faces of the slab (plane strain). Stages:
    crosses zero the bilayer buckles: ``onset_growth`` (theta_c there, interpolated) and
    ``onset_wavelength`` (the eigenmode's, along the top surface, reference length) are
    measured, and the stage ends. With ``buckle`` false the run ends there, without stages
-   2 to 4 (the onset alone, for a refinement study).
+   2 to 4 (the onset alone, for a refinement study). Only the steps near the onset need to
+   be short (``onset_dt``); before them (stage ``approach``) they may grow to
+   ``approach_dt``: the short steps start 2 ``onset_dt`` before the onset that the
+   bifurcation analysis (:mod:`ngincompat.bifurcation`) predicts, which so places the steps
+   but not the onset, still found where the tangent's eigenvalue crosses zero.
 2. **buckling**: the state of that step (the first with a negative eigenvalue) is perturbed
    by the first buckling mode, scaled so that the top surface moves by ``imperfection`` x
    ``cortex_thickness`` at most (a perturbation of the displacement, not of the body: the
@@ -37,9 +41,12 @@ faces of the slab (plane strain). Stages:
    implicit Euler follows that growth, and the step's tangent K + eta / dt M stays positive
    definite, only for dt < eta / |omega| (a longer step converges back to the flat state: seen
    with eta = 10 mu and 5-day steps), so the steps are capped at eta / (2 |omega_onset|),
-   omega_onset the first negative eigenvalue: the mode at most doubles per step. The fold
+   omega_onset the first negative eigenvalue: the mode at most doubles per step; and at
+   ``onset_dt`` (longer steps of the default bilayer's march all failed). The fold
    amplitude (half the peak-to-peak u3 along the top), the smallest eigenvalue and the
-   smallest elastic stretch of the top surface along it are recorded every step. That
+   smallest elastic stretch of the top surface along it are recorded at the first step,
+   then every ``observe_dt`` of growth (the eigenpairs cost more than a Newton iteration),
+   and at ``t_end``. That
    stretch, lambda_e = |F e1| / theta_c (the cortex's Fe = F Fg^-1, Fg e1 = theta_c e1), is
    1 / theta_c on the flat branch and falls at the bottoms of the sulci as the folds deepen;
    below :data:`CREASE_STRETCH` a neo-Hookean surface creases, which a mesh of smooth
@@ -92,7 +99,7 @@ a panel whose fields a run has, e.g. after the release, is drawn), and along the
 through the middle (profile "depth").
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import ngsolve as ngs
 import numpy as np
@@ -101,7 +108,7 @@ from geometries import bilayer
 
 from .. import buckling, fields, kinematics, postprocess
 from .. import incompatibility as inc
-from ..bifurcation import Bilayer
+from ..bifurcation import Bilayer, onset
 from ..errors import require
 from ..growth import FiberGrowth
 from ..growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
@@ -127,6 +134,16 @@ EIGENPAIRS = 6
 #: plane strain (critical strain 0.35: Hong, Zhao and Suo, Appl. Phys. Lett. 95 (2009)
 #: 111901), well before the wrinkling stretch 0.54 of Biot's analysis.
 CREASE_STRETCH = 0.65
+
+#: Newton's linear solver in every stage (:class:`~ngincompat.solver.NewtonOptions`): GMRES
+#: preconditioned by the sparse Cholesky factorisation of the tangent's symmetric part. The
+#: coupled tangent (growth condensed) is symmetric but for the stretch-driven axons' coupling
+#: (0.56 % of its norm at the first step); on the default bilayer (61,634 dofs) GMRES takes
+#: 7 iterations per direction and a Newton step of the perfect branch 7-10 s against 16 s
+#: with UMFPACK's LU (4.4-4.7 s per factorisation against 0.5 s), with the same residuals.
+#: At most ``KRYLOV_MAXITER`` iterations: where the preconditioner is poor the step is cut.
+LINEAR_SOLVER = "symmetric-gmres"
+KRYLOV_MAXITER = 100
 
 #: Boundary conditions while growing: ends on rollers, bottom on rollers, plane strain.
 GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
@@ -192,8 +209,14 @@ class FoldingScene(Scene):
     t_end: float = param(75.0, "end of growth", "time")
     dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
                       "time")
+    approach_dt: float = param(10.0, "largest time step on the perfect branch (at least "
+                                     "onset_dt) until 2 onset_dt before the bifurcation "
+                                     "analysis' onset", "time")
     onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
                                   "the onset)", "time")
+    observe_dt: float = param(1.25, "growth time between the records of the viscous march "
+                                    "(smallest eigenvalue, fold amplitude, top stretch); 0: "
+                                    "every step", "time")
     imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
                                       "onset / cortex_thickness")
     buckle: bool = param(True, "past the onset, perturb by the buckling mode and follow the "
@@ -225,6 +248,8 @@ class FoldingScene(Scene):
         require(self.t_end > 0, "t_end", self.t_end, "> 0")
         require(self.dt > 0, "dt", self.dt, "> 0")
         require(self.onset_dt > 0, "onset_dt", self.onset_dt, "> 0")
+        require(self.approach_dt > 0, "approach_dt", self.approach_dt, "> 0")
+        require(self.observe_dt >= 0, "observe_dt", self.observe_dt, ">= 0")
         require(0 < self.imperfection <= 0.1, "imperfection", self.imperfection,
                 "in (0, 0.1] (of the cortex thickness)")
         require(self.viscosity > 0, "viscosity", self.viscosity, "> 0")
@@ -259,7 +284,8 @@ class FoldingScene(Scene):
 class FoldingCase:
     """The folding scene's case: the coupled bilayer and the observations of its growth.
 
-    ``series`` holds, per converged step of the perfect branch and of the buckling stage,
+    ``series`` holds, per converged step of the perfect branch and per record (every
+    ``observe_dt`` of growth) of the buckling stage,
     the time, the cortex growth, the smallest tangent eigenvalue, the fold amplitude (half
     the peak-to-peak u3 along the top surface) and the top surface's smallest elastic
     stretch (:meth:`top_stretch`).
@@ -352,7 +378,13 @@ class FoldingCase:
         return True
 
     def _observe_buckling(self, t):
-        self._observe("buckling", t)
+        """Record the march's state (:meth:`_observe`: its eigenpairs cost as much as a
+        Newton iteration and more) at its first step, then once at least ``observe_dt`` of
+        growth has passed since the last record, and at ``t_end``."""
+        series, scene = self.series["buckling"], self.scene
+        if (not series["t"] or t >= series["t"][-1] + scene.observe_dt - 1e-9
+                or t >= scene.t_end - 1e-9 * max(1.0, scene.t_end)):
+            self._observe("buckling", t)
         return False
 
     def perturb(self):
@@ -364,16 +396,45 @@ class FoldingCase:
         self.problem.u.vec.data += scale * self.mode.vec
         self.problem.u_old.vec.data = self.problem.u.vec
 
+    def approach_end(self):
+        """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the onset of
+        the bifurcation analysis (:func:`~ngincompat.bifurcation.onset`, roller ends, scanned
+        in theta_c steps of 0.02: it only places the steps), or 0 (no approach) if that is
+        not after two of the approach's longest steps, beyond ``t_end`` or not found."""
+        scene = self.scene
+        try:
+            growth = onset(scene.bifurcation_bilayer(), length=scene.length,
+                           resolution=0.02).growth
+        except ValueError:
+            return 0.0
+        t = (growth - 1) / scene.cortex_rate - 2 * scene.onset_dt
+        return t if 2 * max(scene.approach_dt, scene.onset_dt) <= t < scene.t_end else 0.0
+
     def stages(self):
+        """The perfect branch: ``approach`` in steps up to ``approach_dt`` to
+        :meth:`approach_end` (if after 0), ``perfect`` from there in steps up to
+        ``onset_dt``; both stop at the first negative eigenvalue."""
         scene = self.scene
         # Plain Newton steps: the residual norm mixes the growth residual (small: dt r times
         # element volumes) with forces, and the first full step, quadratically convergent
         # after it, raises it; a line search on it backtracks to 1/16 steps (measured: 17
-        # iterations against 3 for a step of dt = 5). A failed step is cut instead.
-        options = NewtonOptions(max_iter=12, max_step=scene.onset_dt, line_search=False)
-        return [CoupledStage("perfect", self.problem, t_end=scene.t_end, dt=scene.dt,
-                             options=options,
-                             observe=self._observe_perfect, unit="days")]
+        # iterations against 3 for a step of dt = 5). A failed step is cut instead. Steps
+        # start from the extrapolation of the last two states (the flat branch is smooth in
+        # t): on the default bilayer 18 iterations to the onset against 25.
+        options = NewtonOptions(max_iter=12, max_step=scene.onset_dt, line_search=False,
+                                extrapolate=True, linear_solver=LINEAR_SOLVER,
+                                krylov_maxiter=KRYLOV_MAXITER)
+        near = self.approach_end()
+        perfect = CoupledStage("perfect", self.problem, t_end=scene.t_end,
+                               dt=min(scene.dt, scene.onset_dt) if near else scene.dt,
+                               t_start=near, options=options, observe=self._observe_perfect,
+                               unit="days")
+        if not near:
+            return [perfect]
+        return [CoupledStage("approach", self.problem, t_end=near, dt=scene.dt,
+                             options=replace(options, max_step=max(scene.approach_dt,
+                                                                   scene.onset_dt)),
+                             observe=self._observe_perfect, unit="days"), perfect]
 
     @property
     def eta(self):
@@ -386,9 +447,13 @@ class FoldingCase:
         return min(self.scene.dt, self.eta / (2 * abs(eigenvalue)))
 
     def buckling_stage(self):
-        """The viscous march from the onset step to ``t_end``."""
-        step = self.viscous_step()
-        options = NewtonOptions(max_iter=12, max_step=step, line_search=False, min_step=1e-6)
+        """The viscous march from the onset step to ``t_end``, in steps up to
+        :meth:`viscous_step` and ``onset_dt``: on the default bilayer every longer step
+        (2.5 days) failed, a full Newton step from the growing folds inverting an element
+        after about six iterations."""
+        step = min(self.viscous_step(), self.scene.onset_dt)
+        options = NewtonOptions(max_iter=12, max_step=step, line_search=False, min_step=1e-6,
+                                linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
                             t_start=self.series["perfect"]["t"][-1], options=options,
                             observe=self._observe_buckling, unit="days")
@@ -396,7 +461,8 @@ class FoldingCase:
     def relaxation(self, name, problem):
         """The gradient flow to the equilibrium at frozen growth of ``problem``, in
         pseudo-time steps from the viscous march's largest."""
-        options = NewtonOptions(max_iter=12, line_search=False, min_step=1e-6)
+        options = NewtonOptions(max_iter=12, line_search=False, min_step=1e-6,
+                                linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
         return RelaxationStage(name, problem, self.eta, self.viscous_step(), options=options,
                                unit="days", eigenpairs=EIGENPAIRS)
 
@@ -409,12 +475,19 @@ class FoldingCase:
         self.released.state.vec.data = self.problem.state.vec
         self.released.theta_old.vec.data = self.problem.theta.vec
         self.reactions = self.released.hold_by_traction()
-        return [UnloadingStage("unloading", self.released, self.eta, self.viscous_step()),
+        unloading = NewtonOptions(max_iter=12, line_search=True, min_step=1e-6,
+                                  linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
+        return [UnloadingStage("unloading", self.released, self.eta, self.viscous_step(),
+                               options=unloading),
                 self.relaxation("release", self.released)]
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
-        solve_stages(self.stages(), progress, solution)
+        for stage in self.stages():     # the perfect branch, ended at the onset
+            if self.mode is None:
+                solve_stages([stage], progress, solution)
+            if not solution.converged:
+                return
         if not solution.converged or (self.mode is not None and not self.scene.buckle):
             return
         if self.mode is not None:

@@ -1,0 +1,44 @@
+"""The cost of the parts of one step of the folding scene's perfect branch on the default
+bilayer (or another: ``python step_costs.py maxh=0.2``): residual, tangent assembly, the
+factorisations, a solve, the eigenpairs and the samplings along the top. Minimum of repeats."""
+
+import sys
+import time
+
+import ngsolve as ngs
+
+from ngincompat import buckling
+from ngincompat.scenes.folding import FoldingScene
+from ngincompat.solver import NewtonOptions, NewtonSolver
+
+
+def best(name, f, n=3):
+    times = []
+    for _ in range(n):
+        start = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - start)
+    print(f"{name:40s} {min(times):7.3f} s")
+
+
+scene = FoldingScene(**{k: float(v) for k, v in (a.split("=") for a in sys.argv[1:])})
+case = scene.build()
+p = case.problem
+print(f"dofs {p.ndof}")
+solver = NewtonSolver(p, NewtonOptions(line_search=False))
+p.dt.Set(scene.onset_dt)
+with ngs.TaskManager():
+    best("residual", solver.residual)
+    best("tangent assembly", lambda: p.form.AssembleLinearization(p.state.vec))
+    for inverse in ("umfpack", "sparsecholesky"):
+        best(f"factorisation {inverse}", lambda i=inverse: p.form.mat.Inverse(p.freedofs,
+                                                                             inverse=i), 2)
+    solver.factorise()
+    best("solve (UMFPACK's factors)", solver.direction)
+    gmres = NewtonSolver(p, NewtonOptions(line_search=False, linear_solver="symmetric-gmres"))
+    best("symmetric part + Cholesky + GMRES solve", lambda: (gmres.factorise(),
+                                                               gmres.direction()), 2)
+for count in (6, 1):
+    best(f"eigenpairs ({count})", lambda c=count: buckling.smallest_eigenpairs(p, count=c), 2)
+best("top_profile", lambda: case.top_profile(p.u))
+best("top_stretch", lambda: case.top_stretch(p.u, 1.01))
