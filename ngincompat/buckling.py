@@ -226,6 +226,15 @@ def _normalised(mode):
     return mode
 
 
+def combine(modes, x):
+    """The mode sum_j x_j v_j of the ``modes`` v_j, of unit L2 norm, its largest dof
+    positive."""
+    mode = ngs.GridFunction(modes[0].space, name="buckling mode")
+    for xj, v in zip(x, modes, strict=True):
+        mode.vec.data += float(xj) * v.vec
+    return _normalised(mode)
+
+
 def _mass(V):
     """The L2 mass matrix int w . v dV of the space V."""
     u, v = V.TnT()
@@ -235,21 +244,87 @@ def _mass(V):
     return mass.mat
 
 
-def zero_crossing(loads, values):
-    """The load at which ``values`` (sampled at increasing ``loads``) first turns negative,
-    linearly interpolated between the last positive sample and the first negative one; None if
-    it never does.
+def overlaps(first, second):
+    """The L2 inner products int w_i . v_j dV of the modes ``first`` (w_i) and ``second``
+    (v_j), GridFunctions of one space: an (len(first), len(second)) array."""
+    matrix = _mass(first[0].space)
+    tmp = matrix.CreateColVector()
+    result = np.empty((len(first), len(second)))
+    for j, v in enumerate(second):
+        tmp.data = matrix * v.vec
+        for i, w in enumerate(first):
+            result[i, j] = ngs.InnerProduct(w.vec, tmp)
+    return result
 
-    Only the bracketing pair is used: the smallest eigenvalue passes from one mode to another
-    as the load grows (a slowly falling long mode, then the steeply falling wrinkles), so
-    samples further back may belong to another mode's curve."""
-    loads, values = np.asarray(loads, float), np.asarray(values, float)
-    negative = np.flatnonzero(values < 0)
-    if len(negative) == 0 or negative[0] == 0:
+
+def mode_crossings(loads, previous, values, overlap):
+    """Where the modes of two samples of the pencil cross zero, by the Rayleigh quotients of
+    the modes of both samples interpolated linearly between them.
+
+    Parameters
+    ----------
+    loads : (float, float)
+        The loads of the two samples, l0 < l1.
+    previous : array of m floats
+        The m smallest eigenvalues at l0 (all positive), of M-orthonormal modes w_i.
+    values : array of k floats
+        The k smallest eigenvalues omega_j at l1 (every negative one among them), of
+        M-orthonormal modes v_j.
+    overlap : (m, k) array
+        c_ij = (w_i, v_j)_M.
+
+    Returns
+    -------
+    crossings : numpy.ndarray
+        m + k loads, first for the w_i, then for the v_j: l0 + a / (a - b) (l1 - l0), a and
+        b the vector's Rayleigh quotients at l0 and l1, where b < 0; NaN where b >= 0.
+    held : numpy.ndarray
+        The part of each vector that the other sample's pairs hold: sum_j c_ij^2 for w_i,
+        sum_i c_ij^2 for v_j.
+
+    Notes
+    -----
+    A mode's Rayleigh quotient at its own sample is its eigenvalue. At the other one, with
+    the other's modes completed to an M-orthonormal eigenbasis, w_i . K(l1) w_i =
+    sum_j c_ij^2 omega_j + the rest, and the eigenvalues not found are >= the largest found,
+    so sum_j c_ij^2 omega_j + (1 - held) max omega is that quotient where held = 1 and a
+    lower bound otherwise (likewise for v_j at l0): the crossing is then the earliest it can
+    be. Both samples' modes are tried because past the onset the wrinkling modes of nearly
+    equal eigenvalues mix: a mode at l0 can be split between two modes at l1 that each hold
+    half of it (and half of a mode that was not among the pairs at l0), and the other way
+    round. The fixed vector's quotient is linear in the load where K is; it is >= the
+    smallest eigenvalue, so where it crosses zero K has a negative eigenvalue."""
+    l0, l1 = loads
+    previous, values = np.asarray(previous, float), np.asarray(values, float)
+    c2 = np.asarray(overlap, float) ** 2
+    held = np.concatenate([c2.sum(axis=1), c2.sum(axis=0)])
+    missing = np.clip(1 - held, 0, None)
+    m = len(previous)
+    start = np.concatenate([previous, previous @ c2 + missing[m:] * previous.max()])
+    end = np.concatenate([c2 @ values + missing[:m] * values.max(), values])
+    crossings = np.full(len(start), np.nan)
+    negative = end < 0
+    crossings[negative] = l0 + start[negative] / (start[negative] - end[negative]) * (l1 - l0)
+    return crossings, held
+
+
+def earliest_crossing(loads, previous, values, overlap):
+    """The earliest of :func:`mode_crossings` (same arguments): the load, the mode there as
+    coefficients x of the modes v_j at l1 (unit length: a mode w_i at l0 as its part in their
+    span, sum_j c_ij v_j, normalised) and the part of it the other sample held; None if
+    none crosses."""
+    crossings, held = mode_crossings(loads, previous, values, overlap)
+    if np.all(np.isnan(crossings)):
         return None
-    i = negative[0]
-    a, b = values[i - 1], values[i]
-    return float(loads[i - 1] + a / (a - b) * (loads[i] - loads[i - 1]))
+    first = int(np.nanargmin(crossings))
+    m = len(previous)
+    if first < m:
+        x = np.asarray(overlap, float)[first]
+        x = x / np.linalg.norm(x)
+    else:
+        x = np.zeros(len(values))
+        x[first - m] = 1.0
+    return float(crossings[first]), x, float(held[first])
 
 
 def wavelength(x, w):

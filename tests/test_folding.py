@@ -98,9 +98,7 @@ def test_bad_settings_name_the_parameter_and_its_range(setting, message):
         FoldingScene(**setting)
 
 
-def test_zero_crossing_and_wavelength_of_sampled_data():
-    assert buckling.zero_crossing([1.0, 1.1, 1.2], [2.0, 1.0, -1.0]) == pytest.approx(1.15)
-    assert buckling.zero_crossing([1.0, 1.1], [2.0, 1.0]) is None
+def test_wavelength_of_sampled_data():
     x = np.linspace(0, 3, 400)
     assert buckling.wavelength(x, np.cos(2 * np.pi * x / 0.35 + 0.3)) == pytest.approx(
         0.35, rel=2e-3)
