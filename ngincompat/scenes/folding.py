@@ -22,9 +22,10 @@ Boundary conditions while growing: u1 = 0 at both ends, u3 = 0 at the bottom, u2
 faces of the slab (plane strain). Stages:
 
 1. **perfect**: the perfect bilayer grows on its flat branch; after every step the smallest
-   eigenvalue of the elastic tangent (:mod:`ngincompat.buckling`) is computed. Where it
-   crosses zero the bilayer buckles: ``onset_growth`` (theta_c there, interpolated) and
-   ``onset_wavelength`` (the eigenmode's, along the top surface, reference length) are
+   eigenvalues of the elastic tangent (:mod:`ngincompat.buckling`) are computed. At the
+   first step with a negative one the bilayer has buckled: ``onset_growth`` (theta_c where
+   the first of the modes negative there crossed zero, interpolated) and
+   ``onset_wavelength`` (that mode's, along the top surface, reference length) are
    measured, and the stage ends. With ``buckle`` false the run ends there, without stages
    2 to 4 (the onset alone, for a refinement study). Only the steps near the onset need to
    be short (``onset_dt``); before them (stage ``approach``) they may grow to
@@ -32,7 +33,7 @@ faces of the slab (plane strain). Stages:
    bifurcation analysis (:mod:`ngincompat.bifurcation`) predicts, which so places the steps
    but not the onset, still found where the tangent's eigenvalue crosses zero.
 2. **buckling**: the state of that step (the first with a negative eigenvalue) is perturbed
-   by the first buckling mode, scaled so that the top surface moves by ``imperfection`` x
+   by the onset's buckling mode, scaled so that the top surface moves by ``imperfection`` x
    ``cortex_thickness`` at most (a perturbation of the displacement, not of the body: the
    flat state is unstable there, so it grows by itself), and growth goes on to ``t_end`` in
    adaptive steps with a viscous regularisation, eta / (2 dt) int |u - u_n|^2 dV
@@ -315,6 +316,7 @@ class FoldingCase:
         self.released = None
         self.reactions = float("nan")
         self.mode = None
+        self.pairs = None
 
     def coupled(self, symmetry, traction=None):
         """The viscous coupled bilayer with the symmetry planes ``symmetry`` (and a dead
@@ -351,10 +353,12 @@ class FoldingCase:
         _, values = self._along_top(ngs.Norm(F_e1), n)
         return float(np.nanmin(values)) / theta_c
 
-    def _observe(self, branch, t):
+    def _observe(self, branch, t, negative=False):
         """Append the time, cortex growth, smallest eigenvalue, fold amplitude and smallest
-        top stretch of the current state to ``series[branch]``; return the eigenpairs."""
-        values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS)
+        top stretch of the current state to ``series[branch]``; return the eigenpairs
+        (:data:`EIGENPAIRS` smallest; with ``negative`` at least every negative one)."""
+        values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS,
+                                                     negative=negative)
         _, u3 = self.top_profile(self.problem.u)
         theta_c = 1 + self.scene.cortex_rate * t
         for key, value in (("t", t), ("theta_c", theta_c),
@@ -364,17 +368,33 @@ class FoldingCase:
         return values, modes
 
     def _observe_perfect(self, t):
-        """Record the step; at the first negative eigenvalue measure the onset and stop."""
-        values, modes = self._observe("perfect", t)
+        """Record the step; at the first negative eigenvalue measure the onset and stop.
+
+        The onset is the earliest zero crossing among the modes negative there (all of them
+        are computed at that step) and the modes of the step before:
+        :func:`~ngincompat.buckling.earliest_crossing`, each mode's Rayleigh quotient
+        interpolated linearly in theta_c between the two steps, at the other step from its
+        overlaps with that step's pairs. Past the onset the wrinkling modes fall steeply and
+        cross in an order unlike the one they have at the first negative sample: the most
+        negative there need not be the first to have crossed. ``onset_growth``,
+        ``onset_time`` and ``onset_wavelength`` are that mode's, and it is the mode the
+        state is perturbed by (:meth:`perturb`), as a combination of the modes of this
+        step. At the first step (no step before) the onset is not bracketed: only the
+        most negative mode and its wavelength are kept."""
+        values, modes = self._observe("perfect", t, negative=True)
+        previous, self.pairs = self.pairs, (values, modes)
         if values[0] >= 0:
             return False
-        rate = self.scene.cortex_rate
-        perfect = self.series["perfect"]
-        onset = buckling.zero_crossing(perfect["theta_c"], perfect["eigenvalue"])
         self.mode = modes[0]
+        if previous is not None:
+            theta = self.series["perfect"]["theta_c"][-2:]
+            onset, x, _ = buckling.earliest_crossing(
+                theta, previous[0], values, buckling.overlaps(previous[1], modes))
+            self.mode = buckling.combine(modes, x)
+            self.noted.update(onset_growth=onset,
+                              onset_time=(onset - 1) / self.scene.cortex_rate)
         x, w = self.top_profile(self.mode)
-        self.noted.update(onset_growth=onset, onset_time=(onset - 1) / rate,
-                          onset_wavelength=buckling.wavelength(x, w))
+        self.noted["onset_wavelength"] = buckling.wavelength(x, w)
         return True
 
     def _observe_buckling(self, t):
@@ -388,7 +408,7 @@ class FoldingCase:
         return False
 
     def perturb(self):
-        """Add the buckling mode to the displacement (and to the last converged one the
+        """Add the onset's buckling mode to the displacement (and to the last converged one the
         viscous term measures from), scaled to ``imperfection`` x ``cortex_thickness`` on
         the top surface."""
         _, w = self.top_profile(self.mode)
