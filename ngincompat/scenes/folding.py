@@ -146,6 +146,13 @@ CREASE_STRETCH = 0.65
 LINEAR_SOLVER = "symmetric-gmres"
 KRYLOV_MAXITER = 100
 
+
+def newton(**settings):
+    """The Newton options of every stage: at most 12 iterations per step, the directions
+    by :data:`LINEAR_SOLVER`, and the stage's own ``settings``."""
+    return NewtonOptions(max_iter=12, linear_solver=LINEAR_SOLVER,
+                         krylov_maxiter=KRYLOV_MAXITER, **settings)
+
 #: Boundary conditions while growing: ends on rollers, bottom on rollers, plane strain.
 GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
 
@@ -441,9 +448,7 @@ class FoldingCase:
         # iterations against 3 for a step of dt = 5). A failed step is cut instead. Steps
         # start from the extrapolation of the last two states (the flat branch is smooth in
         # t): on the default bilayer 18 iterations to the onset against 25.
-        options = NewtonOptions(max_iter=12, max_step=scene.onset_dt, line_search=False,
-                                extrapolate=True, linear_solver=LINEAR_SOLVER,
-                                krylov_maxiter=KRYLOV_MAXITER)
+        options = newton(max_step=scene.onset_dt, line_search=False, extrapolate=True)
         near = self.approach_end()
         perfect = CoupledStage("perfect", self.problem, t_end=scene.t_end,
                                dt=min(scene.dt, scene.onset_dt) if near else scene.dt,
@@ -472,8 +477,7 @@ class FoldingCase:
         (2.5 days) failed, a full Newton step from the growing folds inverting an element
         after about six iterations."""
         step = min(self.viscous_step(), self.scene.onset_dt)
-        options = NewtonOptions(max_iter=12, max_step=step, line_search=False, min_step=1e-6,
-                                linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
+        options = newton(max_step=step, line_search=False, min_step=1e-6)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
                             t_start=self.series["perfect"]["t"][-1], options=options,
                             observe=self._observe_buckling, unit="days")
@@ -481,8 +485,7 @@ class FoldingCase:
     def relaxation(self, name, problem):
         """The gradient flow to the equilibrium at frozen growth of ``problem``, in
         pseudo-time steps from the viscous march's largest."""
-        options = NewtonOptions(max_iter=12, line_search=False, min_step=1e-6,
-                                linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
+        options = newton(line_search=False, min_step=1e-6)
         return RelaxationStage(name, problem, self.eta, self.viscous_step(), options=options,
                                unit="days", eigenpairs=EIGENPAIRS)
 
@@ -495,8 +498,7 @@ class FoldingCase:
         self.released.state.vec.data = self.problem.state.vec
         self.released.theta_old.vec.data = self.problem.theta.vec
         self.reactions = self.released.hold_by_traction()
-        unloading = NewtonOptions(max_iter=12, line_search=True, min_step=1e-6,
-                                  linear_solver=LINEAR_SOLVER, krylov_maxiter=KRYLOV_MAXITER)
+        unloading = newton(line_search=True, min_step=1e-6)
         return [UnloadingStage("unloading", self.released, self.eta, self.viscous_step(),
                                options=unloading),
                 self.relaxation("release", self.released)]
