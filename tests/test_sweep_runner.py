@@ -5,11 +5,13 @@ fraction of a second; most of the time goes into starting the worker processes.
 """
 
 import json
+import os
 import shutil
 import sys
 from pathlib import Path
 
 import pytest
+from conftest import local_dask_cluster
 
 from ngincompat import output
 from ngincompat.cli import main
@@ -262,10 +264,10 @@ def test_a_folder_holding_a_run_is_refused(tmp_path):
 
 
 def test_dask_cluster_gives_the_same_table(failing, tmp_path):
-    distributed = pytest.importorskip("dask.distributed")
     sweep, local = failing
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    environment = dict(os.environ)
+    with local_dask_cluster() as cluster:
+        assert dict(os.environ) == environment    # the nanny's settings do not leak
         report = run_sweep(sweep, tmp_path / "out", scheduler=cluster.scheduler_address)
     assert report.computed == 6
     assert report.columns == local.columns
