@@ -251,7 +251,9 @@ def _add_sweep(sub):
                         "cases submitted at a time (default: the cluster's threads)")
     p.add_argument("--threads", type=int,
                    help="NGSolve threads per case (default: cores / workers; 1 with "
-                        "--scheduler)")
+                        "--scheduler); 1 when other jobs share the cores: NGSolve's threads "
+                        "wait actively for each other (one case on 2 threads beside one busy "
+                        "process: 1.8 times the wall and CPU time of one thread)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on this Dask scheduler (e.g. tcp://host:8786) instead of locally")
     p.add_argument("--resume", action="store_true",
