@@ -1,5 +1,8 @@
 """Shared fixtures: small meshes and evaluation helpers."""
 
+import contextlib
+import os
+
 import ngsolve as ngs
 import numpy as np
 import pytest
@@ -23,6 +26,26 @@ SKIN_COARSE = ["--set", "maxh=3", "--set", "order=1", "--set", "growth_order=0",
 #: a coarse subcortex, grown in one step to theta_c = 1.08, before the onset (a smoke test).
 FOLDING_COARSE = ["--set", "length=0.5", "--set", "height=0.3", "--set", "maxh=0.15",
                   "--set", "t_end=10", "--set", "dt=10", "--set", "onset_dt=10"]
+
+
+@contextlib.contextmanager
+def local_dask_cluster():
+    """A local Dask cluster of one worker process with one thread (skipped without Dask).
+
+    Its nanny, here in the test's process, writes Dask's ``pre-spawn-environ`` into
+    ``os.environ`` before it starts the worker, and leaves it there; the environment is
+    restored at once, as every process a later test starts would inherit it. Of what it
+    sets, ``MALLOC_TRIM_THRESHOLD_=65536`` makes glibc map every allocation of 128 KB and
+    more anew and return it at every free: ``examples/folding/step_costs.py`` on the coarse
+    bilayer took 74 s (54 s of it in the kernel) instead of 16 s, and in the suite a test
+    file's scripts and the README sweep's case ran 5-10 times longer."""
+    distributed = pytest.importorskip("dask.distributed")
+    environment = dict(os.environ)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster:
+        os.environ.clear()
+        os.environ.update(environment)
+        yield cluster
 
 
 @pytest.fixture(scope="session")

@@ -17,7 +17,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from conftest import FOLDING_COARSE, SKIN_COARSE, peer_stand_in
+from conftest import FOLDING_COARSE, SKIN_COARSE, local_dask_cluster, peer_stand_in
 
 from ngincompat import io
 from ngincompat.cli import EXIT_FAILED_CASES, main
@@ -112,17 +112,24 @@ def coarse(argv, scheduler=None):
             argv[argv.index("--scheduler") + 1] = scheduler
         if argv[1] != "run":
             return argv
-        return [*argv, "--max-cases", str(_sweep_cases(argv[2])), "-q"]
+        return [*argv, *_sweep_coarse(argv[2]), "-q"]
     if command == "list":
         return argv
     raise KeyError(command)
 
 
-def _sweep_cases(file):
-    """Cases a README sweep runs in the test: two, one of the skin's (a contact run at the
-    defaults, 70 s on the quiet machine; its settings are the file's)."""
+def _sweep_coarse(file):
+    """The coarse options of a README sweep: two cases, or one of the skin's, a contact run on
+    the skin's coarse settings (those the sweep does not vary: 45 s where the file's own took
+    275 s, both at load 4-5) on one NGSolve thread (the default, two threads for one case on
+    the 2 cores, oversubscribes them beside the other pytest-xdist worker)."""
     with open(ROOT / file, "rb") as f:
-        return 1 if tomllib.load(f)["scene"] == "skin" else 2
+        spec = tomllib.load(f)
+    if spec["scene"] != "skin":
+        return ["--max-cases", "2"]
+    varied = {*spec.get("vary", {}), *spec.get("zip", {})}
+    settings = [s for s in SKIN_COARSE[1::2] if s.partition("=")[0] not in varied]
+    return ["--max-cases", "1", "--threads", "1", *[w for s in settings for w in ("--set", s)]]
 
 
 def expected_code(argv, scratch):
@@ -171,9 +178,7 @@ def scratch(tmp_path_factory):
 @pytest.fixture(scope="module")
 def dask_scheduler():
     """A local Dask cluster, for the README's ``--scheduler tcp://host:8786``."""
-    distributed = pytest.importorskip("dask.distributed")
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    with local_dask_cluster() as cluster:
         yield cluster.scheduler_address
 
 

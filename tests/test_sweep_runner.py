@@ -5,11 +5,13 @@ fraction of a second; most of the time goes into starting the worker processes.
 """
 
 import json
+import os
 import shutil
 import sys
 from pathlib import Path
 
 import pytest
+from conftest import local_dask_cluster
 
 from ngincompat import output
 from ngincompat.cli import main
@@ -234,6 +236,25 @@ def test_another_sweep_in_the_same_folder_needs_resume(tmp_path):
     assert report.computed == 0 and report.pending == 2
 
 
+def test_a_sweep_with_settings_for_every_case_never_mixes_with_the_sweep_without(tmp_path):
+    """A folder of the coarse sweep (``--set order=1``): the sweep as the file has it is
+    another sweep (refused without resume), and resuming takes over none of the coarse
+    cases; the other way round likewise."""
+    sweep = parse_sweep({"scene": "cube", "fixed": {"maxh": 1.0, "outputs": "none"},
+                         "vary": {"nu": [0.3]}})
+    coarse = sweep.with_settings({"order": "1"})
+    out = tmp_path / "out"
+    first = run_sweep(coarse, out, workers=1)
+    assert first.done == 1 and read_table(out).rows[0]["status"] == "done"
+    assert output.read(out / coarse.cases()[0].name).params["order"] == 1
+    with pytest.raises(ParameterError, match="--resume"):
+        run_sweep(sweep, out, max_cases=0)
+    fine = run_sweep(sweep, out, max_cases=0, resume=True)
+    assert (fine.reused, fine.computed, fine.pending) == (0, 0, 1)
+    again = run_sweep(coarse, out, max_cases=0, resume=True)
+    assert (again.reused, again.pending, again.done) == (1, 0, 1)
+
+
 def test_a_folder_holding_a_run_is_refused(tmp_path):
     out = tmp_path / "run"
     out.mkdir()
@@ -243,10 +264,10 @@ def test_a_folder_holding_a_run_is_refused(tmp_path):
 
 
 def test_dask_cluster_gives_the_same_table(failing, tmp_path):
-    distributed = pytest.importorskip("dask.distributed")
     sweep, local = failing
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as cluster:
+    environment = dict(os.environ)
+    with local_dask_cluster() as cluster:
+        assert dict(os.environ) == environment    # the nanny's settings do not leak
         report = run_sweep(sweep, tmp_path / "out", scheduler=cluster.scheduler_address)
     assert report.computed == 6
     assert report.columns == local.columns

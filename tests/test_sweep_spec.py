@@ -101,3 +101,48 @@ def test_example_sweep_files_are_valid(name):
     sweep = load_sweep(path)
     expected = {"cube_poisson": 10, "hemisphere_profiles": 12, "disc_fibers": 6}[name]
     assert len(sweep.cases()) == expected
+
+
+def test_settings_for_every_case_join_the_fixed_parameters_and_the_cases_identity():
+    """``sweep run --set``: typed like ``run --set``, over the file's [fixed], in every case's
+    parameters, folder name and the record (so coarse and fine cases never share a folder)."""
+    sweep = parse_sweep({"scene": "cube", "fixed": {"maxh": 0.5, "outputs": "none"},
+                         "vary": {"nu": [0.3, 0.4]}})
+    coarse = sweep.with_settings({"maxh": "1", "order": "1"})
+    assert coarse.fixed == {"maxh": 1.0, "outputs": "none", "order": 1}
+    assert [c.params for c in coarse.cases()] == [
+        {"maxh": 1.0, "outputs": "none", "order": 1, "nu": nu} for nu in (0.3, 0.4)]
+    assert [c.varied for c in coarse.cases()] == [c.varied for c in sweep.cases()]
+    assert coarse.cases()[0].build() == CubeScene(maxh=1.0, order=1, nu=0.3, outputs="none")
+    names = {c.name for c in sweep.cases()}
+    assert names.isdisjoint(c.name for c in coarse.cases())
+    assert coarse.record()["fixed"]["maxh"] == 1.0
+    assert sweep.fixed == {"maxh": 0.5, "outputs": "none"}      # the sweep itself unchanged
+    assert sweep.with_settings({}) == sweep
+
+
+@pytest.mark.parametrize("settings, words", [
+    ({"nu": "0.3"}, ["nu", "[vary]"]),
+    ({"a": "0.1"}, ["a", "[zip]"]),
+    ({"maxhh": "1"}, ["maxhh", "allowed"]),
+    ({"maxh": "fine"}, ["maxh", "'fine'", "float"]),
+    ({"order": "2.5"}, ["order", "int"]),
+])
+def test_settings_for_every_case_refuse_a_varied_or_bad_parameter(settings, words):
+    sweep = parse_sweep({"scene": "cube", "zip": {"a": [0.1, 0.2], "mu": [1.0, 2.0]},
+                         "vary": {"nu": [0.3, 0.4]}})
+    with pytest.raises(ParameterError) as info:
+        sweep.with_settings(settings)
+    assert all(word in str(info.value) for word in words), str(info.value)
+
+
+def test_a_varied_parameter_set_on_the_command_line_is_one_line_before_any_case(tmp_path,
+                                                                                 capsys):
+    path = _write(tmp_path / "sweep.toml", 'scene = "cube"\n[vary]\nnu = [0.3, 0.4]')
+    out = tmp_path / "out"
+    assert main(["sweep", "run", str(path), "--out", str(out), "--set", "maxh=1",
+                 "--set", "nu=0.3"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "nu cannot be set for every case" in err[0]
+    assert "[vary] nu = [0.3, 0.4]" in err[0]
+    assert not out.exists()

@@ -126,17 +126,29 @@ class Scene:
                 for f in dataclasses.fields(cls)}
 
     @classmethod
-    def from_settings(cls, settings):
-        """Build the scene from a mapping of parameter names to strings or values."""
+    def typed_settings(cls, settings):
+        """A mapping of parameter names to strings or values with each string converted to
+        its parameter's type (that of its default; "3" -> 3.0 for maxh).
+
+        Raises
+        ------
+        ParameterError
+            An unknown parameter, or a string that is not a value of its parameter's type.
+        """
         fields = {f.name: f for f in dataclasses.fields(cls)}
-        kwargs = {}
+        typed = {}
         for key, raw in settings.items():
             if key not in fields:
                 raise ParameterError(
                     f"unknown parameter {key!r} for scene {cls.name!r}: allowed "
                     f"{', '.join(sorted(fields))}")
-            kwargs[key] = _convert(key, raw, type(fields[key].default))
-        return cls(**kwargs)
+            typed[key] = _convert(key, raw, type(fields[key].default))
+        return typed
+
+    @classmethod
+    def from_settings(cls, settings):
+        """Build the scene from a mapping of parameter names to strings or values."""
+        return cls(**cls.typed_settings(settings))
 
     @classmethod
     def metric_unit(cls, metric):

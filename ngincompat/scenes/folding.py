@@ -100,6 +100,7 @@ a panel whose fields a run has, e.g. after the release, is drawn), and along the
 through the middle (profile "depth").
 """
 
+import functools
 from dataclasses import dataclass, field, replace
 
 import ngsolve as ngs
@@ -152,6 +153,18 @@ def newton(**settings):
     by :data:`LINEAR_SOLVER`, and the stage's own ``settings``."""
     return NewtonOptions(max_iter=12, linear_solver=LINEAR_SOLVER,
                          krylov_maxiter=KRYLOV_MAXITER, **settings)
+
+@functools.lru_cache(maxsize=32)
+def _placing_onset(bilayer, length):
+    """theta_c at the onset of the bifurcation analysis of ``bilayer`` with roller ends at
+    ``length``, scanned in theta_c steps of 0.02 (it places the perfect branch's steps), or
+    None if it finds none. Cached: it only depends on the bilayer (seconds per call), which
+    the variants of a scene in time steps, axons or outputs share."""
+    try:
+        return onset(bilayer, length=length, resolution=0.02).growth
+    except ValueError:
+        return None
+
 
 #: Boundary conditions while growing: ends on rollers, bottom on rollers, plane strain.
 GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
@@ -429,10 +442,8 @@ class FoldingCase:
         in theta_c steps of 0.02: it only places the steps), or 0 (no approach) if that is
         not after two of the approach's longest steps, beyond ``t_end`` or not found."""
         scene = self.scene
-        try:
-            growth = onset(scene.bifurcation_bilayer(), length=scene.length,
-                           resolution=0.02).growth
-        except ValueError:
+        growth = _placing_onset(scene.bifurcation_bilayer(), scene.length)
+        if growth is None:
             return 0.0
         t = (growth - 1) / scene.cortex_rate - 2 * scene.onset_dt
         return t if 2 * max(scene.approach_dt, scene.onset_dt) <= t < scene.t_end else 0.0

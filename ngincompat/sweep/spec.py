@@ -23,6 +23,9 @@ A value of ``[vary]`` or ``[zip]`` is a list or a range: ``{start, stop, num}`` 
 of ``[zip]`` (outermost) with the values of ``[vary]`` in the file's order, the last key
 varying fastest.
 
+:meth:`Sweep.with_settings` sets parameters for every case on top of the file (``sweep run
+--set``, e.g. coarse settings for a smoke test); a parameter the sweep varies cannot be set.
+
 The file is checked when it is read: unknown keys, unknown parameter names, empty lists,
 unequal ``[zip]`` lengths, an unknown scene, and metrics the scene cannot report (its class's
 ``metrics``) are errors naming the key. The parameter *values* are checked by the scene, case
@@ -121,6 +124,27 @@ class Sweep:
     def scene_class(self):
         """The class of the sweep's scene (its parameters, metrics and units)."""
         return SCENES[self.scene]
+
+    def with_settings(self, settings):
+        """The sweep with ``settings`` (parameter -> string or value, as ``run --set`` gives
+        them) added to its fixed parameters, replacing those of the file: every case runs
+        with them, and they are part of the sweep's cases (their folder names and the record
+        beside the table), so a sweep folder never mixes cases with and without them.
+
+        Raises
+        ------
+        ParameterError
+            A parameter the sweep varies ([vary] or [zip]), an unknown parameter, or a value
+            that is not of its parameter's type.
+        """
+        for key in settings:
+            for section, table in (("zip", self.zipped), ("vary", self.vary)):
+                if key in table:
+                    raise ParameterError(
+                        f"{key} cannot be set for every case: the sweep varies it "
+                        f"([{section}] {key} = {table[key]!r}); change it in the sweep file")
+        typed = self.scene_class.typed_settings(settings)
+        return dataclasses.replace(self, fixed={**self.fixed, **typed})
 
     def record(self):
         """The sweep and its cases as a JSON-ready dict (recorded beside the table)."""
