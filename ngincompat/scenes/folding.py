@@ -214,7 +214,8 @@ class FoldingScene(Scene):
     stretch_crit: float = param(1.0, "axon stretch lambda_e below which axons do not grow")
     axon_max: float = param(3.0, "saturation of axon growth (eq. 45, gamma = 0)")
     axons: str = param("curved", "axon field: " + ", ".join(AXONS))
-    t_end: float = param(75.0, "end of growth", "time")
+    t_end: float = param(40.0, "end of growth (40: theta_c = 1.32, before the top surface "
+                               "creases; the paper's 75 days are past it)", "time")
     dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
                       "time")
     approach_dt: float = param(10.0, "largest time step on the perfect branch (at least "
