@@ -155,6 +155,7 @@ def newton(**settings):
     return NewtonOptions(max_iter=12, linear_solver=LINEAR_SOLVER,
                          krylov_maxiter=KRYLOV_MAXITER, **settings)
 
+
 @functools.lru_cache(maxsize=32)
 def _placing_onset(bilayer, length):
     """theta_c at the onset of the bifurcation analysis of ``bilayer`` with roller ends at
