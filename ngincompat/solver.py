@@ -255,11 +255,19 @@ class SolverHistory:
 
 
 class NewtonSolver:
-    """Newton's method with a line search, for a :class:`NewtonProblem`."""
+    """Newton's method with a line search, for a :class:`NewtonProblem`.
 
-    def __init__(self, problem: NewtonProblem, options: NewtonOptions = NewtonOptions()):
+    ``energy``, if given, is a function returning the energy of the problem's current state
+    whose derivative the residual is (e.g. the strain energy of coupled growth at frozen
+    growth and no load): the line search then tests it as it tests ``form.Energy`` of a
+    problem ``has_energy``."""
+
+    def __init__(self, problem: NewtonProblem, options: NewtonOptions = NewtonOptions(),
+                 energy=None):
         self.problem = problem
         self.options = options
+        self._energy = energy
+        self.has_energy = problem.has_energy or energy is not None
         vec = problem.state.vec
         self._res = vec.CreateVector()
         self._du = vec.CreateVector()
@@ -279,7 +287,10 @@ class NewtonSolver:
             self._preconditioner = ngs.Preconditioner(problem.form, "bddc")
 
     def energy(self, vec):
-        """The problem's energy at ``vec``, summed over the ranks of a distributed mesh."""
+        """The problem's energy at ``vec``, summed over the ranks of a distributed mesh; with
+        ``energy`` given, its value at the current state (which ``vec`` is)."""
+        if self._energy is not None:
+            return self._energy()
         return parallel.total(self._mesh, self.problem.form.Energy(vec))
 
     def residual(self, vec=None):
@@ -340,7 +351,7 @@ class NewtonSolver:
         """
         if not math.isfinite(E_new):
             return False
-        if self.problem.has_energy and E_new <= E + 1e-4 * alpha * min(slope, 0.0):
+        if self.has_energy and E_new <= E + 1e-4 * alpha * min(slope, 0.0):
             return True
         r_new = self.residual().Norm()
         return math.isfinite(r_new) and r_new <= (1 - 1e-4 * alpha) * r_norm
@@ -359,11 +370,11 @@ class NewtonSolver:
         if not opts.line_search:
             # the full step; without an energy the caller's residual there is the merit
             u.data = self._u0 - du
-            return 1.0, self.energy(u) if self.problem.has_energy else E
+            return 1.0, self.energy(u) if self.has_energy else E
         alpha = 1.0
         for _ in range(opts.max_backtracks):
             u.data = self._u0 - alpha * du
-            E_new = self.energy(u) if self.problem.has_energy else _merit(
+            E_new = self.energy(u) if self.has_energy else _merit(
                 self.residual().Norm())
             if self._acceptable(E, E_new, alpha, slope, r_norm):
                 return alpha, E_new
@@ -379,7 +390,7 @@ class NewtonSolver:
         r = self.residual()
         r0 = r.Norm()
         record.residuals.append(r0)
-        E = self.energy(u) if self.problem.has_energy else _merit(r0)
+        E = self.energy(u) if self.has_energy else _merit(r0)
         if not math.isfinite(E):
             record.reason = "energy or residual is not finite at the start of the step"
             return False

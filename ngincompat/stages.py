@@ -348,8 +348,10 @@ class RelaxationStage:
 
     The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
     ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
-    equilibrium without viscosity (a frozen step, dt = 0, with a line search on the residual:
-    full steps from a state still far from it invert elements) from there; if that fails the flow
+    equilibrium without viscosity (a frozen step, dt = 0, with a line search: full steps from
+    a state still far from it invert elements; a step is accepted where it lowers the strain
+    energy, of which the frozen residual at no load is the derivative, or the residual norm)
+    from there; if that fails the flow
     goes on, and tries again once the residual has fallen ``switch``-fold more. An
     equilibrium Newton finds is kept only if it is stable, the smallest eigenvalue of its
     tangent at frozen growth (:func:`~ngincompat.buckling.smallest_eigenpairs`) >= 0:
@@ -455,7 +457,9 @@ class RelaxationStage:
         stable equilibrium the state is restored and False returned."""
         self.problem.dt.Set(0.0)
         record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
-        if NewtonSolver(self.problem, replace(self.options, line_search=True)).minimise(record):
+        solver = NewtonSolver(self.problem, replace(self.options, line_search=True),
+                              energy=self.problem.strain_energy)
+        if solver.minimise(record):
             values, _ = buckling.smallest_eigenpairs(self.problem, count=self.eigenpairs)
             self.eigenvalue = float(values[0])
             record.converged = self.eigenvalue >= 0

@@ -233,3 +233,31 @@ def test_stress_form_equals_the_symbolic_derivative_in_u():
     symbolic.AssembleLinearization(x)
     K, K_symbolic = (np.array(f.mat.COO()[2]) for f in (problem.form, symbolic))
     assert np.abs(K - K_symbolic).max() < 1e-12 * np.abs(K).max()
+
+
+def test_strain_energy_is_the_potential_of_the_frozen_residual():
+    """At frozen growth (dt = 0) the coupled residual is the derivative of the strain energy
+    int Jg Psi dV in u: its central difference along a displacement w equals R(u) . w. This
+    is what lets a frozen Newton solve (:class:`~ngincompat.stages.RelaxationStage`) test
+    its line search on the energy."""
+    problem = _stretched_bar(LAW, stretch=1.1)
+    problem.theta.Set(1.0 + 0.1 * ngs.x)
+    problem.dt.Set(0.0)
+    problem.u.Set(ngs.CF((0.1 * ngs.x + 0.05 * ngs.y * ngs.z, 0.03 * ngs.x * ngs.y, 0)))
+    w = problem.state.vec.CreateVector()
+    direction = ngs.GridFunction(problem.fes)
+    direction.components[0].Set(ngs.CF((ngs.y * ngs.z, 0.5 * ngs.x * ngs.x, ngs.y)))
+    w.data = direction.vec
+    w.FV().NumPy()[[not free for free in problem.fes.FreeDofs()]] = 0.0
+    residual = problem.state.vec.CreateVector()
+    problem.form.Apply(problem.state.vec, residual)
+    u0 = problem.state.vec.CreateVector()
+    u0.data = problem.state.vec
+    eps = 1e-5
+    problem.state.vec.data = u0 + eps * w
+    plus = problem.strain_energy()
+    problem.state.vec.data = u0 - eps * w
+    minus = problem.strain_energy()
+    slope = ngs.InnerProduct(residual, w)
+    assert abs(slope) > 1e-3
+    assert (plus - minus) / (2 * eps) == pytest.approx(slope, rel=1e-6)
