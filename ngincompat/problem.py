@@ -729,6 +729,29 @@ class CoupledGrowth:
         return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
                              self.mesh)
 
+    def potential(self):
+        """The energy of a step at frozen growth (``growing`` = 0) at the current state,
+
+            Phi(u) = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV
+                     - load_scale int t . u dA,
+
+        the viscous term with a step dt > 0 (and ``viscous``), the dead load with a
+        ``traction``: the residual of such a step is its derivative in u (the growth rows
+        hold theta at theta_n). Not for a volume constraint or an expander."""
+        require(not self.volume_region, "volume", self.volume_region,
+                "None: a volume constraint's multiplier has no potential here")
+        energy = self.strain_energy()
+        dt = self.dt.Get()
+        if self.u_old is not None and dt > 0:
+            change = self.u - self.u_old
+            energy += self.viscosity.Get() / (2 * dt) * ngs.Integrate(
+                ngs.InnerProduct(change, change), self.mesh)
+        if self.traction:
+            energy -= self.load_scale.Get() * ngs.Integrate(
+                ngs.InnerProduct(self.traction_field, self.u), self.mesh,
+                definedon=self.mesh.Boundaries(self.traction))
+        return energy
+
     def accept_step(self):
         """Make the converged growth the start of the next step (theta_n <- theta_n+1), and
         with a viscous regularisation the displacement too (u_n <- u_n+1)."""

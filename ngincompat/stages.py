@@ -294,11 +294,14 @@ class UnloadingStage:
     0 over the pseudo time ``duration``, in steps (the first ``duration`` / 8, at most / 4,
     halved where Newton needs it) of the viscous regularisation (eta = ``viscosity``) of a
     :class:`~ngincompat.problem.CoupledGrowth` (``viscous``), so that Newton's system stays
-    positive definite while the body finds its new shape; Newton with a line search on the
-    residual. Removing the supports of a grown body at once is a jump of their reactions
-    that Newton does not survive (the release of the folding scene: non-finite residuals
-    down to steps of 1e-3), nor does a step of the ramp without the viscosity (the released
-    tangent is indefinite there). The end is the viscous state at no load;
+    positive definite while the body finds its new shape. Each step's residual is the
+    derivative of its energy (:meth:`~ngincompat.problem.CoupledGrowth.potential`), which
+    the line search tests besides the residual: on the default folding bilayer 119 Newton
+    iterations against 254 with the residual alone, whose norm the early iterations of a
+    step raise tenfold. Removing the supports of a grown body at once is a jump of their
+    reactions that Newton does not survive (the release of the folding scene: non-finite
+    residuals down to steps of 1e-3), nor does a step of the ramp without the viscosity
+    (the released tangent is indefinite there). The end is the viscous state at no load;
     :class:`RelaxationStage` then finds the equilibrium. The problem is left with its
     growth unfrozen (``growing`` = 1)."""
 
@@ -319,7 +322,7 @@ class UnloadingStage:
         try:
             return solve_coupled(problem, T, T / 8, options,
                                  schedule=lambda t: problem.load_scale.Set(1.0 - t / T),
-                                 progress=progress, stage=self.name)
+                                 progress=progress, stage=self.name, energy=problem.potential)
         finally:
             problem.growing.Set(1.0)
 

@@ -235,14 +235,29 @@ def test_stress_form_equals_the_symbolic_derivative_in_u():
     assert np.abs(K - K_symbolic).max() < 1e-12 * np.abs(K).max()
 
 
-def test_strain_energy_is_the_potential_of_the_frozen_residual():
-    """At frozen growth (dt = 0) the coupled residual is the derivative of the strain energy
-    int Jg Psi dV in u: its central difference along a displacement w equals R(u) . w. This
-    is what lets a frozen Newton solve (:class:`~ngincompat.stages.RelaxationStage`) test
-    its line search on the energy."""
-    problem = _stretched_bar(LAW, stretch=1.1)
+@pytest.mark.parametrize("loaded", [False, True], ids=["frozen", "viscous-traction"])
+def test_the_potential_is_the_energy_of_the_frozen_residual(loaded):
+    """At frozen growth the coupled residual is the derivative of the step's energy in u:
+    the strain energy int Jg Psi dV (dt = 0), and with a viscous pseudo-time step and a dead
+    traction Phi = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV - s int t . u dA
+    (:meth:`~ngincompat.problem.CoupledGrowth.potential`). Its central difference along a
+    displacement w equals R(u) . w. This is what lets the frozen Newton solves of
+    :mod:`ngincompat.stages` test their line search on the energy."""
+    if loaded:
+        problem = CoupledGrowth(cube(maxh=0.5), "fiber", fields.constant("e1"), LAW,
+                                NeoHookean.from_nu(1.0, 0.3), order=2,
+                                symmetry={"left": "x"}, viscous=True, traction="right|top")
+        problem.traction_field.Set(ngs.CF((0.3 + ngs.y, 0.2 * ngs.z, -0.1)))
+        problem.load_scale.Set(0.7)
+        problem.u_old.Set(ngs.CF((0.02 * ngs.y, 0.01, -0.03 * ngs.x)))
+        problem.viscosity.Set(5.0)
+        problem.growing.Set(0.0)
+        problem.dt.Set(0.25)
+    else:
+        problem = _stretched_bar(LAW, stretch=1.1)
+        problem.dt.Set(0.0)
     problem.theta.Set(1.0 + 0.1 * ngs.x)
-    problem.dt.Set(0.0)
+    problem.theta_old.vec.data = problem.theta.vec
     problem.u.Set(ngs.CF((0.1 * ngs.x + 0.05 * ngs.y * ngs.z, 0.03 * ngs.x * ngs.y, 0)))
     w = problem.state.vec.CreateVector()
     direction = ngs.GridFunction(problem.fes)
@@ -255,9 +270,23 @@ def test_strain_energy_is_the_potential_of_the_frozen_residual():
     u0.data = problem.state.vec
     eps = 1e-5
     problem.state.vec.data = u0 + eps * w
-    plus = problem.strain_energy()
+    plus = problem.potential()
     problem.state.vec.data = u0 - eps * w
-    minus = problem.strain_energy()
+    minus = problem.potential()
     slope = ngs.InnerProduct(residual, w)
     assert abs(slope) > 1e-3
     assert (plus - minus) / (2 * eps) == pytest.approx(slope, rel=1e-6)
+    if loaded:      # each term counts: without the viscous and the load terms it fails
+        problem.state.vec.data = u0 + eps * w
+        plus = problem.strain_energy()
+        problem.state.vec.data = u0 - eps * w
+        minus = problem.strain_energy()
+        assert (plus - minus) / (2 * eps) != pytest.approx(slope, rel=1e-3)
+
+
+def test_the_potential_of_a_volume_constraint_is_refused():
+    problem = CoupledGrowth(skin_patch(footprint="circle", maxh=2.5, curve_order=1), "area",
+                            fields.constant("e3"), LAW, NeoHookean.from_nu(0.18, 0.4),
+                            order=1, dirichlet="periphery", volume="footprint")
+    with pytest.raises(ParameterError, match="volume"):
+        problem.potential()
