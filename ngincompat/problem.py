@@ -16,7 +16,11 @@ modes while keeping the tangent symmetric positive definite near equilibrium).
 """
 
 import logging
+import os
+import shutil
+import sys
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Literal
 
 import ngsolve as ngs
@@ -60,6 +64,20 @@ def ensure_heap(order):
 REALCOMPILE_NDOF = 20000
 
 
+def find_compiler():
+    """Put NGSolve's compiler script ``ngscxx`` on ``PATH`` if it is not there but beside the
+    running interpreter, where NGSolve's wheels install it: a virtual environment used
+    without activating it (``.venv/bin/ngincompat``, as in the README) has its ``bin`` off
+    ``PATH``, and ``Compile(realcompile=True)`` then fails to find it. Returns the script's
+    path, or None."""
+    found = shutil.which("ngscxx")
+    beside = Path(sys.executable).parent / "ngscxx"
+    if found is None and beside.is_file():
+        os.environ["PATH"] = os.pathsep.join([str(beside.parent), os.environ.get("PATH", "")])
+        found = shutil.which("ngscxx")
+    return found
+
+
 def compiled(cf, realcompile):
     """``cf`` compiled: to C++ by the system's compiler if ``realcompile`` (and that works),
     else by NGSolve's own step list.
@@ -72,6 +90,7 @@ def compiled(cf, realcompile):
     interpreted derivative and the run takes 137 s instead of 53 s.
     """
     if realcompile:
+        find_compiler()
         try:
             return cf.Compile(realcompile=True, wait=True, maxderiv=1)
         except Exception as err:  # no compiler or no headers: NGSolve raises its own kinds

@@ -1,6 +1,11 @@
 """Mechanically coupled growth: growth laws (eq. 45-46), implicit Euler (eq. 48) and the
 consistent tangent (eq. 49)."""
 
+import os
+import shutil
+import sys
+from pathlib import Path
+
 import ngsolve as ngs
 import numpy as np
 import pytest
@@ -12,7 +17,7 @@ from ngincompat.errors import ParameterError
 from ngincompat.growth import IsotropicGrowth
 from ngincompat.growth_laws import ConstantRateLaw, HillLaw, StrainDrivenLaw
 from ngincompat.materials import NeoHookean
-from ngincompat.problem import CoupledGrowth, euler_residual
+from ngincompat.problem import CoupledGrowth, euler_residual, find_compiler
 from ngincompat.progress import SILENT
 from ngincompat.solver import NewtonOptions, solve_coupled
 from ngincompat.stages import CoupledStage
@@ -56,9 +61,22 @@ def test_global_newton_converges_quadratically_with_coupled_growth():
     assert max(orders[-2:]) > 1.7, (res, orders)
 
 
-def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent():
+def test_ngscxx_is_found_beside_the_interpreter_of_an_unactivated_environment(monkeypatch):
+    """``.venv/bin/ngincompat`` runs without ``.venv/bin`` on PATH, where NGSolve's wheels put
+    its compiler script: :func:`~ngincompat.problem.find_compiler` puts it there."""
+    beside = Path(sys.executable).parent / "ngscxx"
+    if not beside.is_file():
+        pytest.skip("NGSolve's ngscxx is not installed beside this interpreter")
+    monkeypatch.setenv("PATH", "/nonexistent")
+    assert shutil.which("ngscxx") is None
+    assert find_compiler() == str(beside)
+    assert os.environ["PATH"].split(os.pathsep)[0] == str(beside.parent)
+
+
+def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent(caplog):
     """The C++-compiled residual (the default from REALCOMPILE_NDOF dofs on) is the same
-    function as NGSolve's own compilation, and so is its linearisation."""
+    function as NGSolve's own compilation, and so is its linearisation. Where a C++
+    compiler is installed the compilation must not have fallen back to NGSolve's own."""
     problem = _stretched_bar(LAW)
     problem.dt.Set(0.25)
     problem.theta.Set(1.0 + 0.1 * ngs.y)
@@ -83,6 +101,8 @@ def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent():
     for a, b in zip(*results, strict=True):
         assert np.linalg.norm(a) > 1e-3
         assert np.linalg.norm(a - b) <= 1e-11 * np.linalg.norm(a)
+    if shutil.which("c++") and find_compiler():
+        assert "compiling the residual to C++ failed" not in caplog.text
 
 
 def test_growth_saturates_at_theta_max():
