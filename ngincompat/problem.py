@@ -16,7 +16,11 @@ modes while keeping the tangent symmetric positive definite near equilibrium).
 """
 
 import logging
+import os
+import shutil
+import sys
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Literal
 
 import ngsolve as ngs
@@ -60,6 +64,20 @@ def ensure_heap(order):
 REALCOMPILE_NDOF = 20000
 
 
+def find_compiler():
+    """Put NGSolve's compiler script ``ngscxx`` on ``PATH`` if it is not there but beside the
+    running interpreter, where NGSolve's wheels install it: a virtual environment used
+    without activating it (``.venv/bin/ngincompat``, as in the README) has its ``bin`` off
+    ``PATH``, and ``Compile(realcompile=True)`` then fails to find it. Returns the script's
+    path, or None."""
+    found = shutil.which("ngscxx")
+    beside = Path(sys.executable).parent / "ngscxx"
+    if found is None and beside.is_file():
+        os.environ["PATH"] = os.pathsep.join([str(beside.parent), os.environ.get("PATH", "")])
+        found = shutil.which("ngscxx")
+    return found
+
+
 def compiled(cf, realcompile):
     """``cf`` compiled: to C++ by the system's compiler if ``realcompile`` (and that works),
     else by NGSolve's own step list.
@@ -72,6 +90,7 @@ def compiled(cf, realcompile):
     interpreted derivative and the run takes 137 s instead of 53 s.
     """
     if realcompile:
+        find_compiler()
         try:
             return cf.Compile(realcompile=True, wait=True, maxderiv=1)
         except Exception as err:  # no compiler or no headers: NGSolve raises its own kinds
@@ -728,6 +747,29 @@ class CoupledGrowth:
     def strain_energy(self):
         return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
                              self.mesh)
+
+    def potential(self):
+        """The energy of a step at frozen growth (``growing`` = 0) at the current state,
+
+            Phi(u) = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV
+                     - load_scale int t . u dA,
+
+        the viscous term with a step dt > 0 (and ``viscous``), the dead load with a
+        ``traction``: the residual of such a step is its derivative in u (the growth rows
+        hold theta at theta_n). Not for a volume constraint or an expander."""
+        require(not self.volume_region, "volume", self.volume_region,
+                "None: a volume constraint's multiplier has no potential here")
+        energy = self.strain_energy()
+        dt = self.dt.Get()
+        if self.u_old is not None and dt > 0:
+            change = self.u - self.u_old
+            energy += self.viscosity.Get() / (2 * dt) * ngs.Integrate(
+                ngs.InnerProduct(change, change), self.mesh)
+        if self.traction:
+            energy -= self.load_scale.Get() * ngs.Integrate(
+                ngs.InnerProduct(self.traction_field, self.u), self.mesh,
+                definedon=self.mesh.Boundaries(self.traction))
+        return energy
 
     def accept_step(self):
         """Make the converged growth the start of the next step (theta_n <- theta_n+1), and

@@ -478,7 +478,7 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Pr
 
 def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_start=0.0,
                   schedule=None, on_step=None, progress: Progress = SILENT, stage="growth",
-                  unit=""):
+                  unit="", energy=None):
     """March a :class:`~ngincompat.problem.CoupledGrowth` problem in time with adaptive steps.
 
     Parameters
@@ -493,6 +493,9 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
         True, the march ends there (e.g. where an instability was detected).
     progress : Progress
         Where steps and cuts are reported, under the name ``stage`` with time ``unit``.
+    energy : callable, optional
+        The energy of the current state whose derivative the residual is (as for
+        :class:`NewtonSolver`), e.g. ``problem.potential`` at frozen growth.
 
     Returns
     -------
@@ -527,15 +530,15 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
         return on_step is not None and on_step(t)
 
     return _march(problem, options, t_start, t_end, dt, advance, restore, accept,
-                  progress.march(stage, t_start, t_end, unit))
+                  progress.march(stage, t_start, t_end, unit), energy)
 
 
-def _march(problem, options, t, t_end, dt, advance, restore, accept, report):
+def _march(problem, options, t, t_end, dt, advance, restore, accept, report, energy=None):
     """The adaptive stepping loop: a failed step is undone and retried at half the size.
 
     ``report`` (a :class:`~ngincompat.progress.StageProgress`) hears of every converged and
     every cut step as it happens; ``accept(t)`` returning True ends the march at t."""
-    solver = NewtonSolver(problem, options)
+    solver = NewtonSolver(problem, options, energy=energy)
     history = SolverHistory(t_reached=t)
     saved = problem.state.vec.CreateVector()
     saved.data = problem.state.vec          # the last converged state, always

@@ -31,7 +31,7 @@ import ngsolve as ngs
 import numpy as np
 
 from . import buckling, io
-from .errors import ConvergenceError, ParameterError
+from .errors import ConvergenceError, ParameterError, require
 from .progress import Progress
 from .solver import (
     NewtonOptions,
@@ -294,11 +294,14 @@ class UnloadingStage:
     0 over the pseudo time ``duration``, in steps (the first ``duration`` / 8, at most / 4,
     halved where Newton needs it) of the viscous regularisation (eta = ``viscosity``) of a
     :class:`~ngincompat.problem.CoupledGrowth` (``viscous``), so that Newton's system stays
-    positive definite while the body finds its new shape; Newton with a line search on the
-    residual. Removing the supports of a grown body at once is a jump of their reactions
-    that Newton does not survive (the release of the folding scene: non-finite residuals
-    down to steps of 1e-3), nor does a step of the ramp without the viscosity (the released
-    tangent is indefinite there). The end is the viscous state at no load;
+    positive definite while the body finds its new shape. Each step's residual is the
+    derivative of its energy (:meth:`~ngincompat.problem.CoupledGrowth.potential`), which
+    the line search tests besides the residual: on the default folding bilayer 119 Newton
+    iterations against 254 with the residual alone, whose norm the early iterations of a
+    step raise tenfold. Removing the supports of a grown body at once is a jump of their
+    reactions that Newton does not survive (the release of the folding scene: non-finite
+    residuals down to steps of 1e-3), nor does a step of the ramp without the viscosity
+    (the released tangent is indefinite there). The end is the viscous state at no load;
     :class:`RelaxationStage` then finds the equilibrium. The problem is left with its
     growth unfrozen (``growing`` = 1)."""
 
@@ -319,7 +322,7 @@ class UnloadingStage:
         try:
             return solve_coupled(problem, T, T / 8, options,
                                  schedule=lambda t: problem.load_scale.Set(1.0 - t / T),
-                                 progress=progress, stage=self.name)
+                                 progress=progress, stage=self.name, energy=problem.potential)
         finally:
             problem.growing.Set(1.0)
 
@@ -344,7 +347,9 @@ class RelaxationStage:
     saddle. A step that raises Phi above Pi(u_n) (beyond round-off, ``1e-12 |Pi|``) is
     rejected like one where Newton fails, and retried at half the size; after one that took
     at most four Newton iterations tau doubles. The flow so leaves saddles and settles in a
-    stable equilibrium.
+    stable equilibrium. Its states are only the way there, so each step is solved to the
+    relative residual ``flow_rtol`` (default 1e-3), not ``options.rtol`` (measured on the
+    folding scene's release: :data:`~ngincompat.scenes.folding.FLOW_RTOL`).
 
     The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
     ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
@@ -376,15 +381,19 @@ class RelaxationStage:
     switch: float = 0.1
     max_steps: int = 60
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=12))
+    flow_rtol: float = 1e-3
     unit: str = ""
     eigenpairs: int = 1
     initial_residual: float = field(default=float("nan"), init=False)
     final_residual: float = field(default=float("nan"), init=False)
     eigenvalue: float = field(default=float("nan"), init=False)
 
+    def __post_init__(self):
+        require(0 < self.flow_rtol < 1, "flow_rtol", self.flow_rtol, "in (0, 1)")
+
     def run(self, progress: Progress) -> SolverHistory:
         problem = self.problem
-        solver = NewtonSolver(problem, self.options)
+        solver = NewtonSolver(problem, replace(self.options, rtol=self.flow_rtol))
         history = SolverHistory()
         problem.growing.Set(0.0)
         problem.viscosity.Set(self.viscosity)

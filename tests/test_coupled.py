@@ -1,6 +1,11 @@
 """Mechanically coupled growth: growth laws (eq. 45-46), implicit Euler (eq. 48) and the
 consistent tangent (eq. 49)."""
 
+import os
+import shutil
+import sys
+from pathlib import Path
+
 import ngsolve as ngs
 import numpy as np
 import pytest
@@ -12,7 +17,7 @@ from ngincompat.errors import ParameterError
 from ngincompat.growth import IsotropicGrowth
 from ngincompat.growth_laws import ConstantRateLaw, HillLaw, StrainDrivenLaw
 from ngincompat.materials import NeoHookean
-from ngincompat.problem import CoupledGrowth, euler_residual
+from ngincompat.problem import CoupledGrowth, euler_residual, find_compiler
 from ngincompat.progress import SILENT
 from ngincompat.solver import NewtonOptions, solve_coupled
 from ngincompat.stages import CoupledStage
@@ -56,9 +61,22 @@ def test_global_newton_converges_quadratically_with_coupled_growth():
     assert max(orders[-2:]) > 1.7, (res, orders)
 
 
-def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent():
+def test_ngscxx_is_found_beside_the_interpreter_of_an_unactivated_environment(monkeypatch):
+    """``.venv/bin/ngincompat`` runs without ``.venv/bin`` on PATH, where NGSolve's wheels put
+    its compiler script: :func:`~ngincompat.problem.find_compiler` puts it there."""
+    beside = Path(sys.executable).parent / "ngscxx"
+    if not beside.is_file():
+        pytest.skip("NGSolve's ngscxx is not installed beside this interpreter")
+    monkeypatch.setenv("PATH", "/nonexistent")
+    assert shutil.which("ngscxx") is None
+    assert find_compiler() == str(beside)
+    assert os.environ["PATH"].split(os.pathsep)[0] == str(beside.parent)
+
+
+def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent(caplog):
     """The C++-compiled residual (the default from REALCOMPILE_NDOF dofs on) is the same
-    function as NGSolve's own compilation, and so is its linearisation."""
+    function as NGSolve's own compilation, and so is its linearisation. Where a C++
+    compiler is installed the compilation must not have fallen back to NGSolve's own."""
     problem = _stretched_bar(LAW)
     problem.dt.Set(0.25)
     problem.theta.Set(1.0 + 0.1 * ngs.y)
@@ -83,6 +101,8 @@ def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent():
     for a, b in zip(*results, strict=True):
         assert np.linalg.norm(a) > 1e-3
         assert np.linalg.norm(a - b) <= 1e-11 * np.linalg.norm(a)
+    if shutil.which("c++") and find_compiler():
+        assert "compiling the residual to C++ failed" not in caplog.text
 
 
 def test_growth_saturates_at_theta_max():
@@ -235,14 +255,29 @@ def test_stress_form_equals_the_symbolic_derivative_in_u():
     assert np.abs(K - K_symbolic).max() < 1e-12 * np.abs(K).max()
 
 
-def test_strain_energy_is_the_potential_of_the_frozen_residual():
-    """At frozen growth (dt = 0) the coupled residual is the derivative of the strain energy
-    int Jg Psi dV in u: its central difference along a displacement w equals R(u) . w. This
-    is what lets a frozen Newton solve (:class:`~ngincompat.stages.RelaxationStage`) test
-    its line search on the energy."""
-    problem = _stretched_bar(LAW, stretch=1.1)
+@pytest.mark.parametrize("loaded", [False, True], ids=["frozen", "viscous-traction"])
+def test_the_potential_is_the_energy_of_the_frozen_residual(loaded):
+    """At frozen growth the coupled residual is the derivative of the step's energy in u:
+    the strain energy int Jg Psi dV (dt = 0), and with a viscous pseudo-time step and a dead
+    traction Phi = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV - s int t . u dA
+    (:meth:`~ngincompat.problem.CoupledGrowth.potential`). Its central difference along a
+    displacement w equals R(u) . w. This is what lets the frozen Newton solves of
+    :mod:`ngincompat.stages` test their line search on the energy."""
+    if loaded:
+        problem = CoupledGrowth(cube(maxh=0.5), "fiber", fields.constant("e1"), LAW,
+                                NeoHookean.from_nu(1.0, 0.3), order=2,
+                                symmetry={"left": "x"}, viscous=True, traction="right|top")
+        problem.traction_field.Set(ngs.CF((0.3 + ngs.y, 0.2 * ngs.z, -0.1)))
+        problem.load_scale.Set(0.7)
+        problem.u_old.Set(ngs.CF((0.02 * ngs.y, 0.01, -0.03 * ngs.x)))
+        problem.viscosity.Set(5.0)
+        problem.growing.Set(0.0)
+        problem.dt.Set(0.25)
+    else:
+        problem = _stretched_bar(LAW, stretch=1.1)
+        problem.dt.Set(0.0)
     problem.theta.Set(1.0 + 0.1 * ngs.x)
-    problem.dt.Set(0.0)
+    problem.theta_old.vec.data = problem.theta.vec
     problem.u.Set(ngs.CF((0.1 * ngs.x + 0.05 * ngs.y * ngs.z, 0.03 * ngs.x * ngs.y, 0)))
     w = problem.state.vec.CreateVector()
     direction = ngs.GridFunction(problem.fes)
@@ -255,9 +290,23 @@ def test_strain_energy_is_the_potential_of_the_frozen_residual():
     u0.data = problem.state.vec
     eps = 1e-5
     problem.state.vec.data = u0 + eps * w
-    plus = problem.strain_energy()
+    plus = problem.potential()
     problem.state.vec.data = u0 - eps * w
-    minus = problem.strain_energy()
+    minus = problem.potential()
     slope = ngs.InnerProduct(residual, w)
     assert abs(slope) > 1e-3
     assert (plus - minus) / (2 * eps) == pytest.approx(slope, rel=1e-6)
+    if loaded:      # each term counts: without the viscous and the load terms it fails
+        problem.state.vec.data = u0 + eps * w
+        plus = problem.strain_energy()
+        problem.state.vec.data = u0 - eps * w
+        minus = problem.strain_energy()
+        assert (plus - minus) / (2 * eps) != pytest.approx(slope, rel=1e-3)
+
+
+def test_the_potential_of_a_volume_constraint_is_refused():
+    problem = CoupledGrowth(skin_patch(footprint="circle", maxh=2.5, curve_order=1), "area",
+                            fields.constant("e3"), LAW, NeoHookean.from_nu(0.18, 0.4),
+                            order=1, dirichlet="periphery", volume="footprint")
+    with pytest.raises(ParameterError, match="volume"):
+        problem.potential()

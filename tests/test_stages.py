@@ -15,6 +15,7 @@ from ngincompat.solver import NewtonOptions
 from ngincompat.stages import (
     CoupledStage,
     PrescribedGrowthStage,
+    RelaxationStage,
     restore_checkpoint,
     save_checkpoint,
 )
@@ -153,3 +154,9 @@ def test_checkpoint_restores_the_state_and_refuses_another_mesh(tmp_path):
                                   problem.theta_old.vec.FV().NumPy())
     with pytest.raises(ParameterError, match="does not fit this mesh and order"):
         restore_checkpoint(_coupled_stub(mesh, order=2), path)
+
+
+@pytest.mark.parametrize("flow_rtol", [0.0, 1.0, -1e-3])
+def test_the_relaxation_flow_tolerance_must_lie_in_the_unit_interval(flow_rtol):
+    with pytest.raises(ParameterError, match=r"flow_rtol.*in \(0, 1\)"):
+        RelaxationStage("release", None, viscosity=1.0, dt=1.0, flow_rtol=flow_rtol)
