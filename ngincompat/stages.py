@@ -338,8 +338,9 @@ class RelaxationStage:
 
         Phi(u) = Pi(u) + eta / (2 tau) int |u - u_n|^2 dV,     eta = ``viscosity``,
 
-    vanish. While K + eta / tau M is positive definite (K the elastic tangent, M the mass
-    matrix of :mod:`ngincompat.buckling`) that stationary point is the minimiser of Phi, so
+    (:meth:`~ngincompat.problem.CoupledGrowth.potential`, no load) vanish. While
+    K + eta / tau M is positive definite (K the elastic tangent, M the mass matrix of
+    :mod:`ngincompat.buckling`) that stationary point is the minimiser of Phi, so
     Pi(u_n+1) + eta / (2 tau) |u_n+1 - u_n|^2 <= Pi(u_n): the energy falls. Along an
     unstable mode (K w = omega M w, omega < 0) a step tau > eta / |omega| breaks this: in the
     linear model Phi(u_n+1) - Pi(u_n) = |omega| a^2 c / (2 (c - 1)), c = tau |omega| / eta,
@@ -411,10 +412,7 @@ class RelaxationStage:
                     record = StepRecord(t=t + tau, dt=tau, converged=False)
                     if solver.minimise(record):
                         record.energy = problem.strain_energy()
-                        dissipation = self.viscosity / (2 * tau) * ngs.Integrate(
-                            ngs.InnerProduct(problem.u - problem.u_old,
-                                             problem.u - problem.u_old), problem.mesh)
-                        record.converged = (record.energy + dissipation
+                        record.converged = (problem.potential()     # Phi(u_n+1)
                                             <= energy + 1e-12 * abs(energy))
                         if not record.converged:
                             record.reason = "the step raised the energy (a saddle)"
