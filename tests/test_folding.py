@@ -20,7 +20,7 @@ from ngincompat.materials import NeoHookean, Regional
 from ngincompat.pipeline import Solution
 from ngincompat.problem import CoupledGrowth
 from ngincompat.progress import SILENT
-from ngincompat.scenes.folding import FoldingScene
+from ngincompat.scenes.folding import FLOW_RTOL, FoldingScene
 from ngincompat.shape import circle_curvature
 from ngincompat.solver import NewtonOptions, solve_coupled
 
@@ -418,6 +418,14 @@ def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path
     assert abs(rows[0]["burgers_max_depth"] - scene.cortex_thickness) <= scene.cortex_maxh
     section = r.profiles["section"]
     assert section["u"].shape == (len(section["X3"]), len(section["X1"]), 2)
+    # the release's viscous steps are solved to FLOW_RTOL only, its last Newton solve (no
+    # viscosity, dt = 0) to the full tolerance
+    flow = [step for stage in ("unloading", "release") for step in r.solver[stage].steps
+            if step.converged and step.dt > 0]
+    assert flow and all(s.residuals[-1] <= FLOW_RTOL * s.residuals[0] for s in flow)
+    assert max(s.residuals[-1] / s.residuals[0] for s in flow) > 1e-6    # not to 1e-9
+    final = r.solver["release"].steps[-1]
+    assert final.dt == 0 and final.residuals[-1] <= 1e-9 * final.residuals[0]
 
 
 def test_the_command_line_offers_every_axon_field(capsys):
