@@ -3,22 +3,52 @@
 F = Fe Fg; Curl Fg, G = (1/Jg) Fg Curl Fg and b = G^T n (Lee et al., JMPS 146 (2021) 104177),
 with the residual stress that growth causes, on NGSolve/Netgen.
 
-Importing the package raises NGSolve's local heap to 200 MB: high-order (p >= 5) element
-matrices of matrix-valued spaces overflow the default heap ("Local Heap overflow"); and it
-runs NGSolve's task manager on :data:`THREADS` threads.
+The public API is flat::
+
+    from ngincompat import CubeScene, Results, configure
+    configure(threads=2)
+    results = CubeScene(order=2).run()
+
+The layers underneath, each a subpackage that imports only the ones below it (the contracts in
+``pyproject.toml``, checked by ``lint-imports``):
+
+=========================  ================================================================
+``cli``                    the command line (argparse only there)
+``studies``                drivers that run scenes many times: paper, benchmarks, sweeps
+``scenes``                 one module per scene of the paper: typed parameters and ``build()``
+``workflow``               pipeline, :class:`Results`, output folder, input files, plots
+``fem`` | ``references``   discretisation and solvers | independent solutions for checks
+``mechanics``              kinematics, growth tensors and laws, materials, direction fields
+``incompatibility``        Curl Fg, G, Burgers vectors, curvature of the growth metric
+base modules               errors, config, atomic files, MPI, progress, sampling points
+=========================  ================================================================
+
+Importing the package changes nothing in NGSolve; :func:`configure` sets threads and heap.
+The names below are loaded on first use, so ``import ngincompat`` stays light and the
+``geometries`` package (which imports :mod:`ngincompat.errors`) never meets a half-imported
+``ngincompat``.
 """
 
-import os as _os
+from ngincompat.config import VERSION as __version__
+from ngincompat.config import configure
+from ngincompat.errors import ConvergenceError, NgincompatError, ParameterError
 
-import ngsolve as _ngs
+_SCENES = ("AtrophyScene", "CubeScene", "CustomScene", "CylinderScene", "DiscScene",
+           "FoldingScene", "HemisphereScene", "SkinExpansionScene", "SCENES", "get_scene")
 
-__version__ = "0.1.0"
+__all__ = ["ConvergenceError", "NgincompatError", "ParameterError", "Results", "__version__",
+           "configure", *_SCENES]
 
-#: NGSolve threads: ``NGS_NUM_THREADS`` if set, else one. The task manager's threads wait
-#: actively for each other at every parallel loop, so on cores that other jobs share they
-#: cost more than they give: on the 2 shared cores at load 9-10 the disc's Newton solve took
-#: 17-19 s on two threads and 6-7 s on one (alternating runs).
-THREADS = int(_os.environ.get("NGS_NUM_THREADS") or 1)
 
-_ngs.SetHeapSize(200 * 1000 * 1000)
-_ngs.SetNumThreads(THREADS)
+def __getattr__(name):
+    if name in _SCENES:
+        from ngincompat import scenes
+        return getattr(scenes, name)
+    if name == "Results":
+        from ngincompat.workflow.results import Results
+        return Results
+    raise AttributeError(f"module 'ngincompat' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

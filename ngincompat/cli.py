@@ -19,9 +19,9 @@ import argparse
 import logging
 import sys
 
-from . import parallel
-from .errors import ConvergenceError, Interrupted, ParameterError
-from .progress import Progress
+from ngincompat import parallel
+from ngincompat.errors import ConvergenceError, Interrupted, ParameterError
+from ngincompat.progress import Progress
 
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_INTERRUPTED = 0, 2, 3, 4, 130
 
@@ -37,7 +37,7 @@ def _settings(pairs, option="--set"):
 
 
 #: --outputs: what to compute (incompatibility always, mechanics optionally), then the
-#: optional outputs of a scene, :data:`ngincompat.output.OUTPUTS` (spelled out here: the
+#: optional outputs of a scene, :data:`ngincompat.workflow.output.OUTPUTS` (spelled out here: the
 #: command line does not import NGSolve before it needs to).
 OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures", "growth", "curvature")
 
@@ -46,7 +46,8 @@ def _outputs(text):
     """--outputs LIST -> the scene settings ``mechanics`` and ``outputs``.
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
-    energy; the scene's optional outputs (:data:`ngincompat.output.OUTPUTS`) are passed on."""
+    energy; the scene's optional outputs (:data:`ngincompat.workflow.output.OUTPUTS`) are passed
+    on."""
     items = {item.strip() for item in text.split(",") if item.strip()}
     unknown = items - set(OUTPUT_NAMES)
     if unknown or not items:
@@ -57,7 +58,7 @@ def _outputs(text):
 
 
 def _cmd_list(args):
-    from .scenes import SCENES
+    from ngincompat.scenes import SCENES
     for name, cls in SCENES.items():
         print(f"{name:10s} {cls.summary}")
         if args.verbose:
@@ -68,7 +69,7 @@ def _cmd_list(args):
 
 
 def _cmd_run(args):
-    from .scenes import get_scene
+    from ngincompat.scenes import get_scene
     cls = get_scene(args.scene)
     settings = _settings(args.set)
     if args.order is not None:
@@ -108,7 +109,7 @@ def _status_code(rows):
 
 
 def _cmd_paper(args):
-    from . import paper
+    from ngincompat.studies import paper
     rows = paper.run_all(args.out, progress=Progress(quiet=args.quiet),
                          overwrite=args.overwrite, quick=args.quick)
     print(paper.summary_markdown(rows))
@@ -117,7 +118,7 @@ def _cmd_paper(args):
 
 
 def _cmd_expansion(args):
-    from . import expansion
+    from ngincompat.studies import expansion
     rows = expansion.run_all(args.out, footprints=args.footprints,
                              progress=Progress(quiet=args.quiet), overwrite=args.overwrite,
                              **_settings(args.set))
@@ -127,7 +128,7 @@ def _cmd_expansion(args):
 
 
 def _cmd_folding(args):
-    from . import folding
+    from ngincompat.studies import folding
     rows, _ = folding.run_all(args.out, axons=args.axons, progress=Progress(quiet=args.quiet),
                               overwrite=args.overwrite, **_settings(args.set))
     print(folding.summary_markdown(rows))
@@ -137,7 +138,7 @@ def _cmd_folding(args):
 
 
 def _cmd_bench(args):
-    from . import bench, curvature_rates, peer, scaling, stability
+    from ngincompat.studies import bench, curvature_rates, peer, scaling, stability
     if args.case == "peer":
         lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
     elif args.case == "cube":
@@ -157,7 +158,7 @@ def _cmd_bench(args):
 
 
 def _cmd_sweep_run(args):
-    from . import sweep
+    from ngincompat.studies import sweep
     spec = sweep.load_sweep(args.file).with_settings(_settings(args.set))
     report = sweep.run_sweep(spec, args.out, workers=args.workers,
                              threads=args.threads, scheduler=args.scheduler,
@@ -168,7 +169,7 @@ def _cmd_sweep_run(args):
 
 
 def _cmd_sweep_plot(args):
-    from . import sweep
+    from ngincompat.studies import sweep
     path = sweep.plot_sweep(args.sweep_dir, args.metric, args.x, args.out, hue=args.hue,
                             where=_settings(args.where, "--where"), logx=args.logx,
                             logy=args.logy)
@@ -178,7 +179,7 @@ def _cmd_sweep_plot(args):
 
 def _add_bench(sub):
     """``bench cube | accuracy | curvature | peer | stability | scaling`` and their options."""
-    from .scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
+    from ngincompat.studies.scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
     cases = bench.add_subparsers(dest="case", required=True)
@@ -213,17 +214,17 @@ def _add_bench(sub):
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="a parameter of our cube (repeatable; default: the scene's defaults)")
     p = case("stability", "the numerical stress-test matrix and the locking study (see "
-                          "ngincompat.stability)")
+                          "ngincompat.studies.stability)")
     p.add_argument("--quick", action="store_true",
                    help="only a small corner of the matrix and locking orders 1-3")
     p.add_argument("--threads", type=int, default=1,
                    help="NGSolve threads (default 1: the cells are small, and times on a "
                         "shared machine stay comparable)")
     p = case("scaling", "one Newton step of the cube against ndof and linear solver (see "
-                        "ngincompat.scaling)")
+                        "ngincompat.studies.scaling)")
     p.add_argument("--quick", action="store_true", help="only the two smallest sizes")
     p.add_argument("--maxh", type=float, nargs="+",
-                   help="mesh sizes (default: the grid ngincompat.scaling.GRID)")
+                   help="mesh sizes (default: the grid ngincompat.studies.scaling.GRID)")
     p.add_argument("--orders", type=int, nargs="+",
                    help="polynomial orders (default: those of the grid; with --maxh: 2)")
     p.add_argument("--solvers", nargs="+", choices=SOLVERS, metavar="SOLVER",

@@ -28,7 +28,7 @@ class ConvergenceError(NgincompatError):
         super().__init__(message)
         self.history = history
         self.t_converged = t_converged
-        #: The :class:`~ngincompat.results.Results` of the last converged state, once a
+        #: The :class:`~ngincompat.workflow.results.Results` of the last converged state, once a
         #: pipeline has measured (and written) them.
         self.results = None
 

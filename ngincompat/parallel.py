@@ -82,7 +82,9 @@ def distribute(build):
     import netgen.meshing
     import ngsolve as ngs
 
-    ngs.SetNumThreads(1)    # a rank per core; threads on top oversubscribe the cores
+    from ngincompat import config
+
+    config.configure(threads=1)    # a rank per core; threads on top oversubscribe the cores
     if comm.rank == 0:
         ngmesh = build().ngmesh
         ngmesh.Distribute(comm)

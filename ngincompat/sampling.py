@@ -1,6 +1,10 @@
-"""Points at which fields are checked or maximised: integration points and vertices."""
+"""Points at which fields are checked or maximised: integration points and vertices, and the
+largest value of a field over them (over all ranks of a distributed mesh)."""
 
 import ngsolve as ngs
+import numpy as np
+
+from ngincompat import parallel
 
 _VERTICES = {
     ngs.ET.TET: [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)],
@@ -22,3 +26,26 @@ def element_points(mesh, order=4):
         rules[et] = ngs.IntegrationRule([tuple(p) for p in ir.points] + verts,
                                         list(ir.weights) + [0.0] * len(verts))
     return mesh.MapToAllElements(rules, ngs.VOL)
+
+
+def argmax(cf, mesh, order=4):
+    """The largest value of a scalar CF over the integration points and vertices of a serial
+    mesh (see :func:`maximum`) and the point (X1, X2, X3) where it is."""
+    points = element_points(mesh, order)
+    values = np.asarray(cf(points)).ravel()
+    i = int(np.nanargmax(values))
+    where = np.asarray(ngs.CF((ngs.x, ngs.y, ngs.z))(points)).reshape(-1, 3)[i]
+    return float(values[i]), tuple(float(c) for c in where)
+
+
+def maximum(cf, mesh, order=4):
+    """Largest value of a scalar CF over the integration points and vertices of the mesh
+    (of all ranks of a distributed mesh).
+
+    Points where the CF is undefined (NaN) are left out: a vertex can sit on a cone point of
+    an analytic growth field, e.g. the centre of theta = 1 + R t / 4, a vertex of the quarter
+    hemisphere. NaN only if the CF is undefined at every point."""
+    values = np.asarray(cf(element_points(mesh, order))) if mesh.ne else np.empty(0)
+    defined = values[~np.isnan(values)]
+    local = np.nan if values.size and not defined.size else np.max(defined, initial=-np.inf)
+    return parallel.maximum(mesh, local)

@@ -36,8 +36,8 @@ import os
 
 from IPython.display import display
 
-from ngincompat import plots
 from ngincompat.scenes import AtrophyScene
+from ngincompat.workflow import plots
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"

@@ -44,8 +44,9 @@ import os
 from IPython.display import display
 from ngsolve.webgui import Draw
 
-from ngincompat import plots, postprocess
+from ngincompat import sampling
 from ngincompat.scenes import CubeScene
+from ngincompat.workflow import plots
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
@@ -93,7 +94,7 @@ theta_view = Draw(fields["theta"], mesh, "theta")
 
 # %%
 for plane in ("n1", "n2", "n3"):
-    print(f"max |b| on plane {plane}: {postprocess.maximum(fields[f'|b_{plane}|'], mesh):.5f} "
+    print(f"max |b| on plane {plane}: {sampling.maximum(fields[f'|b_{plane}|'], mesh):.5f} "
           f"1/{L}")
 print(f"eq. (16) at X1 = 0:        {1 / 12:.5f} 1/{L}")
 
@@ -146,8 +147,8 @@ print(f"strain energy {m['strain_energy']:.6e} {energy}, "
 # self-equilibrated: tension and compression balance in every section.
 
 # %%
-S11_max = postprocess.maximum(fields["S11"], mesh)
-S11_min = -postprocess.maximum(-fields["S11"], mesh)
+S11_max = sampling.maximum(fields["S11"], mesh)
+S11_min = -sampling.maximum(-fields["S11"], mesh)
 print(f"S11 from {S11_min:.2e} to {S11_max:.2e} {stress}")
 deformed_view = Draw(fields["S11"], mesh, "S11", deformation=fields["u"])
 

@@ -54,9 +54,10 @@ from IPython.display import Markdown, display
 from matplotlib.figure import Figure
 from ngsolve.webgui import Draw
 
-from ngincompat import incompatibility as inc
-from ngincompat import plots, postprocess, tables
+from ngincompat import sampling
+from ngincompat.incompatibility import operators as inc
 from ngincompat.scenes import CylinderScene
+from ngincompat.workflow import plots, tables
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
@@ -109,8 +110,8 @@ theta_view = Draw(fields["theta"], mesh, "theta")
 # %%
 for label, n in (("e1", (1, 0, 0)), ("e2", (0, 1, 0))):
     b = inc.burgers_vector(fields["G"], ngs.CF(n))
-    print(f"max |b| on plane {label}: {postprocess.maximum(ngs.Norm(b), mesh):.6f} 1/{L}")
-print(f"max |b| on plane e3: {postprocess.maximum(fields['|b_e3|'], mesh):.6f} 1/{L}")
+    print(f"max |b| on plane {label}: {sampling.maximum(ngs.Norm(b), mesh):.6f} 1/{L}")
+print(f"max |b| on plane e3: {sampling.maximum(fields['|b_e3|'], mesh):.6f} 1/{L}")
 print(f"eq. (27) at X2 = 0:  {a:.6f} 1/{L}")
 curl_sq = results.profile("line")["curlFg_sq"]
 print(f"Curl Fg : Curl Fg along the line from {curl_sq.min():.6f} to {curl_sq.max():.6f} "
@@ -222,7 +223,8 @@ display(fig)
 # ## Verification: b against eq. (27)
 #
 # The scene's metric `b_eq27_error` is the largest deviation of |b| on the plane e3 from
-# |grad theta x f0| / theta (`ngincompat.incompatibility.burgers_fiber_magnitude`) over the
+# |grad theta x f0| / theta (`ngincompat.incompatibility.operators.burgers_fiber_magnitude`) over
+# the
 # integration points and vertices of the mesh, relative to the largest value. The projected
 # Fg is exact here (theta is linear in X, and Fg linear in theta), so the error is round-off,
 # on the coarse mesh as on the fine one; a wrong Curl convention or a missing 1/Jg would be

@@ -50,8 +50,9 @@ import os
 from IPython.display import Markdown, display
 from ngsolve.webgui import Draw
 
-from ngincompat import plots, postprocess, tables
+from ngincompat import sampling
 from ngincompat.scenes import DiscScene
+from ngincompat.workflow import plots, tables
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
@@ -111,7 +112,8 @@ display(fig)
 
 # %% [markdown]
 # The scene checks b against eq. (22) everywhere in the disc, relative to the largest |b| of
-# eq. (22) (`ngincompat.incompatibility.burgers_area_closed_form`, eq. 21-22 written out with
+# eq. (22) (`ngincompat.incompatibility.operators.burgers_area_closed_form`, eq. 21-22 written out
+# with
 # the gradient taken symbolically): `b_out_of_plane`, the largest component of b along N0
 # (zero by construction for any Curl of this Fg: G^T N0 . N0 = 0), `b_along_grad_theta`, the
 # largest radial component, and `b_eq22_error`, the largest |b - b_eq22|. The last two leave
@@ -147,7 +149,7 @@ display(Markdown(tables.markdown(rows, columns, results.metric_units)))
 
 # %%
 views = {}
-top = max(postprocess.maximum(r.fields["sigma_r"], r.domain) for r in runs.values())
+top = max(sampling.maximum(r.fields["sigma_r"], r.domain) for r in runs.values())
 for fibers, r in runs.items():
     views[fibers] = Draw(r.fields["sigma_r"], r.domain, f"sigma_r ({fibers} fibers)",
                          deformation=r.fields["u"], min=-top, max=top, autoscale=False)

@@ -36,9 +36,10 @@ import os
 
 from IPython.display import Markdown, display
 
-from ngincompat import folding, plots, tables
-from ngincompat.bifurcation import onset
+from ngincompat.references.bifurcation import onset
 from ngincompat.scenes.folding import FoldingScene
+from ngincompat.studies import folding
+from ngincompat.workflow import plots, tables
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
@@ -55,7 +56,8 @@ display(Markdown(folding.summary_markdown(rows)))
 # %% [markdown]
 # ## The onset against the bifurcation analysis
 #
-# `ngincompat.bifurcation` is an independent linear bifurcation analysis of a growing stiff
+# `ngincompat.references.bifurcation` is an independent linear bifurcation analysis of a growing
+# stiff
 # layer on a soft substrate (neo-Hookean, plane strain, the same moduli; roller ends, so the
 # modes are sin(n pi X1 / L)). Its onset is the smallest critical growth over n. The scene
 # finds the onset where the smallest eigenvalue of its tangent crosses zero (interpolated

@@ -57,7 +57,8 @@ bump_view = Draw(results.fields["|b_n3|"], results.domain, "|b| on n3",
 # `results.fields` holds every field as an NGSolve CoefficientFunction (theta, G, b on the
 # planes n_i = Fg e_i / |Fg e_i|, the displacement u, the stresses), `results.profiles` the
 # fields sampled along the X1 centre line, `results.figures` the specifications of the
-# scene's figures (`ngincompat.plots.figure(results, spec)` draws one), `results.solver` the
+# scene's figures (`ngincompat.workflow.plots.figure(results, spec)` draws one), `results.solver`
+# the
 # Newton history. `scene.run("out")` also writes results.json, VTK and the figures into the
 # folder `out`.
 

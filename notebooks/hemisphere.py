@@ -38,7 +38,7 @@
 # (1, 1, 1)/sqrt(3) from the centre. Then one call per variant: the other two profiles side by
 # side (Fig. 2f-h and the residual stresses), and a verification: with a symmetry condition on
 # the flat face the body is exactly half of a growing ball, whose stresses come from an
-# independent 1-D radial solution (`ngincompat.radial`).
+# independent 1-D radial solution (`ngincompat.references.radial`).
 #
 # It runs at the scene's defaults (maxh 0.3 mm, 0.02 mm at the centre, displacement order 4;
 # four runs of a minute or more each, several minutes in all). With `NGINCOMPAT_COARSE=1`
@@ -52,10 +52,11 @@ import numpy as np
 from IPython.display import Markdown, display
 from ngsolve.webgui import Draw
 
-from ngincompat import plots, postprocess, tables
-from ngincompat.radial import solve_radial
+from ngincompat import sampling
+from ngincompat.references.radial import solve_radial
 from ngincompat.scenes import HemisphereScene
 from ngincompat.scenes.hemisphere import PROFILES
+from ngincompat.workflow import plots, tables
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
@@ -107,7 +108,7 @@ theta_view = Draw(fields["theta"], mesh, "theta (convex)", clipping=vertical)
 # %%
 for plane in ("radial", "meridional", "circumferential"):
     print(f"max |b| on the {plane:15s} plane: "
-          f"{postprocess.maximum(fields[f'|b_{plane}|'], mesh):.4f} 1/{L}")
+          f"{sampling.maximum(fields[f'|b_{plane}|'], mesh):.4f} 1/{L}")
 print(f"eq. (16) at R = R0: |b| = (1/2) / (3 * 1.25^(4/3)) = {0.5 / (3 * 1.25 ** (4 / 3)):.4f}")
 for key in ("b_radial_rel", "b_meridional_off_circumferential",
             "b_circumferential_off_meridional"):
@@ -223,7 +224,8 @@ stress_view = Draw(fields["sigma_thetatheta"], mesh, "sigma_thetatheta (convex)"
 # With the flat face free, as in the paper, the hemisphere is not exactly half of anything.
 # `flat_face="symmetry"` removes the normal displacement of the flat face X3 = 0 instead; the
 # body is then exactly half of a ball growing with theta(R), whose equilibrium reduces to an
-# ordinary differential equation in R. `ngincompat.radial.solve_radial` integrates that ODE
+# ordinary differential equation in R. `ngincompat.references.radial.solve_radial` integrates that
+# ODE
 # (numpy and scipy only, nothing from the finite element code) and shoots on the central
 # stretch until the surface is traction-free. The scene runs this check itself in symmetry
 # mode: `radial_sigma_rr_error`, `radial_sigma_thetatheta_error` and

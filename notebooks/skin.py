@@ -16,7 +16,7 @@
 #
 # A 10 x 10 x 0.3 cm patch of skin, clamped at its periphery, lies on its base; an expander
 # under it is inflated to 50 cc. The expander is a rigid dome over its circular footprint that
-# the skin rests on, in frictionless contact (a smoothed penalty, `ngincompat.contact`); its
+# the skin rests on, in frictionless contact (a smoothed penalty, `ngincompat.fem.contact`); its
 # height is not prescribed but controlled until the volume under the skin is 50 cc. The
 # expander is held for 7 days while the skin grows in area about its normal N0 = e3 (Hill law,
 # eq. 46, implicit Euler, eq. 48, solved together with equilibrium). Then the expander is
@@ -41,8 +41,8 @@ import os
 from IPython.display import Markdown, display
 from ngsolve.webgui import Draw
 
-from ngincompat import plots, tables
 from ngincompat.scenes import SkinExpansionScene
+from ngincompat.workflow import plots, tables
 
 # %matplotlib inline
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 
 from geometries import cube
-from ngincompat.growth import IsotropicGrowth
-from ngincompat.materials import NeoHookean
-from ngincompat.problem import GrowthMechanics
+from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.mechanics.materials import NeoHookean
 
 #: Command-line settings that run the skin scene in seconds: linear elements, a mesh size of
 #: 3 cm, a low dome (3 cc, inflated in one step) and half a day of growth from any stretch
@@ -91,8 +91,8 @@ def peer_stand_in(folder):
     import json
     import sys
 
-    from ngincompat import peer
-    from ngincompat.bench import CUBE_ENERGY
+    from ngincompat.studies import peer
+    from ngincompat.studies.bench import CUBE_ENERGY
     (folder / "debroot").mkdir(parents=True)
     (folder / peer.PEER_ENV).write_text(f'PY="{sys.executable}"\n')
     record = {"version": "0.5.2", "cell": "tet", "degree": 4, "N": 4, "solver": "lu",

@@ -6,11 +6,12 @@ import numpy as np
 import pytest
 
 from geometries import brain
-from ngincompat import output, postprocess
-from ngincompat.atrophy import AtrophyLaw
+from ngincompat import sampling
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
+from ngincompat.mechanics.atrophy import AtrophyLaw
 from ngincompat.scenes import AtrophyScene, get_scene
+from ngincompat.workflow import output
 
 #: A small brain (3 x 2.5 x 2 cm, gray shell 0.5 cm), ten years in steps of one: seconds.
 SMALL = dict(semi_axes="3,2.5,2", gray_thickness=0.5, t_end=10.0, dt=1.0, snapshots=1,
@@ -50,7 +51,7 @@ def test_equal_rates_and_uniform_c_are_compatible():
     assert m["burgers_max"] < 1e-10
     assert m["G_norm_L2"] < 1e-10
     s = f["sigma_max_principal"]
-    assert max(postprocess.maximum(s, mesh), postprocess.maximum(-s, mesh)) < 1e-9
+    assert max(sampling.maximum(s, mesh), sampling.maximum(-s, mesh)) < 1e-9
     assert m["Je_deviation_max"] < 1e-10
     assert m["volume_bookkeeping_error"] < 1e-12
     c = logistic_backward_euler(0.1, 0.6, 1.0, 10)

@@ -1,11 +1,11 @@
-"""The atrophy law (ngincompat.atrophy) against the closed-form solution of its ODE."""
+"""The atrophy law (ngincompat.mechanics.atrophy) against the closed-form solution of its ODE."""
 
 import numpy as np
 import pytest
 
-from ngincompat.atrophy import AtrophyLaw, exposure_increment
 from ngincompat.errors import ParameterError
-from ngincompat.transport import logistic, logistic_integral
+from ngincompat.fem.transport import logistic, logistic_integral
+from ngincompat.mechanics.atrophy import AtrophyLaw, exposure_increment
 
 
 def closed_form(t, G, theta_min=0.7, c0=0.1, alpha=0.6):

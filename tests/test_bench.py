@@ -2,8 +2,9 @@
 
 import pytest
 
-from ngincompat import bench, io
 from ngincompat.cli import main
+from ngincompat.studies import bench
+from ngincompat.workflow import io
 
 
 def test_cheapest_setting_meeting_a_target():

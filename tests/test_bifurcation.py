@@ -5,7 +5,8 @@ limit."""
 import numpy as np
 import pytest
 
-from ngincompat.bifurcation import (
+from ngincompat.errors import ParameterError
+from ngincompat.references.bifurcation import (
     Bilayer,
     critical_growth,
     moduli,
@@ -14,7 +15,6 @@ from ngincompat.bifurcation import (
     stroh_matrix,
     thin_film,
 )
-from ngincompat.errors import ParameterError
 
 
 @pytest.mark.parametrize("ratio, lambda3, s11, s22", [

@@ -1,4 +1,4 @@
-"""The eigenpairs of the stability checks (:mod:`ngincompat.buckling`): the inertia that
+"""The eigenpairs of the stability checks (:mod:`ngincompat.fem.buckling`): the inertia that
 proves them the smallest, the shift below the pairs nearest zero when they are not, and the
 onset as the earliest zero crossing among the modes of two samples."""
 
@@ -12,7 +12,7 @@ import scipy.sparse as sp
 from netgen.csg import unit_cube
 from scipy.linalg import eigh
 
-from ngincompat import buckling
+from ngincompat.fem import buckling
 
 
 def pencil(n, seed=0):

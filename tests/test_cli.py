@@ -6,7 +6,7 @@ import pytest
 from conftest import SKIN_COARSE
 
 from ngincompat.cli import main
-from ngincompat.solver import NewtonSolver
+from ngincompat.fem.solver import NewtonSolver
 
 CUBE = ["run", "cube", "--order", "1", "--maxh", "1"]
 
@@ -88,7 +88,7 @@ def test_skin_runs_through_the_command_line(tmp_path, capsys):
 
 def test_outputs_name_every_optional_output_of_a_scene():
     from ngincompat.cli import OUTPUT_NAMES, _outputs
-    from ngincompat.output import OUTPUTS
+    from ngincompat.workflow.output import OUTPUTS
     assert OUTPUT_NAMES[2:] == OUTPUTS
     assert _outputs("incompatibility,curvature,growth") == {
         "mechanics": False, "outputs": "growth,curvature"}

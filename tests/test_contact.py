@@ -6,15 +6,20 @@ import numpy as np
 import pytest
 
 from geometries import FOOTPRINTS, footprint_size
-from ngincompat import contact
-from ngincompat.contact import Expander
+from ngincompat import config
 from ngincompat.errors import ParameterError
+from ngincompat.fem import contact
+from ngincompat.fem.contact import Expander
 from ngincompat.scenes import SkinExpansionScene
 
 #: A coarse run of the contact model: a low dome (3 cc), inflated in one step, half a day of
 #: hold, deflation and release.
 COARSE = dict(footprint="circle", maxh=3.0, order=1, growth_order=0, g_order=2,
               inflation_steps=1, volume=3.0, hold_days=0.5, dt=0.5, outputs="none")
+
+
+def test_the_expander_shapes_a_dome_for_every_footprint_of_the_skin_patch():
+    assert Expander.FOOTPRINTS == FOOTPRINTS
 
 
 @pytest.mark.parametrize("footprint", FOOTPRINTS)
@@ -247,7 +252,7 @@ def test_released_maps_and_the_compression_of_the_former_contact_zone(inflated):
 def test_smallest_principal_value_is_the_largest_of_the_negated_tensor():
     import ngsolve as ngs
 
-    from ngincompat.postprocess import largest_principal_value
+    from ngincompat.fem.postprocess import largest_principal_value
 
     rng = np.random.default_rng(3)
     A = rng.normal(size=(3, 3))
@@ -264,11 +269,11 @@ def test_expander_handed_over_to_its_dead_traction_keeps_the_equilibrium():
     touches the dome any more."""
     import ngsolve as ngs
 
-    from ngincompat.pipeline import solve_stages
+    from ngincompat.workflow.pipeline import solve_stages
 
     case = SkinExpansionScene(expander="contact", penalty=1000.0, **COARSE).build()
     problem = case.problem
-    with ngs.TaskManager():
+    with config.task_manager():
         solve_stages([s for s in case.stages(None, None) if s.name in ("inflation", "contact")])
     footprint = case.mesh.Boundaries("footprint")
     pushed = ngs.Integrate(problem.contact_pressure(), case.mesh, ngs.BND, definedon=footprint)

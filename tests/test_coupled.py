@@ -12,15 +12,15 @@ import pytest
 from scipy.optimize import brentq
 
 from geometries import cube, skin_patch
-from ngincompat import fields, kinematics
 from ngincompat.errors import ParameterError
-from ngincompat.growth import IsotropicGrowth
-from ngincompat.growth_laws import ConstantRateLaw, HillLaw, StrainDrivenLaw
-from ngincompat.materials import NeoHookean
-from ngincompat.problem import CoupledGrowth, euler_residual, find_compiler
+from ngincompat.fem.problem import CoupledGrowth, euler_residual, find_compiler
+from ngincompat.fem.solver import NewtonOptions, solve_coupled
+from ngincompat.fem.stages import CoupledStage
+from ngincompat.mechanics import fields, kinematics
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.mechanics.laws import ConstantRateLaw, HillLaw, StrainDrivenLaw
+from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import SILENT
-from ngincompat.solver import NewtonOptions, solve_coupled
-from ngincompat.stages import CoupledStage
 
 LAW = StrainDrivenLaw(tau=1.0, theta_max=1.5, gamma=2.0, theta_crit=1.0)
 
@@ -63,7 +63,7 @@ def test_global_newton_converges_quadratically_with_coupled_growth():
 
 def test_ngscxx_is_found_beside_the_interpreter_of_an_unactivated_environment(monkeypatch):
     """``.venv/bin/ngincompat`` runs without ``.venv/bin`` on PATH, where NGSolve's wheels put
-    its compiler script: :func:`~ngincompat.problem.find_compiler` puts it there."""
+    its compiler script: :func:`~ngincompat.fem.problem.find_compiler` puts it there."""
     beside = Path(sys.executable).parent / "ngscxx"
     if not beside.is_file():
         pytest.skip("NGSolve's ngscxx is not installed beside this interpreter")
@@ -164,8 +164,8 @@ def test_volume_constraint_meets_its_target():
 def _computed_growth_G_error(maxh, growth_order, g_order):
     """G from a growth field known only as an L2 function of ``growth_order`` (as a computed
     field is), through the projected path with H1 of ``g_order``, against eq. (20)."""
-    from ngincompat import incompatibility as inc
-    from ngincompat.growth import AreaGrowth
+    from ngincompat.incompatibility import operators as inc
+    from ngincompat.mechanics.growth import AreaGrowth
 
     mesh = cube(maxh=maxh, elements="tet")
     theta = 1 + 0.25 * ngs.sin(ngs.x + 0.5 * ngs.y)
@@ -260,9 +260,9 @@ def test_the_potential_is_the_energy_of_the_frozen_residual(loaded):
     """At frozen growth the coupled residual is the derivative of the step's energy in u:
     the strain energy int Jg Psi dV (dt = 0), and with a viscous pseudo-time step and a dead
     traction Phi = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV - s int t . u dA
-    (:meth:`~ngincompat.problem.CoupledGrowth.potential`). Its central difference along a
+    (:meth:`~ngincompat.fem.problem.CoupledGrowth.potential`). Its central difference along a
     displacement w equals R(u) . w. This is what lets the frozen Newton solves of
-    :mod:`ngincompat.stages` test their line search on the energy."""
+    :mod:`ngincompat.fem.stages` test their line search on the energy."""
     if loaded:
         problem = CoupledGrowth(cube(maxh=0.5), "fiber", fields.constant("e1"), LAW,
                                 NeoHookean.from_nu(1.0, 0.3), order=2,

@@ -12,10 +12,10 @@ from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 
 from geometries import cube
-from ngincompat import expressions
 from ngincompat.errors import ExpressionError, ParameterError
-from ngincompat.expressions import parse_expression
-from ngincompat.growth import check_positive
+from ngincompat.mechanics import expressions
+from ngincompat.mechanics.expressions import parse_expression
+from ngincompat.mechanics.growth import check_positive
 
 INF, NAN = math.inf, math.nan
 

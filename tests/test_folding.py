@@ -11,18 +11,20 @@ from conftest import FOLDING_COARSE
 from scipy.optimize import brentq
 
 from geometries import bilayer, cube
-from ngincompat import buckling, fields, folding, postprocess
-from ngincompat.bifurcation import critical_growth, onset, prebuckled_cortex
 from ngincompat.cli import main
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual
-from ngincompat.materials import NeoHookean, Regional
-from ngincompat.pipeline import Solution
-from ngincompat.problem import CoupledGrowth
+from ngincompat.fem import buckling, postprocess
+from ngincompat.fem.problem import CoupledGrowth
+from ngincompat.fem.shape import circle_curvature
+from ngincompat.fem.solver import NewtonOptions, solve_coupled
+from ngincompat.mechanics import fields
+from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual
+from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import SILENT
+from ngincompat.references.bifurcation import critical_growth, onset, prebuckled_cortex
 from ngincompat.scenes.folding import FLOW_RTOL, FoldingScene
-from ngincompat.shape import circle_curvature
-from ngincompat.solver import NewtonOptions, solve_coupled
+from ngincompat.studies import folding
+from ngincompat.workflow.pipeline import Solution
 
 #: A short, shallow bilayer that buckles like the long one (its substrate is still many
 #: cortical thicknesses deep) on a coarse but adequate mesh: two quadratic elements across

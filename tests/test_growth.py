@@ -9,11 +9,13 @@ import pytest
 from conftest import random_points, values_at
 
 from geometries import cube
-from ngincompat import fields
-from ngincompat import growth as growth_module
-from ngincompat import incompatibility as inc
 from ngincompat.errors import ParameterError
-from ngincompat.growth import (
+from ngincompat.fem.problem import CoupledGrowth, GrowthMechanics
+from ngincompat.fem.solver import solve_coupled, solve_growth
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics import fields
+from ngincompat.mechanics import growth as growth_module
+from ngincompat.mechanics.growth import (
     KINDS,
     AreaGrowth,
     FiberGrowth,
@@ -25,10 +27,8 @@ from ngincompat.growth import (
     growth_kind,
     make_growth,
 )
-from ngincompat.growth_laws import StrainDrivenLaw
-from ngincompat.materials import NeoHookean
-from ngincompat.problem import CoupledGrowth, GrowthMechanics
-from ngincompat.solver import solve_coupled, solve_growth
+from ngincompat.mechanics.laws import StrainDrivenLaw
+from ngincompat.mechanics.materials import NeoHookean
 
 THETA = 1 + 0.5 * ngs.x + 0.2 * ngs.y
 

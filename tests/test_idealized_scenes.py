@@ -4,9 +4,9 @@ independent 1-D solution."""
 import numpy as np
 import pytest
 
-from ngincompat import paper
-from ngincompat.radial import solve_radial
+from ngincompat.references.radial import solve_radial
 from ngincompat.scenes import CylinderScene, DiscScene, HemisphereScene, get_scene
+from ngincompat.studies import paper
 
 
 def test_radial_reference_is_stress_free_for_uniform_growth():

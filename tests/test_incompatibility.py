@@ -6,9 +6,9 @@ import pytest
 from conftest import l2_norm, random_points, values_at
 
 from geometries import cube
-from ngincompat import fields
-from ngincompat import incompatibility as inc
-from ngincompat.growth import AreaGrowth, FiberGrowth, IsotropicGrowth, TensorGrowth
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics import fields
+from ngincompat.mechanics.growth import AreaGrowth, FiberGrowth, IsotropicGrowth, TensorGrowth
 
 X1, X2, X3 = ngs.x, ngs.y, ngs.z
 

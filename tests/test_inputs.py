@@ -9,8 +9,8 @@ import pytest
 from conftest import random_points, values_at
 
 from geometries import cylinder
-from ngincompat import inputs
 from ngincompat.errors import ParameterError
+from ngincompat.workflow import inputs
 
 
 def write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0), version="2.2 0 8"):

@@ -8,7 +8,8 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from ngincompat import io
+from ngincompat.atomic import atomic_path
+from ngincompat.workflow import io
 
 
 def test_json_is_atomic_and_sanitised(tmp_path):
@@ -54,7 +55,7 @@ def test_files_get_the_mode_open_would_give(tmp_path, umask):
         new = stat.S_IMODE(path.stat().st_mode)
         io.write_json(path, {"step": 2})  # replacing an existing file
         replaced = stat.S_IMODE(path.stat().st_mode)
-        with io.atomic_path(tmp_path / "figure.png") as tmp:
+        with atomic_path(tmp_path / "figure.png") as tmp:
             tmp.write_bytes(b"png")
         figure = stat.S_IMODE((tmp_path / "figure.png").stat().st_mode)
     finally:

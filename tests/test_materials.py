@@ -9,10 +9,12 @@ import pytest
 from conftest import values_at
 
 from geometries import cube
-from ngincompat import materials as materials_module
 from ngincompat.errors import ParameterError
-from ngincompat.growth import IsotropicGrowth
-from ngincompat.materials import (
+from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.fem.solver import solve_growth
+from ngincompat.mechanics import materials as materials_module
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.mechanics.materials import (
     GOH,
     MATERIALS,
     Material,
@@ -23,8 +25,6 @@ from ngincompat.materials import (
     make_material,
     material_kind,
 )
-from ngincompat.problem import GrowthMechanics
-from ngincompat.solver import solve_growth
 
 P = np.array([[0.5, 0.5, 0.5]])
 

@@ -66,8 +66,8 @@ def test_notebook_ends_with_an_assert(path):
 
 def test_pipeline_names_are_found():
     """The check below sees an import, a module attribute and a bare name."""
-    tree = ast.parse("from ngincompat.problem import GrowthMechanics\n"
-                     "import ngincompat.incompatibility as inc\n"
+    tree = ast.parse("from ngincompat.fem.problem import GrowthMechanics\n"
+                     "import ngincompat.incompatibility.operators as inc\n"
                      "inc.curl_projected(Fg, mesh, 6)\n"
                      "solve_coupled(problem, 1.0, 0.1)\n")
     assert pipeline_names(tree) == {"GrowthMechanics", "curl_projected", "solve_coupled"}

@@ -2,9 +2,9 @@
 
 import pytest
 
-from ngincompat import output
 from ngincompat.errors import ParameterError
 from ngincompat.scenes import CubeScene
+from ngincompat.workflow import output
 
 
 def test_a_file_as_output_folder_is_refused(tmp_path):

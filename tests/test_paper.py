@@ -4,8 +4,8 @@ import json
 
 import pytest
 
-from ngincompat import paper
 from ngincompat.cli import main
+from ngincompat.studies import paper
 
 
 @pytest.fixture(scope="module")

@@ -6,10 +6,10 @@ import sys
 import pytest
 from conftest import peer_stand_in
 
-from ngincompat import peer
-from ngincompat.bench import CUBE_ENERGY
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
+from ngincompat.studies import peer
+from ngincompat.studies.bench import CUBE_ENERGY
 
 
 def test_missing_peer_is_one_clear_line(monkeypatch, tmp_path, capsys):

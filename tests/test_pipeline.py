@@ -5,10 +5,10 @@ import json
 
 import pytest
 
-from ngincompat import pipeline
 from ngincompat.errors import ConvergenceError, Interrupted
-from ngincompat.results import DONE, INTERRUPTED, NOT_CONVERGED, MeshInfo, Results
-from ngincompat.solver import SolverHistory
+from ngincompat.fem.solver import SolverHistory
+from ngincompat.workflow import pipeline
+from ngincompat.workflow.results import DONE, INTERRUPTED, NOT_CONVERGED, MeshInfo, Results
 
 
 class FakeStage:
@@ -124,8 +124,8 @@ def test_fallback_stage_runs_the_second_path_only_after_a_reset(outcome):
     """A failed first path is reset, then the second runs under the first's name; its
     history starts with the failed attempt's steps. A second path that fails too fails the
     stage."""
-    from ngincompat.solver import StepRecord
-    from ngincompat.stages import FallbackStage
+    from ngincompat.fem.solver import StepRecord
+    from ngincompat.fem.stages import FallbackStage
 
     log = []
 

@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from ngincompat import plots
 from ngincompat.scenes import CylinderScene, DiscScene, HemisphereScene
+from ngincompat.workflow import plots
 
 
 def _axes(fig):

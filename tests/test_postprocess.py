@@ -5,10 +5,11 @@ import numpy as np
 import pytest
 from conftest import random_points, values_at
 
-from ngincompat import postprocess
-from ngincompat.growth import IsotropicGrowth
-from ngincompat.materials import NeoHookean
-from ngincompat.problem import GrowthMechanics
+from ngincompat import sampling
+from ngincompat.fem import postprocess
+from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.mechanics.materials import NeoHookean
 
 
 def test_stresses_are_consistent_with_eq37_and_each_other(unit_cube_hex):
@@ -51,7 +52,7 @@ def test_largest_principal_value_in_closed_form(unit_cube_hex):
     isotropic ones (q I, p = 0)."""
     x, y, z = ngs.x, ngs.y, ngs.z
     cf = ngs.CF((1 + x, y * z, 0.3 * x, y * z, 2 * y, 0.1, 0.3 * x, 0.1, z * z), dims=(3, 3))
-    pts = postprocess.element_points(unit_cube_hex, 4)
+    pts = sampling.element_points(unit_cube_hex, 4)
     T = np.asarray(cf(pts)).reshape(-1, 3, 3)
     got = np.asarray(postprocess.largest_principal_value(cf)(pts)).ravel()
     np.testing.assert_allclose(got, np.linalg.eigvalsh(T)[:, 2], atol=1e-13)
@@ -66,8 +67,8 @@ def test_maximum_skips_undefined_points_only(unit_cube_hex):
     """A NaN at the vertex X = 0 (a cone point of 1 / R) is left out; NaN everywhere stays
     NaN."""
     R = ngs.sqrt(ngs.x * ngs.x + ngs.y * ngs.y + ngs.z * ngs.z)
-    assert postprocess.maximum(ngs.x / R, unit_cube_hex) == pytest.approx(1.0)
-    assert np.isnan(postprocess.maximum(ngs.sqrt(-1 - ngs.x), unit_cube_hex))
+    assert sampling.maximum(ngs.x / R, unit_cube_hex) == pytest.approx(1.0)
+    assert np.isnan(sampling.maximum(ngs.sqrt(-1 - ngs.x), unit_cube_hex))
 
 
 def test_sample_line_includes_boundary_points(unit_cube_hex):
@@ -79,7 +80,7 @@ def test_sample_line_includes_boundary_points(unit_cube_hex):
 
 
 def test_maximum_over_element_points(unit_cube_hex):
-    assert postprocess.maximum(ngs.x * ngs.y, unit_cube_hex) == pytest.approx(1.0)
+    assert sampling.maximum(ngs.x * ngs.y, unit_cube_hex) == pytest.approx(1.0)
 
 
 def test_sample_plane_returns_a_prescribed_linear_field_exactly(unit_cube_tet):
@@ -100,6 +101,6 @@ def test_sample_plane_returns_a_prescribed_linear_field_exactly(unit_cube_tet):
 
 
 def test_argmax_finds_the_value_and_the_point(unit_cube_hex):
-    value, where = postprocess.argmax(ngs.x * ngs.y - ngs.z, unit_cube_hex)
+    value, where = sampling.argmax(ngs.x * ngs.y - ngs.z, unit_cube_hex)
     assert value == pytest.approx(1.0)
     np.testing.assert_allclose(where, (1, 1, 0), atol=1e-12)

@@ -6,14 +6,14 @@ import pytest
 from conftest import cube_problem
 
 from geometries import cube
-from ngincompat import incompatibility as inc
-from ngincompat import postprocess
 from ngincompat.errors import ParameterError
-from ngincompat.growth import IsotropicGrowth, TensorGrowth
-from ngincompat.kinematics import deformation_gradient
-from ngincompat.materials import NeoHookean
-from ngincompat.problem import GrowthMechanics
-from ngincompat.solver import solve_growth
+from ngincompat.fem import postprocess
+from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.fem.solver import solve_growth
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics.growth import IsotropicGrowth, TensorGrowth
+from ngincompat.mechanics.kinematics import deformation_gradient
+from ngincompat.mechanics.materials import NeoHookean
 
 
 @pytest.mark.parametrize("elements", ["hex", "tet"])
@@ -124,7 +124,7 @@ def test_problem_rejects_bad_order_and_missing_fibers():
     growth = IsotropicGrowth(1 + ngs.x * time)
     with pytest.raises(ParameterError, match="order = 0"):
         GrowthMechanics(mesh, growth, MATERIAL, order=0)
-    from ngincompat.materials import GOH
+    from ngincompat.mechanics.materials import GOH
     with pytest.raises(ParameterError, match="fibers"):
         GrowthMechanics(mesh, growth, GOH(1, 1, 1, 1, 0), order=1)
 

@@ -2,9 +2,9 @@
 
 import io
 
+from ngincompat.fem.solver import NewtonSolver
 from ngincompat.progress import Progress
 from ngincompat.scenes import CubeScene
-from ngincompat.solver import NewtonSolver
 
 
 def test_plain_lines_name_case_stage_and_step():

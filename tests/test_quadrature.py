@@ -8,14 +8,14 @@ import ngsolve as ngs
 import pytest
 
 from geometries import cube
-from ngincompat import quadrature
-from ngincompat.bench import CUBE_ENERGY
 from ngincompat.errors import ParameterError
-from ngincompat.growth import IsotropicGrowth
-from ngincompat.materials import NeoHookean
-from ngincompat.problem import GrowthMechanics
+from ngincompat.fem import quadrature
+from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.fem.solver import solve_growth
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.scenes.cube import CubeScene
-from ngincompat.solver import solve_growth
+from ngincompat.studies.bench import CUBE_ENERGY
 
 basix = pytest.importorskip("basix", reason="the symmetric rules come from fenics-basix "
                                             "(the test extra installs it)")

@@ -19,8 +19,8 @@ from pathlib import Path
 import pytest
 from conftest import FOLDING_COARSE, SKIN_COARSE, local_dask_cluster, peer_stand_in
 
-from ngincompat import io
 from ngincompat.cli import EXIT_FAILED_CASES, main
+from ngincompat.workflow import io
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"

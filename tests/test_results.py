@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from ngincompat import output
-from ngincompat.results import Results
 from ngincompat.scenes import CubeScene
+from ngincompat.workflow import output
+from ngincompat.workflow.results import Results
 
 
 @pytest.fixture(scope="module")

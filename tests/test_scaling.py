@@ -7,10 +7,12 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from ngincompat import cli, io, scaling
+from ngincompat import cli
 from ngincompat.errors import ParameterError
-from ngincompat.problem import GrowthMechanics
-from ngincompat.solver import NewtonSolver
+from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.fem.solver import NewtonSolver
+from ngincompat.studies import scaling
+from ngincompat.workflow import io
 
 IN_PROCESS = ("sparsecholesky", "umfpack", "bddc")
 

@@ -6,8 +6,8 @@ import pytest
 
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
-from ngincompat.results import Results
 from ngincompat.scenes import CubeScene, CustomScene, HemisphereScene, SkinExpansionScene, get_scene
+from ngincompat.workflow.results import Results
 
 REQUIRED = {"scene", "status", "params", "units", "versions", "mesh", "solver", "timings",
             "metrics", "profiles", "figures", "files"}

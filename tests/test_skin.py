@@ -8,14 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from ngincompat import buckling
 from ngincompat.errors import ConvergenceError
-from ngincompat.problem import GrowthMechanics, pin_reactions
+from ngincompat.fem import buckling
+from ngincompat.fem.problem import GrowthMechanics, pin_reactions
+from ngincompat.fem.solver import NewtonSolver
+from ngincompat.fem.stages import PrescribedGrowthStage
 from ngincompat.progress import SILENT
 from ngincompat.scenes import SkinExpansionScene
 from ngincompat.scenes.skin import CLAMP
-from ngincompat.solver import NewtonSolver
-from ngincompat.stages import PrescribedGrowthStage
 
 #: The circle 7 cm across that these checks were set up on (base 38.5 cm^2, not the default),
 #: pushed by a uniform pressure (not the default expander).

@@ -8,7 +8,7 @@ import pytest
 from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.solver import NewtonOptions, SymmetricPart, solve_growth
+from ngincompat.fem.solver import NewtonOptions, SymmetricPart, solve_growth
 
 
 def _orders(residuals):

@@ -5,8 +5,8 @@ import math
 
 import pytest
 
-from ngincompat import stability
-from ngincompat.stability import Cell
+from ngincompat.studies import stability
+from ngincompat.studies.stability import Cell
 
 
 @pytest.fixture(scope="module")

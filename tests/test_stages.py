@@ -10,15 +10,15 @@ from conftest import cube_problem
 
 from geometries import cube
 from ngincompat.errors import ParameterError
-from ngincompat.progress import SILENT
-from ngincompat.solver import NewtonOptions
-from ngincompat.stages import (
+from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.stages import (
     CoupledStage,
     PrescribedGrowthStage,
     RelaxationStage,
     restore_checkpoint,
     save_checkpoint,
 )
+from ngincompat.progress import SILENT
 
 
 def test_growth_in_two_stages_reaches_the_state_of_one():

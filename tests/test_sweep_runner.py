@@ -13,11 +13,11 @@ from pathlib import Path
 import pytest
 from conftest import local_dask_cluster
 
-from ngincompat import output
 from ngincompat.cli import main
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.results import MeshInfo, Results
-from ngincompat.sweep import load_sweep, parse_sweep, read_table, run_case, run_sweep
+from ngincompat.studies.sweep import load_sweep, parse_sweep, read_table, run_case, run_sweep
+from ngincompat.workflow import output
+from ngincompat.workflow.results import MeshInfo, Results
 
 # six cases: (nu, a) zipped, the last nu out of range (its case fails in the scene)
 FAILING = """

@@ -5,7 +5,7 @@ import pytest
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.scenes import CubeScene
-from ngincompat.sweep import load_sweep, parse_sweep
+from ngincompat.studies.sweep import load_sweep, parse_sweep
 
 
 def _write(path, text):

@@ -8,8 +8,8 @@ import pytest
 
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
-from ngincompat.sweep import parse_sweep, read_table, sweep_figure
-from ngincompat.sweep.table import make_table, write_table
+from ngincompat.studies.sweep import parse_sweep, read_table, sweep_figure
+from ngincompat.studies.sweep.table import make_table, write_table
 
 SWEEP = parse_sweep({"scene": "cube", "metrics": ["strain_energy", "max_principal_stress"],
                      "fixed": {"maxh": 1.0}, "vary": {"order": [1, 2], "a": [0.1, 0.2, 0.3]}})

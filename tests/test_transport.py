@@ -1,4 +1,4 @@
-"""The Fisher-KPP transport of misfolded protein (ngincompat.transport) against its oracles:
+"""The Fisher-KPP transport of misfolded protein (ngincompat.fem.transport) against its oracles:
 the logistic solution for a uniform seed, and the front speed 2 sqrt(D alpha) on a slab."""
 
 import ngsolve as ngs
@@ -7,7 +7,7 @@ import pytest
 from ngsolve.meshes import MakeStructured3DMesh
 
 from ngincompat.errors import ParameterError
-from ngincompat.transport import (
+from ngincompat.fem.transport import (
     FisherKPP,
     diffusion_tensor,
     logistic,

@@ -1,4 +1,5 @@
-"""The drivers' shared machinery (:mod:`ngincompat.variants`): every variant into its folder,
+"""The drivers' shared machinery (:mod:`ngincompat.studies.variants`): every variant into its
+folder,
 one summary, a failed variant a row of its own."""
 
 import json
@@ -6,8 +7,8 @@ import json
 import pytest
 
 from ngincompat.errors import ConvergenceError
-from ngincompat.results import NOT_CONVERGED, MeshInfo, Results
-from ngincompat.variants import run_variants, write_summary
+from ngincompat.studies.variants import run_variants, write_summary
+from ngincompat.workflow.results import NOT_CONVERGED, MeshInfo, Results
 
 
 class StandIn:

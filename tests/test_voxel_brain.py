@@ -11,8 +11,8 @@ from geometries import cube
 from geometries.voxel_brain import from_nifti, mni152, voxel_mesh
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
+from ngincompat.fem.transport import FisherKPP, diffusion_tensor
 from ngincompat.scenes import AtrophyScene
-from ngincompat.transport import FisherKPP, diffusion_tensor
 
 nibabel = pytest.importorskip("nibabel")
 
@@ -166,7 +166,7 @@ def test_bad_mesh_files_name_the_file(tmp_path):
 def test_lumped_hex_mass_is_the_volume_and_exact_for_trilinear(unit_cube_hex):
     """The vertex rule of hexahedra: weights sum to the volume and integrate trilinear
     functions exactly (on a sheared, non-affine mesh too)."""
-    from ngincompat.transport import _VERTEX_RULES
+    from ngincompat.fem.transport import _VERTEX_RULES
 
     rule = _VERTEX_RULES[ngs.HEX]
     assert sum(rule.weights) == pytest.approx(1.0)

@@ -7,10 +7,10 @@ import json
 import sys
 import time
 
-from ngincompat import buckling
-from ngincompat.pipeline import Solution, solve_stages
+from ngincompat.fem import buckling
 from ngincompat.progress import Progress
 from ngincompat.scenes.folding import FoldingScene
+from ngincompat.workflow.pipeline import Solution, solve_stages
 
 settings = dict(a.split("=") for a in sys.argv[1:])
 scene = FoldingScene(**{k: v if k == "axons" else float(v) for k, v in settings.items()},

@@ -5,11 +5,10 @@ factorisations, a solve, the eigenpairs and the samplings along the top. Minimum
 import sys
 import time
 
-import ngsolve as ngs
-
-from ngincompat import buckling
+from ngincompat import config
+from ngincompat.fem import buckling
+from ngincompat.fem.solver import NewtonOptions, NewtonSolver
 from ngincompat.scenes.folding import FoldingScene
-from ngincompat.solver import NewtonOptions, NewtonSolver
 
 
 def best(name, f, n=3):
@@ -27,7 +26,7 @@ p = case.problem
 print(f"dofs {p.ndof}")
 solver = NewtonSolver(p, NewtonOptions(line_search=False))
 p.dt.Set(scene.onset_dt)
-with ngs.TaskManager():
+with config.task_manager():
     best("residual", solver.residual)
     best("tangent assembly", lambda: p.form.AssembleLinearization(p.state.vec))
     for inverse in ("umfpack", "sparsecholesky"):

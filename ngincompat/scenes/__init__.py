@@ -1,14 +1,14 @@
 """Scenes: one module per scene, each a frozen dataclass of parameters with ``run(out)``."""
 
-from ..errors import ParameterError
-from .atrophy import AtrophyScene
-from .cube import CubeScene
-from .custom import CustomScene
-from .cylinder import CylinderScene
-from .disc import DiscScene
-from .folding import FoldingScene
-from .hemisphere import HemisphereScene
-from .skin import SkinExpansionScene
+from ngincompat.errors import ParameterError
+from ngincompat.scenes.atrophy import AtrophyScene
+from ngincompat.scenes.cube import CubeScene
+from ngincompat.scenes.custom import CustomScene
+from ngincompat.scenes.cylinder import CylinderScene
+from ngincompat.scenes.disc import DiscScene
+from ngincompat.scenes.folding import FoldingScene
+from ngincompat.scenes.hemisphere import HemisphereScene
+from ngincompat.scenes.skin import SkinExpansionScene
 
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
                                     SkinExpansionScene, FoldingScene, CustomScene,

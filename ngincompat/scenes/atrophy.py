@@ -3,11 +3,12 @@
 Per time step, staggered and one-way (the mechanics does not act back on the transport):
 
 1. **transport**: the misfolded-protein concentration c on the reference brain follows the
-   Fisher-KPP equation (:mod:`ngincompat.transport`), D = d_ext I + d_axn n (x) n with n
+   Fisher-KPP equation (:mod:`ngincompat.fem.transport`), D = d_ext I + d_axn n (x) n with n
    radial in white matter (axons) and d_axn = 0 in gray, no flux through the surface, a smooth
    seed c0 exp(-|X - Xs|^2 / (2 s^2)) or a uniform c0;
 2. **atrophy**: theta of isotropic growth Fg = theta^(1/3) I (eq. 13) decreases where c is,
-   faster in gray than in white matter, towards theta_min (:mod:`ngincompat.atrophy`; exact
+   faster in gray than in white matter, towards theta_min (:mod:`ngincompat.mechanics.atrophy`;
+   exact
    update, so theta never passes theta_min);
 3. **mechanics**: quasi-static, traction-free (rigid-body motions removed), neo-Hookean per
    tissue, nearly incompressible through the mixed formulation, whose constraint acts on
@@ -44,23 +45,25 @@ import numpy as np
 
 from geometries import brain
 from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
-
-from .. import curvature as cv
-from .. import incompatibility as inc
-from .. import output, postprocess
-from ..atrophy import AtrophyLaw, exposure_increment
-from ..errors import ParameterError, require
-from ..growth import IsotropicGrowth
-from ..kinematics import deformation_gradient
-from ..materials import NeoHookean
-from ..pipeline import Solution, solve_stages, timed
-from ..problem import GrowthMechanics, check_formulation
-from ..progress import Progress
-from ..results import Figure, Results
-from ..solver import NewtonOptions, SolverHistory, solve_growth
-from ..transport import FisherKPP, diffusion_tensor
-from .base import Scene, param
-from .hemisphere import spherical_basis
+from ngincompat import config, sampling
+from ngincompat.errors import ParameterError, require
+from ngincompat.fem import postprocess
+from ngincompat.fem.problem import GrowthMechanics, check_formulation
+from ngincompat.fem.solver import NewtonOptions, SolverHistory, solve_growth
+from ngincompat.fem.transport import FisherKPP, diffusion_tensor
+from ngincompat.incompatibility import curvature as cv
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics.atrophy import AtrophyLaw, exposure_increment
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.mechanics.kinematics import deformation_gradient
+from ngincompat.mechanics.materials import NeoHookean
+from ngincompat.progress import Progress
+from ngincompat.scenes import curvature as curvature_report
+from ngincompat.scenes.base import Scene, param
+from ngincompat.scenes.hemisphere import spherical_basis
+from ngincompat.workflow import output
+from ngincompat.workflow.pipeline import Solution, solve_stages, timed
+from ngincompat.workflow.results import Figure, Results
 
 TISSUES = ("gray", "white")
 PLANES = ("e1", "e2", "e3")
@@ -260,7 +263,7 @@ class AtrophyCase:
     mesh: ngs.Mesh
     series: dict = field(default_factory=dict)
     snapshots: dict = field(default_factory=dict)
-    #: (t, fields) at the snapshot times, frozen (:func:`ngincompat.output.interpolated`).
+    #: (t, fields) at the snapshot times, frozen (:func:`ngincompat.workflow.output.interpolated`).
     frames: list = field(default_factory=list)
 
     def __post_init__(self):
@@ -357,7 +360,7 @@ class AtrophyCase:
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self
-        with ngs.TaskManager():
+        with config.task_manager():
             solve_stages(self.stages(), progress, solution)
 
     def interrupted(self, solution: Solution) -> Results:
@@ -375,7 +378,7 @@ class AtrophyCase:
         """Volumes, incompatibility, residual stress, profile, sections and figures."""
         results = self.interrupted(solution)
         scene, metrics = self.scene, results.metrics
-        with ngs.TaskManager():
+        with config.task_manager():
             with progress.phase("incompatibility"), timed(results.timings, "incompatibility"):
                 fields, inc_metrics = self._incompatibility()
             metrics.update(inc_metrics)
@@ -395,7 +398,7 @@ class AtrophyCase:
             results.frames = list(self.frames)
         results.figures = _figures(scene, self.problem is not None and bool(self.snapshots))
         if "curvature" in scene.output_set():
-            results.figures.append(cv.figure(scene, "R", {"|b| (largest plane)": "burgers"}))
+            curvature_report.report(scene, results, "R", {"|b| (largest plane)": "burgers"})
         return results
 
     def take_frame(self, t, fields=None):
@@ -430,11 +433,12 @@ class AtrophyCase:
         fields = self._incompatibility_fields()
         G_norm = ngs.Integrate(ngs.InnerProduct(self.G, self.G), self.mesh,
                                order=2 * self.scene.g_order)
-        return fields, {"burgers_max": postprocess.maximum(fields["|b|"], self.mesh),
+        return fields, {"burgers_max": sampling.maximum(fields["|b|"], self.mesh),
                         "G_norm_L2": max(G_norm, 0.0) ** 0.5}
 
     def _curvature(self, fields):
-        """The curvature of Cg (:mod:`ngincompat.curvature`): theta is computed on the mesh, so
+        """The curvature of Cg (:mod:`ngincompat.incompatibility.curvature`): theta is computed on
+        the mesh, so
         the Regge path on the continuous interpolant of Fg that G comes from; adds the fields,
         returns the metrics."""
         extra, metrics = cv.measure_growth(self.Fg_h, self.mesh, self.G, exact=False)
@@ -446,7 +450,7 @@ class AtrophyCase:
         metrics = {"c_min": self.c_extremes[0], "c_max": self.c_extremes[1],
                    "c_integral": last["c_integral"],
                    "volume_loss_theta": last["total_volume_loss_theta"],
-                   "theta_min_reached": -postprocess.maximum(-self.theta, self.mesh)}
+                   "theta_min_reached": -sampling.maximum(-self.theta, self.mesh)}
         if "front_radius" in last:
             metrics["front_radius"] = last["front_radius"]
         return metrics
@@ -478,9 +482,9 @@ class AtrophyCase:
             "white_volume_loss": self.snapshots["white_volume_loss"][-1],
             "volume_bookkeeping_error":
                 abs(volumes_J["total"] - volumes_theta["total"]) / self.volume0["total"],
-            "Je_deviation_max": max(postprocess.maximum(J / self.theta - 1, mesh),
-                                    postprocess.maximum(1 - J / self.theta, mesh)),
-            "max_principal_stress": postprocess.maximum(fields["sigma_max_principal"], mesh),
+            "Je_deviation_max": max(sampling.maximum(J / self.theta - 1, mesh),
+                                    sampling.maximum(1 - J / self.theta, mesh)),
+            "max_principal_stress": sampling.maximum(fields["sigma_max_principal"], mesh),
             "equilibrium_residual_rel": float(np.linalg.norm(np.array(total))) / size,
         }
 

@@ -5,8 +5,9 @@ A scene is a frozen dataclass. Its fields are its parameters, each with a defaul
 and a unit in the field's metadata; ``Scene.from_settings`` builds one from ``KEY=VALUE``
 strings (the command line's ``--set``), converting each value to the field's type and naming
 the key and the allowed values in every error. ``scene.build()`` returns its case (see
-:mod:`ngincompat.pipeline`); ``scene.run(out=None)`` runs the whole pipeline and returns the
-:class:`~ngincompat.results.Results`, writing files only when ``out`` is given.
+:mod:`ngincompat.workflow.pipeline`); ``scene.run(out=None)`` runs the whole pipeline and returns
+the
+:class:`~ngincompat.workflow.results.Results`, writing files only when ``out`` is given.
 """
 
 import dataclasses
@@ -14,11 +15,12 @@ import sys
 from dataclasses import dataclass, field
 from typing import ClassVar
 
-from .. import io, parallel, pipeline
-from ..errors import ParameterError, require
-from ..output import OUTPUTS
-from ..progress import SILENT, Progress
-from ..results import MeshInfo, Results
+from ngincompat import parallel
+from ngincompat.errors import ParameterError, require
+from ngincompat.progress import SILENT, Progress
+from ngincompat.workflow import io, pipeline
+from ngincompat.workflow.output import OUTPUTS
+from ngincompat.workflow.results import MeshInfo, Results
 
 
 def param(default, help, unit=""):
@@ -87,14 +89,14 @@ class Scene:
         return {item.strip() for item in self.outputs.split(",")}
 
     def build(self):
-        """The scene's case (see :mod:`ngincompat.pipeline`)."""
+        """The scene's case (see :mod:`ngincompat.workflow.pipeline`)."""
         raise TypeError(f"{type(self).__name__} must define build()")
 
     def run(self, out=None, *, overwrite: bool = False, progress: Progress = SILENT,
             label: str | None = None) -> Results:
         """Build, solve and measure the scene; write the folder ``out`` if given.
 
-        See :func:`ngincompat.pipeline.run` (errors, interruption, what is written)."""
+        See :func:`ngincompat.workflow.pipeline.run` (errors, interruption, what is written)."""
         comm = parallel.world()
         require(comm is None or self.distributed, "MPI ranks", comm and comm.size,
                 f"1: the {self.name} scene does not run distributed (launch it without "

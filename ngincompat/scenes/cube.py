@@ -5,13 +5,13 @@ from dataclasses import dataclass
 import ngsolve as ngs
 
 from geometries import cube
-
-from .. import fields, parallel
-from ..errors import require
-from ..growth import IsotropicGrowth
-from ..incompatibility import lattice_normals
-from . import prescribed
-from .base import param
+from ngincompat import parallel
+from ngincompat.errors import require
+from ngincompat.incompatibility.operators import lattice_normals
+from ngincompat.mechanics import fields
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.scenes import prescribed
+from ngincompat.scenes.base import param
 
 
 @dataclass(frozen=True)

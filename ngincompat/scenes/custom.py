@@ -8,7 +8,8 @@ Example::
     ngincompat run custom --out o2 --set mesh=my.msh --set theta="1 + 0.1*X3*t"
     ngincompat run custom --out o3 --set mesh=o/mesh.vol --set theta_file=o/growth.npz
 
-A mesh file (Netgen ``.vol``/``.vol.gz`` or Gmsh ``.msh`` format 2, :mod:`ngincompat.inputs`)
+A mesh file (Netgen ``.vol``/``.vol.gz`` or Gmsh ``.msh`` format 2,
+:mod:`ngincompat.workflow.inputs`)
 replaces the geometry builder; a growth file (``growth.npz`` of an earlier run with
 ``outputs=growth``, or one value per vertex in ``.npz``/``.csv``/``.txt``) replaces the
 expression, ramped linearly in t: theta(X, t) = 1 + t (theta_data(X) - 1).
@@ -22,16 +23,21 @@ import ngsolve as ngs
 import numpy as np
 
 from geometries import BUILDERS
-
-from .. import fields
-from ..errors import require
-from ..expressions import parse_expression
-from ..growth import KINDS, make_growth
-from ..incompatibility import lattice_normals
-from ..inputs import GROWTH_EXTENSIONS, MESH_EXTENSIONS, load_growth, load_mesh, ramped_growth
-from ..materials import MATERIALS, make_material
-from . import prescribed
-from .base import param
+from ngincompat.errors import require
+from ngincompat.incompatibility.operators import lattice_normals
+from ngincompat.mechanics import fields
+from ngincompat.mechanics.expressions import parse_expression
+from ngincompat.mechanics.growth import KINDS, make_growth
+from ngincompat.mechanics.materials import MATERIALS, make_material
+from ngincompat.scenes import prescribed
+from ngincompat.scenes.base import param
+from ngincompat.workflow.inputs import (
+    GROWTH_EXTENSIONS,
+    MESH_EXTENSIONS,
+    load_growth,
+    load_mesh,
+    ramped_growth,
+)
 
 _AXES = {"X1": 0, "X2": 1, "X3": 2}
 
@@ -40,7 +46,8 @@ _AXES = {"X1": 0, "X2": 1, "X3": 2}
 class CustomScene(prescribed.PrescribedScene):
     """Any geometry, growth kind, theta(X1, X2, X3, t) and material.
 
-    theta is a safe expression (see :mod:`ngincompat.expressions`) in X1, X2, X3, t, R and Rxy;
+    theta is a safe expression (see :mod:`ngincompat.mechanics.expressions`) in X1, X2, X3, t, R
+    and Rxy;
     ``direction`` is N0 for area growth and f0 for fiber growth; ``fiber`` is the GOH fiber
     family a0. Burgers vectors are reported on the planes n_i = Fg e_i / |Fg e_i|; profiles
     along the ``line`` axis through the centre of the body's bounding box.

@@ -12,17 +12,18 @@ Growth is fiber growth, eq. (23), Fg = I + (theta - 1) f0 (x) f0, with
   interface, or none) and stretch-driven growth, eq. (45) with gamma = 0:
   d theta_a / dt = G_axn <lambda_e - lambda_crit>, lambda = |F f0|, lambda_e = lambda / theta_a,
 
-both in one :class:`~ngincompat.problem.CoupledGrowth` (implicit Euler at the integration points
+both in one :class:`~ngincompat.fem.problem.CoupledGrowth` (implicit Euler at the integration points
 with the consistent tangent), the cortex through a constant-rate law. Both layers are
 neo-Hookean (eq. 36) with lambda / mu = ``lam_ratio`` (100 by default: nearly incompressible,
-as the bifurcation oracle :mod:`ngincompat.bifurcation` assumes) and mu_cortex / mu_subcortex =
+as the bifurcation oracle :mod:`ngincompat.references.bifurcation` assumes) and mu_cortex /
+mu_subcortex =
 ``mu_ratio`` = 3.
 
 Boundary conditions while growing: u1 = 0 at both ends, u3 = 0 at the bottom, u2 = 0 on both
 faces of the slab (plane strain). Stages:
 
 1. **perfect**: the perfect bilayer grows on its flat branch; after every step the smallest
-   eigenvalues of the elastic tangent (:mod:`ngincompat.buckling`) are computed. At the
+   eigenvalues of the elastic tangent (:mod:`ngincompat.fem.buckling`) are computed. At the
    first step with a negative one the bilayer has buckled: ``onset_growth`` (theta_c where
    the first of the modes negative there crossed zero, interpolated) and
    ``onset_wavelength`` (that mode's, along the top surface, reference length) are
@@ -30,14 +31,15 @@ faces of the slab (plane strain). Stages:
    2 to 4 (the onset alone, for a refinement study). Only the steps near the onset need to
    be short (``onset_dt``); before them (stage ``approach``) they may grow to
    ``approach_dt``: the short steps start 2 ``onset_dt`` before the onset that the
-   bifurcation analysis (:mod:`ngincompat.bifurcation`) predicts, which so places the steps
+   bifurcation analysis (:mod:`ngincompat.references.bifurcation`) predicts, which so places the
+   steps
    but not the onset, still found where the tangent's eigenvalue crosses zero.
 2. **buckling**: the state of that step (the first with a negative eigenvalue) is perturbed
    by the onset's buckling mode, scaled so that the top surface moves by ``imperfection`` x
    ``cortex_thickness`` at most (a perturbation of the displacement, not of the body: the
    flat state is unstable there, so it grows by itself), and growth goes on to ``t_end`` in
    adaptive steps with a viscous regularisation, eta / (2 dt) int |u - u_n|^2 dV
-   (:class:`~ngincompat.problem.CoupledGrowth`, ``viscous``), eta = ``viscosity`` x
+   (:class:`~ngincompat.fem.problem.CoupledGrowth`, ``viscous``), eta = ``viscosity`` x
    ``mu_white``. An unstable mode (eigenvalue omega < 0) then grows at the rate |omega| / eta;
    implicit Euler follows that growth, and the step's tangent K + eta / dt M stays positive
    definite, only for dt < eta / |omega| (a longer step converges back to the flat state: seen
@@ -57,7 +59,7 @@ faces of the slab (plane strain). Stages:
 3. **equilibrium**: the viscous march's end is not an equilibrium (residual without the
    viscosity 5.4e-5 on the small bilayer of the tests), and plain Newton without the
    viscosity diverged from it. At ``t_end`` the growth is held and the same viscous term
-   drives a gradient flow in pseudo time (:class:`~ngincompat.stages.RelaxationStage`:
+   drives a gradient flow in pseudo time (:class:`~ngincompat.fem.stages.RelaxationStage`:
    steps that lower the energy, doubling) toward a stable equilibrium, which Newton then
    solves without the viscosity; it is kept only if the smallest eigenvalue of the tangent
    there is >= 0 (a saddle is refused and the flow goes on). Reported:
@@ -66,14 +68,14 @@ faces of the slab (plane strain). Stages:
    perfect branch's end is that equilibrium already.
 4. **release**: growth frozen, the end and bottom supports are removed; the rigid motions
    the slab faces leave free (the two in-plane translations and the rotation about X2)
-   are removed by the statically determinate pins of :func:`~ngincompat.problem.rigid_pins`
+   are removed by the statically determinate pins of :func:`~ngincompat.fem.problem.rigid_pins`
    (three displacement components at vertices), whose reactions vanish for the
    self-equilibrated body: ``release_reaction_rel``, their norm relative to the forces the
    removed supports carried, measures it. Plane strain is kept (u2 = 0 on both slab
    faces): it is the two-dimensional model of the paper's one-element slab, not a support
    (the faces carry no resultant in X1 or X3). The supports' reactions are first put back
-   as a dead traction (:meth:`~ngincompat.problem.CoupledGrowth.hold_by_traction`), which
-   ``unloading`` (:class:`~ngincompat.stages.UnloadingStage`) ramps to zero with the
+   as a dead traction (:meth:`~ngincompat.fem.problem.CoupledGrowth.hold_by_traction`), which
+   ``unloading`` (:class:`~ngincompat.fem.stages.UnloadingStage`) ramps to zero with the
    viscous regularisation on; the relaxation then finds the released equilibrium. The
    remaining stress is the incompatibility's.
 
@@ -86,7 +88,7 @@ Cauchy stress before (``sigma_max`` field,
 depth below the top surface of the released peak tension (``peak_tension_depth_released``:
 below the interface if > ``cortex_thickness``), and ``top_curvature_released``: the mean
 curvature of the top surface over the central third of the length after release, the
-curvature of the circle fitted (:func:`~ngincompat.shape.circle_curvature`) to the deformed
+curvature of the circle fitted (:func:`~ngincompat.fem.shape.circle_curvature`) to the deformed
 top line (X1 + u1, X3 + u3) sampled along the middle of the slab; positive where the top
 bulges upward (the cortex on the convex side).
 
@@ -108,23 +110,24 @@ import ngsolve as ngs
 import numpy as np
 
 from geometries import bilayer
-
-from .. import buckling, fields, kinematics, postprocess
-from .. import incompatibility as inc
-from ..bifurcation import Bilayer, onset
-from ..errors import require
-from ..growth import FiberGrowth
-from ..growth_laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
-from ..materials import NeoHookean, Regional
-from ..pipeline import Solution, solve_stages, timed
-from ..problem import CoupledGrowth, pin_reactions
-from ..progress import Progress
-from ..results import Figure, Results
-from ..sampling import element_points
-from ..shape import circle_curvature
-from ..solver import NewtonOptions
-from ..stages import CoupledStage, RelaxationStage, UnloadingStage
-from .base import Scene, param
+from ngincompat import sampling
+from ngincompat.errors import require
+from ngincompat.fem import buckling, postprocess
+from ngincompat.fem.problem import CoupledGrowth, pin_reactions
+from ngincompat.fem.shape import circle_curvature
+from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.stages import CoupledStage, RelaxationStage, UnloadingStage
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics import fields, kinematics
+from ngincompat.mechanics.growth import FiberGrowth
+from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
+from ngincompat.mechanics.materials import NeoHookean, Regional
+from ngincompat.progress import Progress
+from ngincompat.references.bifurcation import Bilayer, onset
+from ngincompat.sampling import element_points
+from ngincompat.scenes.base import Scene, param
+from ngincompat.workflow.pipeline import Solution, solve_stages, timed
+from ngincompat.workflow.results import Figure, Results
 
 #: The axon fields of Fig. 7 (left to right), and "none": no axon growth.
 AXONS = (*fields.AXONS, "none")
@@ -138,7 +141,7 @@ EIGENPAIRS = 6
 #: 111901), well before the wrinkling stretch 0.54 of Biot's analysis.
 CREASE_STRETCH = 0.65
 
-#: Newton's linear solver in every stage (:class:`~ngincompat.solver.NewtonOptions`): GMRES
+#: Newton's linear solver in every stage (:class:`~ngincompat.fem.solver.NewtonOptions`): GMRES
 #: preconditioned by the sparse Cholesky factorisation of the tangent's symmetric part. The
 #: coupled tangent (growth condensed) is symmetric but for the stretch-driven axons' coupling
 #: (0.56 % of its norm at the first step); on the default bilayer (61,634 dofs) GMRES takes
@@ -300,7 +303,7 @@ class FoldingScene(Scene):
 
     def bifurcation_bilayer(self):
         """The same bilayer for the independent linear bifurcation analysis
-        (:mod:`ngincompat.bifurcation`)."""
+        (:mod:`ngincompat.references.bifurcation`)."""
         lam = self.lam_ratio
         return Bilayer(self.height, self.cortex_thickness, self.mu_gray, lam * self.mu_gray,
                        self.mu_white, lam * self.mu_white)
@@ -403,7 +406,7 @@ class FoldingCase:
 
         The onset is the earliest zero crossing among the modes negative there (all of them
         are computed at that step) and the modes of the step before:
-        :func:`~ngincompat.buckling.earliest_crossing`, each mode's Rayleigh quotient
+        :func:`~ngincompat.fem.buckling.earliest_crossing`, each mode's Rayleigh quotient
         interpolated linearly in theta_c between the two steps, at the other step from its
         overlaps with that step's pairs. Past the onset the wrinkling modes fall steeply and
         cross in an order unlike the one they have at the first negative sample: the most
@@ -449,7 +452,8 @@ class FoldingCase:
 
     def approach_end(self):
         """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the onset of
-        the bifurcation analysis (:func:`~ngincompat.bifurcation.onset`, roller ends, scanned
+        the bifurcation analysis (:func:`~ngincompat.references.bifurcation.onset`, roller ends,
+        scanned
         in theta_c steps of 0.02: it only places the steps), or 0 (no approach) if that is
         not after two of the approach's longest steps, beyond ``t_end`` or not found."""
         scene = self.scene
@@ -601,7 +605,7 @@ class FoldingCase:
             flds.update(self.incompatibility())
             results.metrics.update(self.burgers_metrics(flds["|b|"]))
         mesh = self.mesh
-        results.metrics["theta_a_max"] = postprocess.maximum(flds["theta_a"], mesh)
+        results.metrics["theta_a_max"] = sampling.maximum(flds["theta_a"], mesh)
         with progress.phase("sampling"), timed(results.timings, "sampling"):
             results.profiles["section"] = self.section(flds)
             results.profiles["depth"] = self.depth_profile(flds)
@@ -639,7 +643,7 @@ class FoldingCase:
 
     def burgers_metrics(self, b_norm):
         """The largest |b|, its depth below the top and its X1."""
-        value, where = postprocess.argmax(b_norm, self.mesh)
+        value, where = sampling.argmax(b_norm, self.mesh)
         return {"burgers_max": value, "burgers_max_depth": self.scene.height - where[2],
                 "burgers_max_X1": where[0]}
 

@@ -6,13 +6,13 @@ import ngsolve as ngs
 import numpy as np
 
 from geometries import hemisphere
-
-from .. import postprocess
-from ..errors import require
-from ..growth import IsotropicGrowth
-from ..radial import solve_radial
-from . import prescribed
-from .base import param
+from ngincompat import sampling
+from ngincompat.errors import require
+from ngincompat.fem import postprocess
+from ngincompat.mechanics.growth import IsotropicGrowth
+from ngincompat.references.radial import solve_radial
+from ngincompat.scenes import prescribed
+from ngincompat.scenes.base import param
 
 #: The growth profiles f(R / R0) of Fig. 2f: f(0) = 0, f(1) = 1, as (CF builder, numpy).
 PROFILES = {
@@ -30,7 +30,7 @@ class HemisphereScene(prescribed.PrescribedScene):
     ``flat_face = free`` is the paper's setting (rigid-body constraints only);
     ``flat_face = symmetry`` removes the normal displacement of the flat face, which makes the
     body exactly half of a growing ball: the Cauchy stresses are then checked against the
-    independent 1-D radial solution (:mod:`ngincompat.radial`).
+    independent 1-D radial solution (:mod:`ngincompat.references.radial`).
 
     Body, growth and material are symmetric about the planes X1 = 0 and X2 = 0, so
     ``model = "quarter"`` solves the quarter X1, X2 >= 0 with the normal displacement held on
@@ -119,14 +119,14 @@ def burgers_alignment(fields, basis, mesh):
     radial planes, circumferential on the meridional plane, meridional on the circumferential
     plane (measured away from the e3 axis, where the basis is undefined)."""
     away = ngs.IfPos(ngs.x * ngs.x + ngs.y * ngs.y - 0.01, 1.0, 0.0)
-    scale = postprocess.maximum(ngs.Norm(fields["b_meridional"]), mesh)
+    scale = sampling.maximum(ngs.Norm(fields["b_meridional"]), mesh)
 
     def off(b, direction):
         rest = b - ngs.InnerProduct(b, direction) * direction
-        return postprocess.maximum(away * ngs.Norm(rest), mesh) / scale
+        return sampling.maximum(away * ngs.Norm(rest), mesh) / scale
 
     return {
-        "b_radial_rel": postprocess.maximum(away * ngs.Norm(fields["b_radial"]), mesh) / scale,
+        "b_radial_rel": sampling.maximum(away * ngs.Norm(fields["b_radial"]), mesh) / scale,
         "b_meridional_off_circumferential": off(fields["b_meridional"], basis["theta"]),
         "b_circumferential_off_meridional": off(fields["b_circumferential"], basis["phi"]),
     }

@@ -14,20 +14,22 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 
-from .. import curvature as cv
-from .. import incompatibility as inc
-from .. import postprocess
-from ..errors import require
-from ..growth import check_positive
-from ..kinematics import deformation_gradient
-from ..materials import NeoHookean
-from ..pipeline import solve_stages, timed
-from ..problem import GrowthMechanics, check_formulation
-from ..quadrature import CHECK_DEGREE, check_quadrature
-from ..results import Figure
-from ..solver import LINEAR_SOLVERS, NewtonOptions, resolve_linear_solver
-from ..stages import PrescribedGrowthStage
-from .base import Scene, param
+from ngincompat import config, sampling
+from ngincompat.errors import require
+from ngincompat.fem import postprocess
+from ngincompat.fem.problem import GrowthMechanics, check_formulation
+from ngincompat.fem.quadrature import CHECK_DEGREE, check_quadrature
+from ngincompat.fem.solver import LINEAR_SOLVERS, NewtonOptions, resolve_linear_solver
+from ngincompat.fem.stages import PrescribedGrowthStage
+from ngincompat.incompatibility import curvature as cv
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics.growth import check_positive
+from ngincompat.mechanics.kinematics import deformation_gradient
+from ngincompat.mechanics.materials import NeoHookean
+from ngincompat.scenes import curvature as curvature_report
+from ngincompat.scenes.base import Scene, param
+from ngincompat.workflow.pipeline import solve_stages, timed
+from ngincompat.workflow.results import Figure
 
 #: Contraction a reused tangent must achieve per Newton iteration. A reused iteration costs a
 #: residual and two triangular solves, about a thirtieth of assembling and factorising a fresh
@@ -41,7 +43,7 @@ REUSE_CONTRACTION = 0.5
 
 @dataclass(eq=False)
 class PrescribedCase:
-    """What a prescribed-growth scene builds: the case of :mod:`ngincompat.pipeline`.
+    """What a prescribed-growth scene builds: the case of :mod:`ngincompat.workflow.pipeline`.
 
     Attributes
     ----------
@@ -93,7 +95,7 @@ class PrescribedCase:
     analytic: bool = True
 
     def mechanics(self, linear_solver=None):
-        """The scene's mechanics problem (:class:`~ngincompat.problem.GrowthMechanics`), at
+        """The scene's mechanics problem (:class:`~ngincompat.fem.problem.GrowthMechanics`), at
         the growth time the case's ``time`` holds, for Newton's ``linear_solver`` (default
         the scene's): its energy form on the component spaces for a direct solver, on
         VectorH1 for BDDC."""
@@ -161,7 +163,7 @@ def _solve(case, solution, progress):
     and apply the growth in one stage, "growth". Everything runs under NGSolve's TaskManager.
     """
     scene, time = case.scene, case.time
-    with ngs.TaskManager():
+    with config.task_manager():
         with timed(solution.timings, "validate"):
             check_positive(case.growth.theta, case.mesh, time)
         if not scene.mechanics:
@@ -187,7 +189,7 @@ def _measure(case, solution, progress):
     problem = solution.state
     results = case.interrupted(solution)
     timings = results.timings
-    with ngs.TaskManager():
+    with config.task_manager():
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
             fields, metrics = _incompatibility(scene, case, problem)
         if "curvature" in scene.output_set():
@@ -210,7 +212,8 @@ def _measure(case, solution, progress):
     results.profiles = {"line": {coord: np.asarray(start)[_axis(start, end)] + s, **values}}
     results.figures = _figures(scene, coord, case, problem is not None)
     if "curvature" in scene.output_set():
-        results.figures.append(_curvature_figure(scene, coord, case))
+        curvature_report.report(scene, results, coord,
+                                {f"|b| on {label}": f"|b_{label}|" for label in case.planes})
     return results
 
 
@@ -227,10 +230,6 @@ def _curvature(case, fields):
     return metrics
 
 
-def _curvature_figure(scene, coord, case):
-    """|Ein|_g of Cg along the profile line, beside |b| on the scene's planes."""
-    return cv.figure(scene, coord, {f"|b| on {label}": f"|b_{label}|" for label in case.planes})
-
 
 def _mechanics(case, problem, fields):
     """Stress fields and metrics of the solved body; adds the fields, returns the metrics."""
@@ -244,7 +243,7 @@ def _mechanics(case, problem, fields):
     # a cheaper rule's energy is integrated again: a mode it does not see would show there
     degree = None if case.scene.quadrature == "gauss" else CHECK_DEGREE
     return {"strain_energy": case.mirror * problem.strain_energy(degree),
-            "max_principal_stress": postprocess.maximum(fields["sigma_max_principal"],
+            "max_principal_stress": sampling.maximum(fields["sigma_max_principal"],
                                                         case.mesh)}
 
 
@@ -298,7 +297,7 @@ def _incompatibility(scene, case, problem):
         b = inc.burgers_vector(G, n)
         fields[f"b_{label}"] = b
         fields[f"|b_{label}|"] = ngs.Norm(b)
-        norms.append(postprocess.maximum(ngs.Norm(b), mesh))
+        norms.append(sampling.maximum(ngs.Norm(b), mesh))
     metrics["burgers_max"] = max(norms) if norms else 0.0
     exact = growth.closed_form_G() if case.analytic else None
     if exact is not None:

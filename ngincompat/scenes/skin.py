@@ -3,7 +3,7 @@
 Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 
 1. **inflation** to ``volume`` cc, volume-controlled: with ``expander=contact`` (the
-   default) the expander is a rigid dome (:mod:`ngincompat.contact`) on which the skin
+   default) the expander is a rigid dome (:mod:`ngincompat.fem.contact`) on which the skin
    rests (penalty contact, frictionless), raised until its own volume is the target, then
    (stage ``contact``) resized by secant steps until the volume under the skin is the
    target to 1e-4; with ``expander=pressure`` (kept for comparison) the expander pressure
@@ -48,27 +48,29 @@ import numpy as np
 
 from geometries import FOOTPRINTS, footprint_area, footprint_size, skin_patch
 from geometries.skin_patch import SIDE, THICKNESS
-
-from .. import contact, fields, postprocess
-from .. import curvature as cv
-from .. import incompatibility as inc
-from ..errors import require
-from ..growth import AreaGrowth
-from ..growth_laws import HillLaw
-from ..materials import NeoHookean
-from ..pipeline import Solution, solve_stages, timed
-from ..problem import CoupledGrowth, GrowthMechanics
-from ..progress import Progress
-from ..results import Figure, Results
-from ..solver import NewtonOptions
-from ..stages import (
+from ngincompat import config, sampling
+from ngincompat.errors import require
+from ngincompat.fem import contact, postprocess
+from ngincompat.fem.problem import CoupledGrowth, GrowthMechanics
+from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.stages import (
     ContactControlStage,
     CoupledStage,
     FallbackStage,
     PrescribedGrowthStage,
     restore_checkpoint,
 )
-from .base import Scene, param
+from ngincompat.incompatibility import curvature as cv
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics import fields
+from ngincompat.mechanics.growth import AreaGrowth
+from ngincompat.mechanics.laws import HillLaw
+from ngincompat.mechanics.materials import NeoHookean
+from ngincompat.progress import Progress
+from ngincompat.scenes import curvature as curvature_report
+from ngincompat.scenes.base import Scene, param
+from ngincompat.workflow.pipeline import Solution, solve_stages, timed
+from ngincompat.workflow.results import Figure, Results
 
 CHECKPOINT = "checkpoint.npz"
 #: How the expander pushes the skin: a rigid dome in contact (the default), or a uniform
@@ -299,7 +301,7 @@ class SkinCase:
                 progress.line(f"resuming the hold at t = {t_hold:g} days")
                 self._note_inflated()
         solution.state = self.problem
-        with ngs.TaskManager():
+        with config.task_manager():
             solve_stages(self.stages(workdir, t_hold), progress, solution,
                          after=self._note)
         if not solution.converged and workdir is not None \
@@ -374,7 +376,7 @@ class SkinCase:
         metrics, timings = results.metrics, results.timings
         footprint = mesh.Boundaries("footprint")
         area = ngs.Integrate(1, mesh, ngs.BND, definedon=footprint)
-        metrics["theta_max"] = postprocess.maximum(theta, mesh)
+        metrics["theta_max"] = sampling.maximum(theta, mesh)
         # an L2 field has no boundary trace: its continuous interpolant gives the footprint mean
         theta_h1 = ngs.GridFunction(ngs.H1(mesh, order=scene.growth_order))
         theta_h1.Set(theta)
@@ -384,7 +386,7 @@ class SkinCase:
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
             G, _, Fg_h = inc.incompatibility_projected(growth.Fg, mesh, scene.g_order)
             b = inc.burgers_vector(G, self.N0.cf)
-            metrics["burgers_max"] = postprocess.maximum(ngs.Norm(b), mesh)
+            metrics["burgers_max"] = sampling.maximum(ngs.Norm(b), mesh)
         flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_inflated": self.problem.u}
         if self.problem.expander is not None:
             flds.update(gap=self.problem.gap(), contact_pressure=self.problem.contact_pressure())
@@ -395,7 +397,7 @@ class SkinCase:
             flds[f"sigma_max_{stage}"] = postprocess.largest_principal_value(sigma)
             flds[f"sigma_min_{stage}"] = -postprocess.largest_principal_value(-sigma)
             flds[f"u_{stage}"] = relaxed.u
-            metrics[f"max_principal_stress_{stage}"] = postprocess.maximum(
+            metrics[f"max_principal_stress_{stage}"] = sampling.maximum(
                 flds[f"sigma_max_{stage}"], mesh)
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
         metrics.update(_where(mesh, theta, ngs.Norm(b)))
@@ -417,7 +419,7 @@ class SkinCase:
         results.fields = flds
         results.figures = _figures(scene, results.profiles["map"])
         if "curvature" in scene.output_set():
-            results.figures.append(cv.figure(scene, "X1", {"|b| on e3": "|b|"}))
+            curvature_report.report(scene, results, "X1", {"|b| on e3": "|b|"})
         return results
 
 

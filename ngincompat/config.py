@@ -1,0 +1,115 @@
+"""The package's version and NGSolve's run-time settings: threads and local heap.
+
+Importing :mod:`ngincompat` changes nothing in NGSolve. The settings apply where the package
+runs NGSolve's task manager (:func:`task_manager`) or builds high-order spaces
+(:func:`ensure_heap`), so a notebook that calls NGSolve itself keeps NGSolve's own defaults::
+
+    import ngincompat
+    ngincompat.configure(threads=2, heap=400_000_000)
+
+Threads: :func:`configure`'s value, else ``NGS_NUM_THREADS``, else one. The task manager's
+threads wait actively for each other at every parallel loop, so on cores that other jobs share
+they cost more than they give; one is the safe default, more a choice (the performance pages
+of the documentation measure both).
+
+Heap: NGSolve's local heap holds the element matrices. High-order element matrices of
+matrix-valued spaces overflow NGSolve's default ("Local Heap overflow"), so the package keeps
+at least :data:`DEFAULT_HEAP` bytes, or what :func:`configure` sets, and raises it further
+where an order needs more (:func:`ensure_heap`).
+"""
+
+import contextlib
+import os
+
+import ngsolve as ngs
+
+from ngincompat.errors import require
+
+VERSION = "0.1.0"
+
+#: The local heap (bytes) the package keeps at least, unless :func:`configure` says otherwise.
+DEFAULT_HEAP = 200 * 1000 * 1000
+
+_configured = {"threads": None, "heap": None}
+_heap_in_force = 0
+_depth = 0
+
+
+def configure(threads=None, heap=None):
+    """Set NGSolve's thread count and the package's local heap for everything that follows.
+
+    Parameters
+    ----------
+    threads : int, optional
+        NGSolve threads of the task manager, >= 1 (None: leave as configured, by default
+        ``NGS_NUM_THREADS`` or one).
+    heap : int, optional
+        Local heap in bytes, >= 1e6 (None: leave as configured, by default
+        :data:`DEFAULT_HEAP`). Only ever raised: NGSolve cannot shrink a heap it handed out.
+
+    Returns
+    -------
+    dict
+        The settings in force: ``{"threads": ..., "heap": ...}``.
+    """
+    if threads is not None:
+        require(isinstance(threads, int) and not isinstance(threads, bool) and threads >= 1,
+                "threads", threads, "an integer >= 1")
+        _configured["threads"] = threads
+    if heap is not None:
+        require(isinstance(heap, int) and not isinstance(heap, bool) and heap >= 10**6,
+                "heap", heap, "an integer >= 1e6 (bytes)")
+        _configured["heap"] = heap
+    ensure_heap(0)
+    return settings()
+
+
+def threads():
+    """The NGSolve threads the package runs on: configured, else ``NGS_NUM_THREADS``, else 1."""
+    if _configured["threads"] is not None:
+        return _configured["threads"]
+    return int(os.environ.get("NGS_NUM_THREADS") or 1)
+
+
+def settings():
+    """The settings in force, ``{"threads": ..., "heap": ...}``."""
+    return {"threads": threads(), "heap": max(_heap_in_force, _floor())}
+
+
+def _floor():
+    return _configured["heap"] or DEFAULT_HEAP
+
+
+def ensure_heap(nbytes):
+    """Make NGSolve's local heap at least ``nbytes`` and at least the configured floor."""
+    global _heap_in_force
+    need = max(int(nbytes), _floor())
+    if need > _heap_in_force:
+        ngs.SetHeapSize(need)
+        _heap_in_force = need
+
+
+@contextlib.contextmanager
+def task_manager():
+    """NGSolve's task manager on :func:`threads` threads, with the heap of :func:`ensure_heap`."""
+    global _depth
+    ensure_heap(0)
+    if _depth == 0:      # the thread count cannot change inside a running task manager
+        ngs.SetNumThreads(threads())
+    _depth += 1
+    try:
+        with ngs.TaskManager():
+            yield
+    finally:
+        _depth -= 1
+
+
+@contextlib.contextmanager
+def using(threads=None):
+    """:func:`configure` the threads for the block only; those configured before come back."""
+    before = _configured["threads"]
+    configure(threads=threads)
+    try:
+        yield settings()
+    finally:
+        _configured["threads"] = before

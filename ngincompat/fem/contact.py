@@ -1,0 +1,188 @@
+"""A tissue expander as a rigid dome the skin rests on, in frictionless contact (section 3.6).
+
+The expander over a footprint (:data:`geometries.FOOTPRINTS`, sized as in
+:func:`geometries.skin_patch`) is the surface x3 = H phi(x1, x2) of height H, with phi a dome
+that is 1 at its top and vanishes on the footprint's edge:
+
+* circle of radius R: phi = 1 - r^2 / R^2, the inflated shape of a membrane under pressure
+  (the solution of -Lap w = 1 on the disc, w = 0 on its edge, scaled);
+* rectangle and square of half sides A, B: phi = (1 - x^2/A^2)(1 - y^2/B^2), a product of the
+  membrane's one-dimensional profiles (the Poisson solution's series is not used);
+* crescent, the disc |X| < R minus the disc |X - (R, 0)| < R: phi proportional to
+  (1 - r1^2/R^2)(r2^2/R^2 - 1), zero on both arcs.
+
+phi is 0 outside the footprint (the base the expander lies on). The gap of a point x of the
+skin's lower surface is its distance above the dome to first order,
+
+    g(x) = (x3 - H phi(x1, x2)) / sqrt(1 + H^2 |grad phi|^2),
+
+negative where the skin penetrates the expander. The contact is enforced by a smoothed penalty:
+the contact pressure per unit reference area is p = kappa r(-g), with r the ramp max(s, 0)
+rounded over a width ``width`` eps (a quadratic blend, so that dp/dg is continuous):
+
+    r(s) = 0                   s <= 0,
+         = s^2 / (2 eps)       0 < s < eps,
+         = s - eps / 2         s >= eps,
+
+and the energy (kappa) int R(-g) dA over the skin's lower surface in the reference
+configuration, R(s) = int_0^s r = s^3 / (6 eps) on (0, eps), s^2 / 2 - eps s / 2 + eps^2 / 6
+beyond. Its force -kappa r(-g) dg/dx is normal to the dome (frictionless: the skin slides
+freely). R is twice continuously differentiable, so Newton's tangent does not jump where a
+point of the surface crosses g = 0 (the plain penalty (kappa / 2) min(g, 0)^2, eps = 0, has a
+tangent that switches between 0 and kappa there: on a skin laid onto the dome, g = 0 up to
+round-off, its Newton iterations did not converge). p is zero wherever the gap is open
+(g >= 0), and the penetration of a point that carries the pressure p is p / kappa + eps / 2
+(p >= kappa eps / 2), so it vanishes like 1 / kappa + eps / 2.
+
+The gap's derivative jumps on the footprint's edge (grad phi does), but the edge lies on the
+base (x3 = 0 there, g = 0 on both sides) and R vanishes with its first two derivatives at
+g = 0, so the energy is twice differentiable across it too.
+
+All functions accept NGSolve CoefficientFunctions (so Newton gets the exact tangent by
+symbolic differentiation) or numpy arrays.
+"""
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from typing import ClassVar
+
+import ngsolve as ngs
+import numpy as np
+
+from ngincompat.errors import require
+
+
+def _ifpos(c, a, b):
+    """a where c > 0, else b, for CoefficientFunctions or arrays."""
+    if isinstance(c, ngs.CoefficientFunction):
+        return ngs.IfPos(c, a, b)
+    return np.where(c > 0, a, b)
+
+
+@dataclass(frozen=True)
+class Expander:
+    """A rigid dome over a footprint; ``penalty`` kappa (MPa/cm) enforces the contact, its
+    ramp rounded over the penetration ``width`` eps (cm)."""
+
+    #: The domes this module can shape, one per footprint of the skin patch
+    #: (:data:`geometries.FOOTPRINTS`, which a test keeps equal to this).
+    FOOTPRINTS: ClassVar[tuple[str, ...]] = ("rectangle", "circle", "square", "crescent")
+
+    footprint: str
+    size: float
+    penalty: float
+    width: float = 0.0
+
+    def __post_init__(self):
+        require(self.footprint in self.FOOTPRINTS, "footprint", self.footprint,
+                ", ".join(self.FOOTPRINTS))
+        require(self.size > 0, "footprint_size", self.size, "> 0")
+        require(math.isfinite(self.penalty) and self.penalty > 0, "penalty", self.penalty,
+                "> 0 (finite)")
+        require(math.isfinite(self.width) and self.width >= 0, "contact_width", self.width,
+                ">= 0 (finite)")
+
+    def factors(self):
+        """The dome as a product of quadratics: (sign, x0, y0, cx, cy) stands for
+        sign (1 - cx (x - x0)^2 - cy (y - y0)^2); inside the footprint all are positive."""
+        r = self.size / 2
+        if self.footprint == "circle":
+            return ((1, 0, 0, 1 / r**2, 1 / r**2),)
+        if self.footprint == "crescent":
+            return ((1, 0, 0, 1 / r**2, 1 / r**2), (-1, r, 0, 1 / r**2, 1 / r**2))
+        a, b = r, (r / 2 if self.footprint == "rectangle" else r)
+        return ((1, 0, 0, 1 / a**2, 0), (1, 0, 0, 0, 1 / b**2))
+
+    def _raw(self, x, y):
+        """phi before scaling to 1 at its top, and its gradient (zero outside)."""
+        values, grads = [], []
+        for sign, x0, y0, cx, cy in self.factors():
+            values.append(sign * (1 - cx * (x - x0) ** 2 - cy * (y - y0) ** 2))
+            grads.append((-2 * sign * cx * (x - x0), -2 * sign * cy * (y - y0)))
+        phi, dx, dy = values[0], grads[0][0], grads[0][1]
+        for f, (fx, fy) in zip(values[1:], grads[1:], strict=True):
+            phi, dx, dy = phi * f, dx * f + phi * fx, dy * f + phi * fy
+        for f in values:             # zero wherever a factor is not positive
+            phi, dx, dy = (_ifpos(f, phi, 0 * f), _ifpos(f, dx, 0 * f),
+                           _ifpos(f, dy, 0 * f))
+        return phi, dx, dy
+
+    @cached_property
+    def peak(self):
+        """The largest value of the unscaled dome (1 but for the crescent, found on a grid of
+        the footprint's bounding box with 1001 x 1001 points)."""
+        s = np.linspace(-self.size / 2, self.size / 2, 1001)
+        x, y = np.meshgrid(s, s)
+        return float(np.max(self._raw(x, y)[0]))
+
+    def shape(self, x, y):
+        """phi(x, y) and its gradient, scaled so that the top of the dome is at 1."""
+        peak = self.peak
+        return tuple(c / peak for c in self._raw(x, y))
+
+    def gap(self, x, height):
+        """The gap g of the point x (a 3-vector CF, or a tuple of arrays) above the dome of
+        ``height``: negative where the skin penetrates the expander."""
+        phi, dx, dy = self.shape(x[0], x[1])
+        slope = (1 + height * height * (dx * dx + dy * dy)) ** 0.5
+        return (x[2] - height * phi) / slope
+
+    def ramp(self, s):
+        """The rounded ramp r(s) (0, s^2 / (2 eps), s - eps / 2) and its integral R(s)."""
+        eps = self.width
+        if eps == 0:
+            return _ifpos(s, s, 0 * s), _ifpos(s, s * s / 2, 0 * s)
+        inner = _ifpos(s - eps, s - eps / 2, s * s / (2 * eps))
+        integral = _ifpos(s - eps, s * s / 2 - eps * s / 2 + eps * eps / 6,
+                          s * s * s / (6 * eps))
+        return _ifpos(s, inner, 0 * s), _ifpos(s, integral, 0 * s)
+
+    def energy(self, x, height):
+        """The penalty energy per reference area, kappa R(-g)."""
+        return self.penalty * self.ramp(-self.gap(x, height))[1]
+
+    def pressure(self, x, height):
+        """The contact pressure kappa r(-g) per reference area (zero where open)."""
+        return self.penalty * self.ramp(-self.gap(x, height))[0]
+
+    def points(self, spacing):
+        """Points of the footprint (X3 = 0) on a square grid of ``spacing``, for sampling."""
+        require(spacing > 0, "spacing", spacing, "> 0")
+        n = int(math.ceil(self.size / spacing)) + 1
+        s = np.linspace(-self.size / 2, self.size / 2, n)
+        x, y = (c.ravel() for c in np.meshgrid(s, s))
+        inside = self._raw(x, y)[0] > 0
+        return np.column_stack([x[inside], y[inside], np.zeros(np.count_nonzero(inside))])
+
+
+def sample(mesh, expander, cfs, spacing):
+    """Values of the CFs ``cfs`` (name -> CF) on the skin's lower surface at the footprint's
+    points of a grid of ``spacing`` (:meth:`Expander.points`); returns (points, values)."""
+    pts = expander.points(spacing)
+    where = mesh(pts[:, 0], pts[:, 1], np.full(len(pts), 1e-9))
+    return pts, {k: np.asarray(cf(where)).ravel() for k, cf in cfs.items()}
+
+
+def measure(mesh, boundary, expander, height, gap, pressure):
+    """The expander and its contact with the skin's lower surface ``boundary``: height,
+    contact area (where g < 0, reference area), the contact force (the integral of the
+    pressure over the reference surface), largest penetration (on a grid of spacing
+    size / 50), largest contact pressure with its distance from the centre, and the mean
+    pressure over the contact area (the contact force per contact area)."""
+    region = mesh.Boundaries(boundary)
+
+    def integral(cf):
+        return ngs.Integrate(cf, mesh, ngs.BND, definedon=region, order=8)
+
+    area, force = integral(ngs.IfPos(-gap, 1.0, 0.0)), integral(pressure)
+    pts, values = sample(mesh, expander, {"gap": gap, "pressure": pressure},
+                         expander.size / 50)
+    top = int(np.argmax(values["pressure"]))
+    return {"expander_height": height,
+            "contact_area": area,
+            "contact_force": force,
+            "penetration_max": max(0.0, -float(np.min(values["gap"]))),
+            "contact_pressure_max": float(values["pressure"][top]),
+            "contact_pressure_max_radius": float(np.hypot(*pts[top, :2])),
+            "contact_pressure_mean": force / area if area > 0 else 0.0}

@@ -1,0 +1,588 @@
+"""Robust Newton minimisation with load stepping for
+:class:`~ngincompat.fem.problem.GrowthMechanics`.
+
+A full growth step from u = 0 at high order makes plain Newton overshoot into Je <= 0, where
+log Je is not defined and the energy is NaN. This solver
+
+* takes Newton directions from the tangent (the linearisation of the residual of the same
+  energy, so energy, residual and tangent are consistent by construction),
+* backtracks along the direction while the energy is not finite or decreases neither the
+  energy (Armijo condition) nor, near convergence where the energy is round-off, the residual;
+  so a step "too far" is simply shortened,
+* cuts the load step when Newton does not converge, restoring the last converged state,
+* and raises :class:`~ngincompat.errors.ConvergenceError` only when the load step would fall
+  below ``min_step``; the displacement then holds the last converged state.
+
+Every load step is recorded: time, step size, Newton iterations, residual norms, line-search
+lengths and the energy.
+"""
+
+import logging
+import math
+import time as _time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Protocol
+
+import ngsolve as ngs
+import numpy as np
+from ngsolve.krylovspace import CGSolver, GMResSolver
+
+from ngincompat import config, parallel
+from ngincompat.errors import ConvergenceError, Interrupted, require
+from ngincompat.progress import SILENT, Progress
+
+log = logging.getLogger(__name__)
+
+
+class NewtonProblem(Protocol):
+    """What :class:`NewtonSolver` uses of a problem, as
+    :class:`~ngincompat.fem.problem.GrowthMechanics` and
+    :class:`~ngincompat.fem.problem.CoupledGrowth`
+    provide it (:func:`solve_growth` and :func:`solve_coupled` use more of each).
+
+    Attributes
+    ----------
+    form : ngsolve.BilinearForm
+        The nonlinear form whose ``Apply`` is the residual and whose linearisation the tangent;
+        with ``has_energy``, ``Energy`` is the energy it derives from.
+    state : ngsolve.GridFunction
+        All unknowns; Newton updates its vector in place.
+    fes : ngsolve.FESpace
+        The space of ``state``.
+    freedofs : ngsolve.BitArray
+        The dofs the tangent is inverted on (with static condensation: the coupling ones).
+    pinned : sequence of int
+        Dofs held fixed in addition to the Dirichlet ones (rigid-body pins).
+    condense : bool
+        Whether ``form`` condenses element-interior dofs.
+    inverse : str
+        The sparse direct solver to use unless the options name one.
+    has_energy : bool
+        Whether ``form`` derives from an energy (the line search then tests it).
+    """
+
+    form: ngs.BilinearForm
+    state: ngs.GridFunction
+    fes: ngs.FESpace
+    freedofs: ngs.BitArray
+    pinned: Sequence[int]
+    condense: bool
+    inverse: str
+    has_energy: bool
+
+
+#: Linear solvers of the Newton directions (see :class:`NewtonOptions`).
+LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres")
+
+
+def resolve_linear_solver(name, mesh):
+    """The linear solver that ``name`` (one of :data:`LINEAR_SOLVERS`) means on ``mesh``:
+    "auto" is "direct" in a serial run and "cg" on a distributed mesh."""
+    if name != "auto":
+        return name
+    return "cg" if parallel.distributed(mesh) else "direct"
+
+
+class SymmetricPart:
+    """The symmetric part (A + A^T) / 2 of sparse matrices A of one structurally symmetric
+    sparsity pattern, as an NGSolve sparse matrix of that pattern.
+
+    The pattern's transpose permutation (entry (i, j) -> entry (j, i)) is found once, from
+    the first matrix; :meth:`of` then only averages the values.
+
+    Raises
+    ------
+    ParameterError
+        The pattern is not structurally symmetric.
+    """
+
+    def __init__(self, matrix):
+        rows, cols, _ = matrix.COO()
+        rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
+        n = matrix.height
+        key, key_t = rows * n + cols, cols * n + rows
+        order = np.argsort(key)
+        where = np.minimum(np.searchsorted(key, key_t, sorter=order), len(key) - 1)
+        self.transpose = order[where]
+        require(np.array_equal(key[self.transpose], key_t), "matrix", "its sparsity pattern",
+                "a structurally symmetric one")
+        self.matrix = matrix.CreateMatrix()
+
+    def of(self, matrix):
+        """(A + A^T) / 2 of ``matrix`` A (of the pattern this was made for)."""
+        values = matrix.AsVector().FV().NumPy()
+        self.matrix.AsVector().FV().NumPy()[:] = 0.5 * (values + values[self.transpose])
+        return self.matrix
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """Settings of the nonlinear solver.
+
+    Attributes
+    ----------
+    rtol : float
+        Converged when the residual norm falls below ``rtol`` times that of the step's start.
+        Near the solution Newton squares the error, so 1e-9 leaves an energy error of order
+        1e-18 relative: far below any discretisation error, and one iteration fewer than 1e-10
+        where the last step would only square a negligible error.
+    atol : float
+        ... or below ``atol`` (absolute, in the problem's force unit).
+    max_iter : int
+        Newton iterations per load step before the step is cut.
+    steps : int
+        Number of equal load steps to start with (1: the full growth at once).
+    min_step : float
+        Smallest load step before giving up.
+    max_backtracks : int
+        Halvings of the line search before the Newton step counts as failed.
+    inverse : str or None
+        Sparse direct solver: "sparsecholesky", "umfpack" or "pardiso" (if installed);
+        None takes the problem's choice (Cholesky for energy minimisation, umfpack for the
+        non-symmetric coupled-growth system).
+    predictor : bool
+        Start each load step from the best compatible approximation of the growth increment
+        (:meth:`GrowthMechanics.compatible_displacement`) rather than from the last state.
+    extrapolate : bool
+        :func:`solve_coupled` starts each step from the linear extrapolation in time of the
+        last two converged states, u_n + dt / dt_prev (u_n - u_n-1), rather than from u_n
+        (from the second converged step on, and again after a cut step).
+    max_step : float
+        Largest step the adaptive stepping may grow to (time accuracy of coupled growth).
+    line_search : bool
+        Backtrack on the energy; without it every Newton step is taken in full (plain Newton,
+        kept for comparison: it fails where a full step leaves the domain Je > 0).
+    reuse_tangent : bool
+        Keep the factorised tangent for the following iterations as long as each of them
+        reduces the residual norm at least ``1 / reuse_contraction``-fold and needs no
+        backtracking (a modified Newton method); otherwise, and at the start of every load
+        step, the tangent is assembled and factorised afresh. Pays where assembling and
+        factorising cost far more than a residual (high order, few elements).
+    reuse_contraction : float
+        The contraction in (0, 1) a reused tangent must achieve per iteration.
+    linear_solver : {"auto", "direct", "cg", "gmres", "symmetric-gmres"}
+        How the tangent system is solved: "direct" factorises it (``inverse``); "cg" and
+        "gmres" iterate, preconditioned by BDDC (NGSolve's balancing domain decomposition by
+        constraints, on the condensed system where the problem condenses), to a residual
+        ``krylov_rtol`` relative to the right-hand side. "symmetric-gmres" iterates with
+        GMRES preconditioned by the sparse Cholesky factorisation (LDL^T) of the tangent's
+        symmetric part (K + K^T) / 2: for a tangent that is symmetric but for a weak
+        coupling, as coupled growth's (the condensed growth block), where it needs a few
+        iterations and costs far less than an LU factorisation of K (serial only). CG
+        needs a positive definite tangent, as near equilibrium; GMRES also copes with the
+        indefinite tangent that the start of a load step can have (and with the indefinite
+        BDDC built from it). "auto": "direct" in a serial run, "cg" on a distributed mesh
+        (the pip wheels have no distributed direct solver; a direct inverse there is
+        gathered onto rank 0).
+    krylov_rtol : float
+        Relative residual at which the iterative linear solver stops.
+    krylov_maxiter : int
+        Iterations of the iterative linear solver per Newton direction.
+    """
+
+    rtol: float = 1e-9
+    atol: float = 1e-14
+    max_iter: int = 30
+    steps: int = 1
+    min_step: float = 1e-4
+    max_backtracks: int = 30
+    inverse: str | None = None
+    predictor: bool = True
+    line_search: bool = True
+    extrapolate: bool = False
+    max_step: float = float("inf")
+    reuse_tangent: bool = False
+    reuse_contraction: float = 0.1
+    linear_solver: str = "auto"
+    krylov_rtol: float = 1e-10
+    krylov_maxiter: int = 2000
+
+    def __post_init__(self):
+        require(0 < self.rtol < 1, "rtol", self.rtol, "in (0, 1)")
+        require(self.atol >= 0, "atol", self.atol, ">= 0")
+        require(self.max_iter >= 1, "max_iter", self.max_iter, ">= 1")
+        require(self.steps >= 1, "steps", self.steps, ">= 1")
+        require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
+        require(self.inverse in (None, "sparsecholesky", "umfpack", "pardiso"), "inverse",
+                self.inverse, "sparsecholesky, umfpack or pardiso")
+        require(0 < self.reuse_contraction < 1, "reuse_contraction", self.reuse_contraction,
+                "in (0, 1)")
+        require(self.linear_solver in LINEAR_SOLVERS, "linear_solver", self.linear_solver,
+                ", ".join(LINEAR_SOLVERS))
+        require(0 < self.krylov_rtol < 1, "krylov_rtol", self.krylov_rtol, "in (0, 1)")
+        require(self.krylov_maxiter >= 1, "krylov_maxiter", self.krylov_maxiter, ">= 1")
+
+
+@dataclass
+class StepRecord:
+    """What one attempted load step did (``linear_iterations``: those of the iterative
+    linear solver per Newton direction, empty with a direct one)."""
+
+    t: float
+    dt: float
+    converged: bool
+    iterations: int = 0
+    tangents: int = 0
+    residuals: list = field(default_factory=list)
+    line_search: list = field(default_factory=list)
+    energy: float = float("nan")
+    seconds: float = 0.0
+    reason: str = ""
+    linear_iterations: list = field(default_factory=list)
+
+
+@dataclass
+class SolverHistory:
+    """The record of a whole solve: every attempted step, in order."""
+
+    steps: list = field(default_factory=list)
+    converged: bool = False
+    t_reached: float = 0.0
+
+    @property
+    def newton_iterations(self):
+        return sum(s.iterations for s in self.steps if s.converged)
+
+    @property
+    def tangent_assemblies(self):
+        """Tangents assembled and factorised over all attempted steps."""
+        return sum(s.tangents for s in self.steps)
+
+    def as_dict(self):
+        return {"converged": self.converged, "t_reached": self.t_reached,
+                "newton_iterations": self.newton_iterations,
+                "tangent_assemblies": self.tangent_assemblies,
+                "steps": [asdict(s) for s in self.steps]}
+
+
+class NewtonSolver:
+    """Newton's method with a line search, for a :class:`NewtonProblem`.
+
+    ``energy``, if given, is a function returning the energy of the problem's current state
+    whose derivative the residual is (e.g. the strain energy of coupled growth at frozen
+    growth and no load): the line search then tests it as it tests ``form.Energy`` of a
+    problem ``has_energy``."""
+
+    def __init__(self, problem: NewtonProblem, options: NewtonOptions = NewtonOptions(),
+                 energy=None):
+        self.problem = problem
+        self.options = options
+        self._energy = energy
+        self.has_energy = problem.has_energy or energy is not None
+        vec = problem.state.vec
+        self._res = vec.CreateVector()
+        self._du = vec.CreateVector()
+        self._u0 = vec.CreateVector()
+        self._inverse = None
+        free = problem.fes.FreeDofs()
+        self._fixed = np.array([not free[i] for i in range(len(free))], dtype=bool)
+        self._fixed[list(problem.pinned)] = True
+        mesh = problem.fes.mesh
+        self._mesh = mesh
+        self.linear_solver = resolve_linear_solver(options.linear_solver, mesh)
+        self._preconditioner = None
+        self._linear = None
+        self._symmetric = None
+        if self.linear_solver in ("cg", "gmres"):
+            # registered with the form: rebuilt by every AssembleLinearization
+            self._preconditioner = ngs.Preconditioner(problem.form, "bddc")
+
+    def energy(self, vec):
+        """The problem's energy at ``vec``, summed over the ranks of a distributed mesh; with
+        ``energy`` given, its value at the current state (which ``vec`` is)."""
+        if self._energy is not None:
+            return self._energy()
+        return parallel.total(self._mesh, self.problem.form.Energy(vec))
+
+    def residual(self, vec=None):
+        """The residual (energy gradient) on free dofs at ``vec`` (default: the current u)."""
+        a = self.problem.form
+        a.Apply(self.problem.state.vec if vec is None else vec, self._res)
+        self._res.FV().NumPy()[self._fixed] = 0.0
+        return self._res
+
+    def factorise(self):
+        """Assemble the tangent at the current state and factorise it (kept for
+        :meth:`direction` until the next call)."""
+        p = self.problem
+        p.form.AssembleLinearization(p.state.vec)
+        if self.linear_solver == "direct":
+            self._inverse = p.form.mat.Inverse(p.freedofs,
+                                               inverse=self.options.inverse or p.inverse)
+            return
+        if self.linear_solver == "symmetric-gmres":
+            if self._symmetric is None:
+                self._symmetric = SymmetricPart(p.form.mat)
+            preconditioner = self._symmetric.of(p.form.mat).Inverse(
+                p.freedofs, inverse="sparsecholesky")
+            krylov = GMResSolver
+        else:
+            free = ngs.Projector(p.freedofs, True)
+            preconditioner = free @ self._preconditioner.mat @ free
+            krylov = CGSolver if self.linear_solver == "cg" else GMResSolver
+        self._linear = krylov(p.form.mat, preconditioner, tol=self.options.krylov_rtol,
+                              maxiter=self.options.krylov_maxiter)
+        self._inverse = self._linear
+
+    def direction(self):
+        """Solve K du = r with the last factorised tangent K (of the current state unless
+        tangents are reused); returns du."""
+        p = self.problem
+        a, r, du, inv = p.form, self._res, self._du, self._inverse
+        if p.condense:
+            rhs = r.CreateVector()
+            rhs.data = r
+            rhs.data += a.harmonic_extension_trans * r
+            du.data = inv * rhs
+            du.data += a.harmonic_extension * du
+            du.data += a.inner_solve * rhs
+        else:
+            du.data = inv * r
+        return du
+
+    def _acceptable(self, E, E_new, alpha, slope, r_norm):
+        """Is the trial state (already in u) acceptable?
+
+        A non-finite energy (Je <= 0 somewhere) never is. Otherwise a step is accepted if it
+        satisfies the Armijo condition on the energy or decreases the residual norm
+        sufficiently. The second test is what lets Newton finish where energy differences drown
+        in round-off and what drives problems without an energy; it also accepts steps that
+        raise the energy (seen with nearly incompressible materials, where the tangent at the
+        start of a step is indefinite).
+        """
+        if not math.isfinite(E_new):
+            return False
+        if self.has_energy and E_new <= E + 1e-4 * alpha * min(slope, 0.0):
+            return True
+        r_new = self.residual().Norm()
+        return math.isfinite(r_new) and r_new <= (1 - 1e-4 * alpha) * r_norm
+
+    def _step(self, E, r):
+        """One line-searched step along the Newton direction from the current state.
+
+        Returns (alpha, energy) of the accepted step, or (0, E) with the state unchanged when
+        no step length was acceptable."""
+        opts = self.options
+        u = self.problem.state.vec
+        du = self.direction()
+        slope = -ngs.InnerProduct(du, r)
+        r_norm = r.Norm()
+        self._u0.data = u
+        if not opts.line_search:
+            # the full step; without an energy the caller's residual there is the merit
+            u.data = self._u0 - du
+            return 1.0, self.energy(u) if self.has_energy else E
+        alpha = 1.0
+        for _ in range(opts.max_backtracks):
+            u.data = self._u0 - alpha * du
+            E_new = self.energy(u) if self.has_energy else _merit(
+                self.residual().Norm())
+            if self._acceptable(E, E_new, alpha, slope, r_norm):
+                return alpha, E_new
+            alpha /= 2
+        u.data = self._u0
+        self.residual()
+        return 0.0, E
+
+    def minimise(self, record):
+        """Newton iterations at the current load; fills ``record``; returns True if converged."""
+        opts = self.options
+        u = self.problem.state.vec
+        r = self.residual()
+        r0 = r.Norm()
+        record.residuals.append(r0)
+        E = self.energy(u) if self.has_energy else _merit(r0)
+        if not math.isfinite(E):
+            record.reason = "energy or residual is not finite at the start of the step"
+            return False
+        fresh = True
+        for it in range(1, opts.max_iter + 1):
+            if r.Norm() <= max(opts.rtol * r0, opts.atol):
+                record.iterations, record.energy = it - 1, E
+                return True
+            if fresh or not opts.reuse_tangent:
+                self.factorise()
+                record.tangents += 1
+            r_old = r.Norm()
+            alpha, E_new = self._step(E, r)
+            record.line_search.append(alpha)
+            if self._linear is not None:
+                record.linear_iterations.append(self._linear.iterations)
+            if alpha == 0.0:
+                if not fresh and opts.reuse_tangent:
+                    fresh = True    # an old tangent failed: retry with a new one
+                    continue
+                record.iterations = it
+                record.reason = "line search found no acceptable step"
+                return False
+            E = E_new
+            r = self.residual()
+            record.residuals.append(r.Norm())
+            if not math.isfinite(record.residuals[-1]):
+                record.reason = "residual is not finite"
+                return False
+            fresh = alpha < 1.0 or r.Norm() > opts.reuse_contraction * r_old
+        record.iterations = opts.max_iter
+        if r.Norm() <= max(opts.rtol * r0, opts.atol):
+            record.energy = E
+            return True
+        record.reason = f"no convergence in {opts.max_iter} iterations"
+        return False
+
+
+def _merit(residual_norm):
+    """Stand-in for the energy of a problem without one: 0 where the residual is finite."""
+    return 0.0 if math.isfinite(residual_norm) else float("nan")
+
+
+def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Progress = SILENT,
+                 stage="growth"):
+    """Apply prescribed growth from the current time to ``t_end`` in adaptive load steps.
+
+    Parameters
+    ----------
+    problem : GrowthMechanics
+    time : ngsolve.Parameter
+        The growth time that the problem's Fg depends on.
+    options : NewtonOptions
+    t_end : float
+    progress : Progress
+        Where steps and cuts are reported (default: nowhere).
+    stage : str
+        The stage's name in the progress report.
+
+    Returns
+    -------
+    SolverHistory
+
+    Raises
+    ------
+    ConvergenceError
+        When a step would fall below ``options.min_step``; ``problem.u`` and ``time`` then
+        hold the last converged state.
+    """
+    def advance(t, t_new):
+        if options.predictor:
+            before = problem.growth_load()
+            time.Set(t_new)
+            increment = problem.growth_load()
+            increment.data -= before
+            problem.u.vec.data += problem.compatible_displacement(increment)
+        else:
+            time.Set(t_new)
+
+    t0 = time.Get()
+    return _march(problem, options, t0, t_end, (t_end - t0) / options.steps, advance,
+                  restore=lambda t: time.Set(t), accept=None,
+                  report=progress.march(stage, t0, t_end))
+
+
+def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_start=0.0,
+                  schedule=None, on_step=None, progress: Progress = SILENT, stage="growth",
+                  unit="", energy=None):
+    """March a :class:`~ngincompat.fem.problem.CoupledGrowth` problem in time with adaptive steps.
+
+    Parameters
+    ----------
+    problem : CoupledGrowth
+    t_end, dt, t_start : float
+        End time, first time step and start time (the scene's time unit).
+    schedule : callable, optional
+        ``schedule(t)`` sets time-dependent loads (e.g. the volume target) for time t.
+    on_step : callable, optional
+        ``on_step(t)`` after every converged step, e.g. to write a checkpoint; if it returns
+        True, the march ends there (e.g. where an instability was detected).
+    progress : Progress
+        Where steps and cuts are reported, under the name ``stage`` with time ``unit``.
+    energy : callable, optional
+        The energy of the current state whose derivative the residual is (as for
+        :class:`NewtonSolver`), e.g. ``problem.potential`` at frozen growth.
+
+    Returns
+    -------
+    SolverHistory
+
+    Raises
+    ------
+    ConvergenceError
+        Below ``options.min_step``; the state then holds the last converged step.
+    """
+    state = problem.state.vec
+    start, previous = state.CreateVector(), state.CreateVector()
+    times = {"start": t_start, "previous": None}    # of ``start`` and ``previous``
+
+    def advance(t, t_new):
+        problem.dt.Set(t_new - t)
+        if schedule is not None:
+            schedule(t_new)
+        start.data = state                  # the last converged state
+        times["start"] = t
+        if options.extrapolate and times["previous"] is not None:
+            state.data += (t_new - t) / (t - times["previous"]) * (start - previous)
+
+    def restore(t):
+        if schedule is not None:
+            schedule(t)
+
+    def accept(t):
+        previous.data = start
+        times["previous"] = times["start"]
+        problem.accept_step()
+        return on_step is not None and on_step(t)
+
+    return _march(problem, options, t_start, t_end, dt, advance, restore, accept,
+                  progress.march(stage, t_start, t_end, unit), energy)
+
+
+def _march(problem, options, t, t_end, dt, advance, restore, accept, report, energy=None):
+    """The adaptive stepping loop: a failed step is undone and retried at half the size.
+
+    ``report`` (a :class:`~ngincompat.progress.StageProgress`) hears of every converged and
+    every cut step as it happens; ``accept(t)`` returning True ends the march at t."""
+    solver = NewtonSolver(problem, options, energy=energy)
+    history = SolverHistory(t_reached=t)
+    saved = problem.state.vec.CreateVector()
+    saved.data = problem.state.vec          # the last converged state, always
+    with config.task_manager():
+        try:
+            while t < t_end - 1e-12 * max(1.0, abs(t_end)):
+                dt = min(dt, t_end - t)
+                advance(t, t + dt)
+                record = StepRecord(t=t + dt, dt=dt, converged=False)
+                start = _time.perf_counter()
+                record.converged = solver.minimise(record)
+                record.seconds = _time.perf_counter() - start
+                history.steps.append(record)
+                if record.converged:
+                    t += dt
+                    history.t_reached = t
+                    stop = accept is not None and accept(t)
+                    saved.data = problem.state.vec
+                    report.step(t, dt, record.iterations)
+                    log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
+                    if stop:
+                        break
+                    if record.iterations <= 4:
+                        dt = min(2 * dt, options.max_step)
+                    continue
+                problem.state.vec.data = saved
+                restore(t)
+                report.cut(t, dt, record.reason)
+                log.info("step to t = %.4g failed (%s); cutting the step", t + dt,
+                         record.reason)
+                dt /= 2
+                if dt < options.min_step:
+                    raise ConvergenceError(
+                        f"growth could not be applied beyond t = {t:.6g}: the step fell below "
+                        f"min_step = {options.min_step:g} ({record.reason})",
+                        history=history, t_converged=t)
+        except KeyboardInterrupt:
+            problem.state.vec.data = saved
+            restore(t)
+            raise Interrupted(f"interrupted at t = {t:.6g}", history=history,
+                              t_converged=t) from None
+        finally:
+            report.close()
+    history.converged = True
+    return history

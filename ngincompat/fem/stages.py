@@ -1,0 +1,518 @@
+"""Stages of a load history, as data: what a case's solve walks through in order.
+
+* :class:`PrescribedGrowthStage`: prescribed growth Fg(X, t) applied from t = 0 to ``t_end``
+  in adaptive load steps (:func:`~ngincompat.fem.solver.solve_growth`), or solved at ``t_end`` at
+  once from a given start state (the state before a load or a support was removed);
+* :class:`CoupledStage`: mechanically coupled growth marched in time
+  (:func:`~ngincompat.fem.solver.solve_coupled`), with growth on or frozen and the enclosed volume
+  driven linearly between two targets (inflation, hold), checkpointed after every step when
+  given a checkpoint file;
+* :class:`FallbackStage`: one stage, and where it fails another from the same start;
+* :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
+  until the volume under the skin is the target;
+* :class:`UnloadingStage`: at frozen growth, a dead load (e.g. the reactions of supports that
+  are removed) ramped to zero with a viscous regularisation;
+* :class:`RelaxationStage`: at frozen growth, from a state that is not an equilibrium (a
+  viscous march's end, a body whose constraints were just removed), a viscous gradient flow
+  to a stable equilibrium, finished by Newton without the viscosity.
+
+Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
+:class:`~ngincompat.workflow.pipeline.Stage` protocol).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from ngincompat import config
+from ngincompat.atomic import atomic_path
+from ngincompat.errors import ConvergenceError, ParameterError, require
+from ngincompat.fem import buckling
+from ngincompat.fem.solver import (
+    NewtonOptions,
+    NewtonSolver,
+    SolverHistory,
+    StepRecord,
+    solve_coupled,
+    solve_growth,
+)
+from ngincompat.progress import Progress
+
+
+@dataclass(eq=False)
+class PrescribedGrowthStage:
+    """Prescribed growth: ``time`` (the Parameter that Fg depends on) from ``t_start`` to
+    ``t_end``.
+
+    With a ``start`` (a displacement, as a CoefficientFunction) the equilibrium at ``t_end``
+    is first sought by Newton (``start_options``) from that state at once: where a body in
+    equilibrium loses a load or a support (the skin's expander taken out, then its clamp),
+    the state before is the physical path's start and a far better guess than u = 0. Only if
+    Newton fails from there is the growth applied in load steps from the problem's state
+    before the stage (the history then holds the failed attempt first).
+    """
+
+    name: str
+    problem: object
+    time: object
+    options: NewtonOptions = field(default_factory=NewtonOptions)
+    t_start: float = 0.0
+    t_end: float = 1.0
+    start: object = None
+    start_options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=50))
+
+    def run(self, progress: Progress) -> SolverHistory:
+        attempt = None
+        if self.start is not None:
+            attempt = self._from_start(progress)
+            if attempt.converged:
+                return attempt
+        self.time.Set(self.t_start)
+        history = solve_growth(self.problem, self.time, self.options, self.t_end,
+                               progress=progress, stage=self.name)
+        if attempt is not None:
+            history.steps[:0] = attempt.steps
+        return history
+
+    def _from_start(self, progress: Progress) -> SolverHistory:
+        """Newton at ``t_end`` from ``start``; on failure the problem's state is restored."""
+        u = self.problem.u
+        before = u.vec.CreateVector()
+        before.data = u.vec
+        u.Set(self.start)
+        self.time.Set(self.t_end)
+        record = StepRecord(t=self.t_end, dt=self.t_end - self.t_start, converged=False)
+        started = time.perf_counter()
+        with config.task_manager():
+            record.converged = NewtonSolver(self.problem, self.start_options).minimise(record)
+        record.seconds = time.perf_counter() - started
+        history = SolverHistory(steps=[record], converged=record.converged,
+                                t_reached=self.t_end if record.converged else self.t_start)
+        if record.converged:
+            progress.line(f"{self.name}: equilibrium from the start state in "
+                          f"{record.iterations} Newton iterations")
+        else:
+            u.vec.data = before
+            progress.line(f"{self.name}: from the start state {record.reason}; applying the "
+                          "growth in load steps instead")
+        return history
+
+
+@dataclass(eq=False)
+class CoupledStage:
+    """Coupled growth (:class:`~ngincompat.fem.problem.CoupledGrowth`) from ``t_start`` to
+    ``t_end`` in steps of ``dt`` (halved where Newton needs it).
+
+    Attributes
+    ----------
+    grow : bool
+        Growth evolves (implicit Euler with the step as dt); False freezes it (dt = 0), as
+        during a quasi-static inflation.
+    volume : tuple of float, optional
+        Target of the constrained volume at ``t_start`` and ``t_end``, linear in between;
+        None as the first: the target the problem has when the stage starts.
+    checkpoint : Path, optional
+        File that receives the state after every converged step (atomically).
+    traction : tuple of float, optional
+        Scale of the problem's dead traction (``load_scale``) at ``t_start`` and ``t_end``,
+        linear in between.
+    start : callable, optional
+        ``start()`` as the stage begins, before its first load (e.g. a load handed over
+        from one kind to another).
+    observe : callable, optional
+        ``observe(t)`` after every converged step (after the checkpoint): measures the state;
+        returning True ends the stage there.
+    unit : str
+        Unit of the marching parameter, for the progress report.
+    """
+
+    name: str
+    problem: object
+    t_end: float
+    dt: float
+    t_start: float = 0.0
+    grow: bool = True
+    volume: tuple[float | None, float] | None = None
+    traction: tuple[float, float] | None = None
+    start: Callable[[], object] | None = None
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
+    checkpoint: Path | None = None
+    observe: Callable[[float], bool] | None = None
+    unit: str = ""
+    _loaded: float = field(default=float("inf"), init=False, repr=False)
+
+    def load(self, t: float) -> None:
+        """Set the loads of time ``t``: the volume target, the dead traction's scale and, if
+        frozen, dt = 0. Moving
+        forward from the last converged time (not back to it after a failed step), the state
+        is lifted with an expander
+        (:meth:`~ngincompat.fem.problem.CoupledGrowth.set_volume_target`)."""
+        if not self.grow:
+            self.problem.dt.Set(0.0)
+        span = self.t_end - self.t_start
+        s = 1.0 if span <= 0 else (t - self.t_start) / span
+        if self.volume is not None:
+            v0, v1 = self.volume
+            self.problem.set_volume_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
+        if self.traction is not None:
+            self.problem.load_scale.Set(self.traction[0] + (self.traction[1]
+                                                             - self.traction[0]) * s)
+        self._loaded = t
+
+    def save(self, t: float) -> None:
+        """Write the state at time ``t`` to the checkpoint, if there is one."""
+        if self.checkpoint is not None:
+            save_checkpoint(self.problem, self.checkpoint, t)
+
+    def after_step(self, t: float) -> bool:
+        """Checkpoint and observe the state of time ``t``; True ends the stage."""
+        self.save(t)
+        return self.observe is not None and bool(self.observe(t))
+
+    def run(self, progress: Progress) -> SolverHistory:
+        if self.start is not None:
+            self.start()
+        if self.volume is not None and self.volume[0] is None:
+            self.volume = (self.problem.volume_target.Get(), self.volume[1])
+        self.load(self.t_start)
+        self.save(self.t_start)
+        return solve_coupled(self.problem, self.t_end, self.dt, self.options,
+                             t_start=self.t_start, schedule=self.load, on_step=self.after_step,
+                             progress=progress, stage=self.name, unit=self.unit)
+
+
+@dataclass(eq=False)
+class FallbackStage:
+    """``first``; where it does not converge, ``reset()`` (back to the state it started
+    from) and ``second`` instead, under ``first``'s name. The history holds the failed
+    attempt's steps first."""
+
+    first: object
+    second: object
+    reset: Callable[[], object]
+
+    @property
+    def name(self) -> str:
+        return self.first.name
+
+    def run(self, progress: Progress) -> SolverHistory:
+        try:
+            return self.first.run(progress)
+        except ConvergenceError as err:
+            progress.line(f"{self.name}: {err}; starting again on the other path")
+            self.reset()
+            history = self.second.run(progress)
+            if err.history is not None:
+                history.steps[:0] = err.history.steps
+            return history
+
+
+@dataclass(eq=False)
+class ContactControlStage:
+    """Volume control of an expander in contact (:class:`~ngincompat.fem.problem.CoupledGrowth`
+    with an expander, growth frozen), from an equilibrium (the end of the inflation): the
+    expander's own volume V_e is corrected until the volume V under the skin is ``target``
+    to ``rtol``.
+
+    Each round that finds V out of tolerance takes a secant step on V(V_e) = target (the
+    first one V_e target / V: the volume under the skin is nearly proportional to the
+    expander's), lifts the skin with the expander and solves the equilibrium (Newton),
+    halving the step where Newton fails (at most ``max_cuts`` times). The converged start is
+    not solved again (at 50 cc such a Newton step from the inflation's converged end failed:
+    no acceptable step). The record's ``t`` is the round, its ``dt`` the expander's change.
+
+    Raises
+    ------
+    ConvergenceError
+        Newton fails in a round, or ``max_rounds`` rounds do not reach the tolerance.
+    """
+
+    name: str
+    problem: object
+    target: float
+    rtol: float = 1e-4
+    max_rounds: int = 20
+    max_cuts: int = 5
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
+
+    def run(self, progress: Progress) -> SolverHistory:
+        problem = self.problem
+        problem.dt.Set(0.0)
+        solver = NewtonSolver(problem, self.options)
+        history = SolverHistory()
+        previous = None
+        for k in range(self.max_rounds + 1):
+            expander, volume = problem.volume_target.Get(), problem.volume()
+            progress.line(f"{self.name}: round {k}, volume {volume:.7g} (target "
+                          f"{self.target:g}, expander {expander:.7g})")
+            if abs(volume - self.target) <= self.rtol * self.target:
+                history.converged = True
+                return history
+            if k == self.max_rounds:
+                break
+            slope = volume / expander
+            if previous is not None and volume != previous[1]:
+                secant = (volume - previous[1]) / (expander - previous[0])
+                slope = secant if 0.2 * slope < secant < 5 * slope else slope
+            previous = expander, volume
+            self._resize(solver, history, k + 1, expander, (self.target - volume) / slope)
+            progress.line(f"{self.name}: round {k + 1} in {history.steps[-1].iterations} "
+                          "Newton iterations")
+        raise ConvergenceError(f"the volume is not within {self.rtol:g} of {self.target:g} "
+                               f"after {self.max_rounds} rounds", history=history,
+                               t_converged=history.t_reached)
+
+    def _resize(self, solver, history, k, expander, change):
+        """Round ``k``: the expander's volume from ``expander`` by ``change``, halved (from
+        the round's start) until Newton converges, at most ``max_cuts`` times."""
+        problem = self.problem
+        saved = problem.state.vec.CreateVector()
+        saved.data = problem.state.vec
+        for _ in range(self.max_cuts + 1):
+            problem.set_volume_target(expander + change, lift=True)
+            record = StepRecord(t=float(k), dt=change, converged=False)
+            with config.task_manager():
+                record.converged = solver.minimise(record)
+            history.steps.append(record)
+            if record.converged:
+                history.t_reached = float(k)
+                return
+            problem.state.vec.data = saved
+            problem.set_volume_target(expander)
+            change /= 2
+        raise ConvergenceError(f"round {k}: {record.reason}, also after {self.max_cuts} "
+                               "halvings of the resize", history=history,
+                               t_converged=history.t_reached)
+
+
+@dataclass(eq=False)
+class UnloadingStage:
+    """A dead load removed at frozen growth: ``problem.load_scale`` falls linearly from 1 to
+    0 over the pseudo time ``duration``, in steps (the first ``duration`` / 8, at most / 4,
+    halved where Newton needs it) of the viscous regularisation (eta = ``viscosity``) of a
+    :class:`~ngincompat.fem.problem.CoupledGrowth` (``viscous``), so that Newton's system stays
+    positive definite while the body finds its new shape. Each step's residual is the
+    derivative of its energy (:meth:`~ngincompat.fem.problem.CoupledGrowth.potential`), which
+    the line search tests besides the residual: on the default folding bilayer 119 Newton
+    iterations against 254 with the residual alone, whose norm the early iterations of a
+    step raise tenfold. Removing the supports of a grown body at once is a jump of their
+    reactions that Newton does not survive (the release of the folding scene: non-finite
+    residuals down to steps of 1e-3), nor does a step of the ramp without the viscosity
+    (the released tangent is indefinite there). The end is the viscous state at no load;
+    :class:`RelaxationStage` then finds the equilibrium. The problem is left with its
+    growth unfrozen (``growing`` = 1)."""
+
+    name: str
+    problem: object
+    viscosity: float
+    duration: float
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(
+        max_iter=12, line_search=True, min_step=1e-6))
+
+    def run(self, progress: Progress) -> SolverHistory:
+        problem = self.problem
+        problem.growing.Set(0.0)
+        problem.viscosity.Set(self.viscosity)
+        problem.u_old.vec.data = problem.u.vec
+        T = self.duration
+        options = replace(self.options, max_step=T / 4, min_step=self.options.min_step * T)
+        try:
+            return solve_coupled(problem, T, T / 8, options,
+                                 schedule=lambda t: problem.load_scale.Set(1.0 - t / T),
+                                 progress=progress, stage=self.name, energy=problem.potential)
+        finally:
+            problem.growing.Set(1.0)
+
+
+@dataclass(eq=False)
+class RelaxationStage:
+    """The equilibrium at frozen growth of a viscous :class:`~ngincompat.fem.problem.CoupledGrowth`
+    (``viscous``), reached by a gradient flow in pseudo time and then solved without the
+    viscosity.
+
+    Each pseudo-time step tau holds the growth (``problem.growing`` = 0) and makes the
+    residual of
+
+        Phi(u) = Pi(u) + eta / (2 tau) int |u - u_n|^2 dV,     eta = ``viscosity``,
+
+    (:meth:`~ngincompat.fem.problem.CoupledGrowth.potential`, no load) vanish. While
+    K + eta / tau M is positive definite (K the elastic tangent, M the mass matrix of
+    :mod:`ngincompat.fem.buckling`) that stationary point is the minimiser of Phi, so
+    Pi(u_n+1) + eta / (2 tau) |u_n+1 - u_n|^2 <= Pi(u_n): the energy falls. Along an
+    unstable mode (K w = omega M w, omega < 0) a step tau > eta / |omega| breaks this: in the
+    linear model Phi(u_n+1) - Pi(u_n) = |omega| a^2 c / (2 (c - 1)), c = tau |omega| / eta,
+    for a mode amplitude a, positive for c > 1, where the step converges back toward the
+    saddle. A step that raises Phi above Pi(u_n) (beyond round-off, ``1e-12 |Pi|``) is
+    rejected like one where Newton fails, and retried at half the size; after one that took
+    at most four Newton iterations tau doubles. The flow so leaves saddles and settles in a
+    stable equilibrium. Its states are only the way there, so each step is solved to the
+    relative residual ``flow_rtol`` (default 1e-3), not ``options.rtol`` (measured on the
+    folding scene's release: :data:`~ngincompat.scenes.folding.FLOW_RTOL`).
+
+    The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
+    ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
+    equilibrium without viscosity (a frozen step, dt = 0, with a line search: full steps from
+    a state still far from it invert elements; a step is accepted where it lowers the strain
+    energy, of which the frozen residual at no load is the derivative, or the residual norm)
+    from there; if that fails the flow
+    goes on, and tries again once the residual has fallen ``switch``-fold more. An
+    equilibrium Newton finds is kept only if it is stable, the smallest eigenvalue of its
+    tangent at frozen growth (:func:`~ngincompat.fem.buckling.smallest_eigenpairs`) >= 0:
+    started close to a saddle, where the flow leaves the unstable mode only at the rate
+    |omega| / eta, Newton returns to the saddle; the flow then goes on from the state
+    before. :attr:`final_residual` is the residual without viscosity at the end,
+    :attr:`eigenvalue` the smallest eigenvalue there (of ``eigenpairs`` computed). The history's
+    steps are the pseudo-time steps (``t`` the pseudo time, ``dt`` tau) and last the frozen
+    step (``dt`` = 0), whose ``residuals`` end with the residual of the equilibrium. The
+    problem is left frozen (dt = 0, ``growing`` = 1).
+
+    Raises
+    ------
+    ConvergenceError
+        No equilibrium after ``max_steps`` steps, or tau below ``options.min_step``.
+    """
+
+    name: str
+    problem: object
+    viscosity: float
+    dt: float
+    switch: float = 0.1
+    max_steps: int = 60
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=12))
+    flow_rtol: float = 1e-3
+    unit: str = ""
+    eigenpairs: int = 1
+    initial_residual: float = field(default=float("nan"), init=False)
+    final_residual: float = field(default=float("nan"), init=False)
+    eigenvalue: float = field(default=float("nan"), init=False)
+
+    def __post_init__(self):
+        require(0 < self.flow_rtol < 1, "flow_rtol", self.flow_rtol, "in (0, 1)")
+
+    def run(self, progress: Progress) -> SolverHistory:
+        problem = self.problem
+        solver = NewtonSolver(problem, replace(self.options, rtol=self.flow_rtol))
+        history = SolverHistory()
+        problem.growing.Set(0.0)
+        problem.viscosity.Set(self.viscosity)
+        problem.u_old.vec.data = problem.u.vec
+        saved = problem.state.vec.CreateVector()
+        saved.data = problem.state.vec
+        self.initial_residual = self._residual(solver)
+        energy, t, tau = problem.strain_energy(), 0.0, self.dt
+        attempt = self.initial_residual
+        progress.line(f"{self.name}: residual without viscosity {self.initial_residual:.3g}")
+        try:
+            with config.task_manager():
+                for _ in range(self.max_steps):
+                    problem.dt.Set(tau)
+                    record = StepRecord(t=t + tau, dt=tau, converged=False)
+                    if solver.minimise(record):
+                        record.energy = problem.strain_energy()
+                        record.converged = (problem.potential()     # Phi(u_n+1)
+                                            <= energy + 1e-12 * abs(energy))
+                        if not record.converged:
+                            record.reason = "the step raised the energy (a saddle)"
+                    history.steps.append(record)
+                    if not record.converged:
+                        problem.state.vec.data = saved
+                        progress.line(f"{self.name}: step {tau:.3g} failed ({record.reason})"
+                                      f"; retrying with {tau / 2:.3g}")
+                        tau /= 2
+                        if tau < self.options.min_step:
+                            break
+                        continue
+                    t, energy = t + tau, record.energy
+                    problem.accept_step()
+                    saved.data = problem.state.vec
+                    residual = self._residual(solver)
+                    progress.line(f"{self.name}: pseudo time {t:.4g}{self._unit} "
+                                  f"({record.iterations} Newton iterations), energy "
+                                  f"{energy:.10g}, residual without viscosity {residual:.3g}")
+                    history.t_reached = t
+                    if residual <= self.switch * attempt:
+                        if self._equilibrium(history, saved, progress):
+                            history.converged = True
+                            return history
+                        attempt = residual
+                    if record.iterations <= 4:
+                        tau *= 2
+        finally:
+            problem.dt.Set(0.0)
+            problem.growing.Set(1.0)
+        raise ConvergenceError(f"{self.name}: no equilibrium after {len(history.steps)} "
+                               f"pseudo-time steps (last step {tau:.3g})", history=history,
+                               t_converged=history.t_reached)
+
+    @property
+    def _unit(self) -> str:
+        return f" {self.unit}" if self.unit else ""
+
+    def _residual(self, solver) -> float:
+        """The norm of the residual without viscosity at the current state."""
+        dt = self.problem.dt.Get()
+        self.problem.dt.Set(0.0)
+        norm = solver.residual().Norm()
+        self.problem.dt.Set(dt)
+        return norm
+
+    def _equilibrium(self, history, saved, progress) -> bool:
+        """Newton without viscosity from the current state; unless it converges to a
+        stable equilibrium the state is restored and False returned."""
+        self.problem.dt.Set(0.0)
+        record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
+        solver = NewtonSolver(self.problem, replace(self.options, line_search=True),
+                              energy=self.problem.strain_energy)
+        if solver.minimise(record):
+            values, _ = buckling.smallest_eigenpairs(self.problem, count=self.eigenpairs)
+            self.eigenvalue = float(values[0])
+            record.converged = self.eigenvalue >= 0
+            if not record.converged:
+                record.reason = f"unstable: smallest eigenvalue {self.eigenvalue:.3g}"
+        history.steps.append(record)
+        progress.line(f"{self.name}: without viscosity "
+                      + (f"{record.iterations} Newton iterations, residual "
+                         f"{record.residuals[-1]:.3g}, smallest eigenvalue "
+                         f"{self.eigenvalue:.3g}" if record.converged else
+                         f"not accepted ({record.reason}); relaxing on"))
+        if not record.converged:
+            self.problem.state.vec.data = saved
+        self.final_residual = record.residuals[-1]
+        return record.converged
+
+
+def save_checkpoint(problem, path: Path, t: float) -> None:
+    """Write the state of a coupled problem (unknowns, previous growth, volume target)
+    atomically."""
+    arrays = {"t": t, "state": problem.state.vec.FV().NumPy(),
+              "theta_old": problem.theta_old.vec.FV().NumPy(),
+              "volume_target": problem.volume_target.Get()}
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as f:
+            np.savez(f, **arrays)
+
+
+def restore_checkpoint(problem, path: Path) -> float | None:
+    """Load a checkpoint into the problem; returns its time, or None if there is none.
+
+    Raises
+    ------
+    ParameterError
+        The checkpoint was written for another mesh or order.
+    """
+    if not path.is_file():
+        return None
+    data = np.load(path)
+    if data["state"].shape != problem.state.vec.FV().NumPy().shape:
+        raise ParameterError(f"{path} does not fit this mesh and order: cannot resume (run "
+                             "with the settings of the interrupted run, or without resume)")
+    problem.state.vec.FV().NumPy()[:] = data["state"]
+    problem.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
+    if "volume_target" in data:             # older checkpoints: the hold sets it
+        problem.volume_target.Set(float(data["volume_target"]))
+    return float(data["t"])

@@ -1,0 +1,2 @@
+"""Independent solutions used as checks: the radial boundary-value problem, the bilayer
+bifurcation."""

@@ -1,0 +1,75 @@
+"""``ngincompat folding``: the cortical-folding scene (section 3.7) for every axon field, with
+one summary table and the figure of Fig. 7 a-c, one row per axon field.
+
+Each axon field runs into its own folder ``out/<axons>`` (:mod:`ngincompat.studies.variants`); the
+summary (``summary.md``, ``.csv``, ``.json``) has one row per axon field with the onset
+(growth and wavelength), the fold amplitude at the end, the largest |b| on the plane normal
+to the paper's e3 and its depth below the top, and, for runs that were released, the
+largest principal stress and the curvature of the top after the release. An axon field whose
+run fails is a row with its status; the others still run. ``fields.png`` has one row per
+axon field and one column per field of :data:`ngincompat.scenes.folding.PANELS` that every
+row has, on one colour scale per column.
+"""
+
+from pathlib import Path
+
+from ngincompat.mechanics import fields
+from ngincompat.progress import SILENT
+from ngincompat.scenes.folding import FoldingScene, panels
+from ngincompat.studies.variants import COMMON, run_variants, write_summary
+from ngincompat.workflow import plots, tables
+
+#: The axon fields of Fig. 7, left to right.
+AXON_FIELDS = fields.AXONS
+
+COLUMNS = ("axons", *COMMON, "onset_growth", "onset_wavelength", "fold_amplitude",
+           "burgers_max", "burgers_max_depth", "max_principal_stress_released",
+           "top_curvature_released")
+#: The columns that only a released run fills: in the summary when a row has them.
+RELEASED = COLUMNS[-2:]
+UNITS = {"seconds": "s", **{k: FoldingScene.metric_unit(k) for k in COLUMNS[4:]}}
+
+
+def run_all(out=None, axons=AXON_FIELDS, progress=SILENT, overwrite=False, **settings):
+    """Run the folding scene for every axon field of ``axons`` (into ``out/<axons>`` when
+    ``out`` is given, with the summary and ``fields.png``); returns the rows and the results
+    by axon field.
+
+    ``settings`` are folding-scene parameters by name (strings are converted as on the
+    command line); they are checked for every axon field before anything runs.
+    """
+    scenes = {a: FoldingScene.from_settings({**settings, "axons": a}) for a in axons}
+    rows, results = run_variants(scenes, out, key="axons", metrics=COLUMNS[4:],
+                                 progress=progress, overwrite=overwrite, label="folding")
+    if out is not None:
+        files = []
+        figure = fields_figure(results, next(iter(scenes.values())))
+        if figure is not None:
+            plots.save(figure, Path(out) / "fields.png")
+            files.append("fields.png")
+        write_summary(out, rows, columns(rows), UNITS, files=files)
+    return rows, results
+
+
+def columns(rows):
+    """The summary's columns: those of :data:`COLUMNS`, the release's when a row has them."""
+    return [c for c in COLUMNS
+            if c not in RELEASED or any(row.get(c) is not None for row in rows)]
+
+
+def fields_figure(results, scene):
+    """Fig. 7 a-c: one row per axon field whose run has sampled fields, or None if none
+    (units and the stress floor from ``scene``)."""
+    rows = {axons: r.profiles["section"] for axons, r in results.items()
+            if "section" in r.profiles}
+    if not rows:
+        return None
+    L = scene.units["length"]
+    return plots.deformed_figure(rows, panels(scene), ("X1", "X3"), f"X1 [{L}]", f"X3 [{L}]",
+                                 "cortical folding: the deformed bilayer per axon field",
+                                 floor=1e-3 * scene.mu_white)
+
+
+def summary_markdown(rows):
+    """The summary table in markdown, with units."""
+    return tables.markdown(rows, columns(rows), UNITS)

@@ -1,0 +1,51 @@
+"""Drivers that run one scene in several variants (``ngincompat expansion``: the skin scene
+per expander; ``ngincompat folding``: the folding scene per axon field), each into its own
+folder, with one summary table.
+
+Every variant's settings are checked before anything runs (a bad value stops the driver at
+once, nothing computed); a variant whose run does not converge is a row with its status and
+the metrics of its last converged state, and the others still run.
+"""
+
+import time
+
+from ngincompat.errors import ConvergenceError
+from ngincompat.progress import SILENT
+from ngincompat.workflow import output, tables
+
+#: The columns every summary starts with after the variant's name.
+COMMON = ("status", "ndof", "seconds")
+
+
+def run_variants(scenes, out=None, key="variant", metrics=(), progress=SILENT,
+                 overwrite=False, label=""):
+    """Run every scene of ``scenes`` (variant name -> scene), into ``out/<name>`` when ``out``
+    is given (prepared as a run folder first).
+
+    Returns the rows (``key``: the name, status, ndof, seconds and the ``metrics``, None
+    where a run has no value) and the results by name.
+    """
+    if out is not None:
+        out = output.prepare(out, overwrite=overwrite)
+    rows, results = [], {}
+    for name, scene in scenes.items():
+        start = time.perf_counter()
+        try:
+            r = scene.run(None if out is None else out / name, overwrite=overwrite,
+                          progress=progress, label=f"{label} {name}".strip())
+        except ConvergenceError as err:
+            r = err.results
+        results[name] = r
+        rows.append({key: name, "status": r.status, "ndof": r.mesh.ndof,
+                     "seconds": round(time.perf_counter() - start, 1),
+                     **{k: r.metrics.get(k) for k in metrics}})
+    return rows, results
+
+
+def write_summary(out, rows, columns, units, files=()):
+    """``summary.md``, ``.csv`` and ``.json`` in ``out``; the JSON lists the variants' folders
+    and ``files`` besides the summary."""
+    names = [row[columns[0]] for row in rows]
+    summary = ["summary.md", "summary.csv", "summary.json"]
+    return tables.write(out, "summary", rows, columns, units,
+                        files=[*names, *files, *summary])

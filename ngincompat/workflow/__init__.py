@@ -1,0 +1,1 @@
+"""From a solved case to files: pipeline, Results, output, input files, plots, tables."""

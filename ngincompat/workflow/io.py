@@ -1,0 +1,132 @@
+"""Results on disk: results.json with provenance, VTK fields, all written atomically.
+
+Every file is first written under a temporary name in the target folder and then renamed over
+the final name (``os.replace`` is atomic on POSIX), so an interrupted run never leaves a
+half-written result behind.
+"""
+
+import json
+import math
+import os
+import platform
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ngincompat.atomic import atomic_path
+from ngincompat.config import VERSION
+
+
+def versions():
+    """Versions of the packages a result depends on."""
+    import netgen
+    import ngsolve
+
+    return {
+        "ngincompat": VERSION,
+        "ngsolve": ngsolve.__version__,
+        "netgen": getattr(netgen, "__version__", ngsolve.__version__),
+        "numpy": np.__version__,
+        "python": platform.python_version(),
+    }
+
+
+def jsonable(value):
+    """``value`` with arrays as lists, numpy scalars as Python ones, NaN and inf as None."""
+    if isinstance(value, dict):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return jsonable(value.tolist())
+    if isinstance(value, (np.floating, float)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def write_json(path, data):
+    """Write ``data`` as JSON atomically; NaN and inf become null, arrays become lists."""
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(jsonable(data), indent=2, sort_keys=False) + "\n")
+    return Path(path)
+
+
+def read_json(path):
+    return json.loads(Path(path).read_text())
+
+
+def write_vtk(path, mesh, fields, subdivision=1):
+    """Write CoefficientFunctions as a VTK unstructured grid (``path`` ends in ``.vtu``).
+
+    Parameters
+    ----------
+    fields : dict
+        name -> CoefficientFunction (scalar, 3-vector or 3x3 tensor).
+    subdivision : int
+        Refinements of each element for the output (high-order fields need some).
+    """
+    import ngsolve as ngs
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    stem = path.with_suffix("")
+    tmp_stem = stem.with_name(f".{stem.name}.tmp{os.getpid()}")
+    vtk = ngs.VTKOutput(mesh, coefs=list(fields.values()), names=list(fields.keys()),
+                        filename=str(tmp_stem), subdivision=subdivision, legacy=False)
+    written = Path(vtk.Do())
+    if written.suffix != ".vtu":
+        written = written.with_name(written.name + ".vtu")
+    os.replace(written, path)
+    return path
+
+
+def write_pvd(path, datasets):
+    """Write a ParaView collection (``path`` ends in ``.pvd``) atomically: a time series of
+    VTK files given as (time, file name relative to the collection's folder)."""
+    lines = ['<?xml version="1.0"?>',
+             '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+             "  <Collection>",
+             *(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file="{name}"/>'
+               for t, name in datasets),
+             "  </Collection>", "</VTKFile>"]
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n")
+    return Path(path)
+
+
+def write_vtk_parallel(stem, mesh, fields, subdivision=1):
+    """Write CoefficientFunctions on a distributed mesh: every rank writes its part; the
+    collection ``stem.pvd`` names the parts. Collective: call on every rank.
+
+    Returns
+    -------
+    list of str
+        The files written, relative to the folder of ``stem`` (on every rank).
+    """
+    import ngsolve as ngs
+
+    stem = Path(stem)
+    stem.parent.mkdir(parents=True, exist_ok=True)
+    vtk = ngs.VTKOutput(mesh, coefs=list(fields.values()), names=list(fields.keys()),
+                        filename=str(stem), subdivision=subdivision, legacy=False)
+    vtk.Do()
+    comm = mesh.comm.mpi4py
+    comm.Barrier()
+    names = None
+    if comm.rank == 0:
+        names = sorted(p.name for p in stem.parent.glob(f"{stem.name}*")
+                       if p.suffix in (".pvd", ".vtu"))
+    return comm.bcast(names, root=0)
+
+
+def provenance():
+    """What produced a result: package versions and the command line."""
+    return {"versions": versions(), "argv": sys.argv}

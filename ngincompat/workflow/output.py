@@ -1,0 +1,212 @@
+"""A run's folder: checked before any computation, written from a :class:`Results` only.
+
+:func:`prepare` runs first: the folder must be a folder (or creatable), writable, and not hold
+another run unless ``overwrite`` is given, which removes the files the old run wrote (listed
+in its results.json or summary.json) and nothing else. :func:`write` writes results.json, the
+VTK fields, the figures and the growth field as data, each atomically, so an interrupted run
+never leaves a half-written file; :func:`read` reads results.json back into a
+:class:`Results` (without the NGSolve fields).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import ngsolve as ngs
+
+from ngincompat import parallel
+from ngincompat.errors import ParameterError
+from ngincompat.workflow import io, plots
+from ngincompat.workflow.inputs import save_growth, save_mesh
+from ngincompat.workflow.results import Results
+
+#: Files that mark a folder as holding a run (a scene's, or a summary of several).
+MARKERS = ("results.json", "summary.json")
+#: Optional outputs of a run, as named in a scene's ``outputs`` parameter: files, and
+#: ``curvature`` (the curvature of the growth metric,
+#: :mod:`ngincompat.incompatibility.curvature`, in the metrics, the VTK fields and the figures).
+OUTPUTS = ("vtk", "figures", "growth", "curvature")
+
+
+def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
+    """Check that ``out`` can take a run's files, before anything is computed.
+
+    Parameters
+    ----------
+    out : path-like
+        The output folder; created if missing.
+    overwrite : bool
+        Replace a run already in the folder: the files it lists are removed now.
+    resume : bool
+        The run continues the one in the folder (its checkpoint is kept).
+
+    Raises
+    ------
+    ParameterError
+        ``out`` is a file or lies under one, cannot be created or written, or holds another
+        run and neither ``overwrite`` nor ``resume`` is given.
+    """
+    out = Path(out)
+    for parent in [out, *out.parents]:
+        if parent.exists() and not parent.is_dir():
+            where = "is a file" if parent == out else f"lies under the file {parent}"
+            raise ParameterError(f"--out {out} {where}: give a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise ParameterError(f"--out {out} cannot be created: {err.strerror}") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise ParameterError(f"--out {out} is not writable")
+    marker = next((out / m for m in MARKERS if (out / m).is_file()), None)
+    if marker is None or resume:
+        return out
+    if not overwrite:
+        raise ParameterError(f"--out {out} holds another run ({marker.name}): choose another "
+                             "folder, or pass --overwrite to replace it")
+    _remove_run(out)
+    return out
+
+
+def _remove_run(out: Path) -> None:
+    """Remove what the run in ``out`` wrote: the files its records list, the records, and the
+    folders of the runs a summary lists."""
+    for name in MARKERS:
+        path = out / name
+        if not path.is_file():
+            continue
+        try:
+            record = io.read_json(path)
+        except (OSError, ValueError):
+            record = {}
+        for entry in record.get("files", []):
+            target = (out / entry).resolve()
+            if out.resolve() not in target.parents:
+                continue            # never outside the folder
+            if target.is_dir():
+                _remove_run(target)
+                _remove_if_empty(target)
+            else:
+                target.unlink(missing_ok=True)
+        path.unlink(missing_ok=True)
+
+
+def _remove_if_empty(folder: Path) -> None:
+    try:
+        folder.rmdir()
+    except OSError:
+        pass
+
+
+def wanted(results: Results) -> set[str]:
+    """The optional files the scene's ``outputs`` parameter asks for."""
+    text = str(results.params.get("outputs", "none")).strip()
+    if text in ("", "none"):
+        return set()
+    return {item.strip() for item in text.split(",")}
+
+
+def write(results: Results, out, outputs: set[str] | None = None) -> Results:
+    """Write a run into the folder ``out``: results.json always; ``fields.vtu`` (scalar and
+    vector fields; with ``results.frames`` also ``fields_NNN.vtu`` per frame and their time
+    series ``fields.pvd``), the figures and ``mesh.vol`` + ``growth.npz`` (the growth field as data,
+    for a later run's ``--set mesh=... --set theta_file=...``) as the scene's ``outputs``
+    ask. ``results.files`` lists what was written; results.json is written last.
+
+    On a distributed mesh every rank writes its part of the VTK output (``fields.pvd`` and
+    one ``.vtu`` per part); rank 0 alone writes results.json and the figures; the growth
+    field as data is not written (it is for serial reruns)."""
+    start = time.perf_counter()
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    outputs = wanted(results) if outputs is None else outputs
+    files = []
+    distributed = results.domain is not None and parallel.distributed(results.domain)
+    if results.fields and results.domain is not None:
+        if "vtk" in outputs:
+            vtk = interpolated({k: v for k, v in results.fields.items() if v.dim <= 3},
+                               results.domain, min(results.mesh.order, VTK_ORDER))
+            subdivision = 2 if results.mesh.order >= 3 else 1
+            if distributed:
+                files += io.write_vtk_parallel(out / "fields", results.domain, vtk,
+                                               subdivision=subdivision)
+            else:
+                io.write_vtk(out / "fields.vtu", results.domain, vtk, subdivision=subdivision)
+                files.append("fields.vtu")
+                files += _write_frames(out, results, subdivision)
+        if "growth" in outputs and "theta" in results.fields and not distributed:
+            save_mesh(out / "mesh.vol", results.domain)
+            save_growth(out / "growth.npz", results.domain, results.fields["theta"],
+                        order=max(results.mesh.order, 2))
+            files += ["mesh.vol", "growth.npz"]
+    if not parallel.is_root():
+        return results
+    if "figures" in outputs:
+        for figure in results.figures:
+            if all(k in results.profiles.get(figure.profile, {})
+                   for k in (figure.x, *figure.curves.values(), *figure.right.values(),
+                             *figure.deform.values(), *([figure.y] if figure.y else []))):
+                plots.draw(results, figure, out / figure.file)
+                files.append(figure.file)
+    results.files = ["results.json", *files, *[f for f in results.files
+                                               if f not in files and f != "results.json"]]
+    results.timings["output"] = time.perf_counter() - start
+    io.write_json(out / "results.json", results.to_dict())
+    return results
+
+
+def _write_frames(out: Path, results: Results, subdivision: int) -> list[str]:
+    """The time series of ``results.frames``: one ``fields_NNN.vtu`` per frame and the
+    collection ``fields.pvd`` that orders them by time (written last)."""
+    datasets = []
+    for k, (t, fields) in enumerate(results.frames):
+        name = f"fields_{k:03d}.vtu"
+        io.write_vtk(out / name, results.domain, fields, subdivision=subdivision)
+        datasets.append((t, name))
+    if not datasets:
+        return []
+    io.write_pvd(out / "fields.pvd", datasets)
+    return [name for _, name in datasets] + ["fields.pvd"]
+
+
+#: Highest order of the interpolants in the VTK file. A stress of the hemisphere (436 curved
+#: elements) costs 0.87 s at order 5 and 0.21 s at order 4, which is within 1.4e-4 of it in
+#: relative L2 (3.5e-5 at order 5; measured): the difference cannot be seen in a plot.
+VTK_ORDER = 4
+
+
+def interpolated(fields: dict, mesh, order: int, copy: bool = False) -> dict:
+    """The fields for the VTK file: GridFunctions as they are (copies if ``copy``, so later
+    changes of the state do not reach them: a frame of a time series), every other field as
+    its element-wise (L2) interpolant of ``order``.
+
+    VTK output evaluates a CoefficientFunction point by point; the interpolant evaluates it
+    once at the integration points, vectorised. For a stress from the symbolic derivative of
+    the GOH energy on the disc (750 elements, order 3, subdivision 2) that is 0.5 s instead of
+    5.1 s per field (measured), and the file differs from the field by its interpolation error
+    (3e-4 relative there). Metrics and profiles never read the file."""
+    out = {}
+    for name, cf in fields.items():
+        if isinstance(cf, ngs.GridFunction):
+            out[name] = cf
+            if copy:
+                out[name] = ngs.GridFunction(cf.space, name=name)
+                out[name].vec.data = cf.vec
+            continue
+        space = ngs.L2(mesh, order=order) if cf.dim == 1 else ngs.VectorL2(mesh, order=order)
+        out[name] = ngs.GridFunction(space)
+        out[name].Set(cf)
+    return out
+
+
+def read(out) -> Results:
+    """The :class:`Results` in ``out/results.json`` (profiles as arrays; no fields)."""
+    path = Path(out)
+    path = path / "results.json" if path.is_dir() else path
+    try:
+        return Results.from_dict(io.read_json(path))
+    except FileNotFoundError:
+        raise ParameterError(f"{path} does not exist: no results to read") from None
+    except (ValueError, KeyError, TypeError) as err:
+        raise ParameterError(f"{path} is not a results file of ngincompat ({err})") from None

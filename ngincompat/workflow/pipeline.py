@@ -1,0 +1,174 @@
+"""The scene pipeline: one path from parameters to results, the same from Python and the
+command line.
+
+    scene (parameters, validated)  --build()-->  case: mesh, growth, material, BCs, stages
+    case  --solve()-->  solution: the stages walked in order (histories, status)
+    case, solution  --measure()-->  Results (typed; fields included)
+    Results  --output.write(out)-->  results.json, VTK, figures   (only this touches files)
+
+:func:`run` does all of it; with ``out=None`` nothing is written, and a notebook draws
+``results.fields`` with ``ngsolve.webgui.Draw``. A stage is a load history as data: a name, a
+unit of its marching parameter and a ``run(progress)`` that marches it and returns its
+:class:`~ngincompat.fem.solver.SolverHistory`. :func:`solve_stages` walks a case's stages, stops
+at the first that fails to converge (the state is then the last converged one) or is
+interrupted, and records which.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time as _time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol, runtime_checkable
+
+from ngincompat import parallel
+from ngincompat.errors import ConvergenceError, Interrupted
+from ngincompat.fem.solver import SolverHistory
+from ngincompat.progress import SILENT, Progress
+from ngincompat.workflow import output
+from ngincompat.workflow.results import DONE, INTERRUPTED, NOT_CONVERGED, Results
+
+
+@contextlib.contextmanager
+def timed(timings: dict, phase: str):
+    """Add the wall time of the block to ``timings[phase]``."""
+    start = _time.perf_counter()
+    try:
+        yield
+    finally:
+        timings[phase] = timings.get(phase, 0.0) + _time.perf_counter() - start
+
+
+@runtime_checkable
+class Stage(Protocol):
+    """One part of a load history: inflation, a week of growth, a release, ..."""
+
+    name: str
+
+    def run(self, progress: Progress) -> SolverHistory:
+        """March the stage to its end; raise ConvergenceError (state: last converged step)
+        or Interrupted."""
+
+
+@dataclass
+class Solution:
+    """What solving a case produced: the solver history and wall time of every stage that
+    ran, how the walk ended, and the case-specific state (the problems) for measuring."""
+
+    histories: dict[str, SolverHistory] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+    status: str = DONE
+    error: str | None = None
+    state: Any = None
+
+    @property
+    def converged(self) -> bool:
+        return self.status == DONE
+
+
+class Case(Protocol):
+    """What a scene builds: knows its stages and how to measure their result."""
+
+    def solve(self, solution: Solution, progress: Progress, workdir: Path | None) -> None:
+        """Walk the stages into ``solution`` (see :func:`solve_stages`); ``workdir`` is the
+        run's folder (checkpoints), or None."""
+
+    def interrupted(self, solution: Solution) -> Results:
+        """The record of an interrupted run: parameters and histories, no metrics."""
+
+    def measure(self, solution: Solution, progress: Progress) -> Results:
+        """Fields, metrics, profiles and figures of the solved state."""
+
+
+def solve_stages(stages, progress: Progress = SILENT, solution: Solution | None = None,
+                 after=None):
+    """Run ``stages`` in order into ``solution``; stop at a failure or an interruption.
+
+    A stage that does not converge leaves the last converged state and sets the status
+    ``"not converged"`` with the reason; an interrupted one sets ``"interrupted"``. Either way
+    the history up to that point is kept. ``after(stage)``, if given, is called after every
+    stage that converged (to note quantities of that moment). Returns the solution.
+    """
+    solution = Solution() if solution is None else solution
+    for stage in stages:
+        try:
+            with timed(solution.timings, stage.name):
+                solution.histories[stage.name] = stage.run(progress)
+                if after is not None:
+                    after(stage)
+        except (ConvergenceError, Interrupted) as err:
+            if err.history is not None:
+                solution.histories[stage.name] = err.history
+            interrupted = isinstance(err, Interrupted)
+            solution.status = INTERRUPTED if interrupted else NOT_CONVERGED
+            solution.error = f"{stage.name}: {err}"
+            progress.line(f"{stage.name}: {'interrupted' if interrupted else 'not converged'}"
+                          f" ({err})")
+            break
+    return solution
+
+
+def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT,
+        label: str | None = None) -> Results:
+    """Build, solve and measure ``scene``; write its folder ``out`` if given.
+
+    Parameters
+    ----------
+    scene : Scene
+    out : path-like, optional
+        Output folder, checked before anything is computed
+        (:func:`ngincompat.workflow.output.prepare`).
+    overwrite : bool
+        Replace a run already in ``out``.
+    progress : Progress
+        Where cases, stages and steps are reported (default: nowhere).
+    label : str, optional
+        The case's name in the progress report (default: the scene's name).
+
+    Returns
+    -------
+    Results
+
+    Raises
+    ------
+    ConvergenceError
+        A stage did not converge; the results of the last converged state were measured and
+        written first and are in the exception's ``results``.
+    Interrupted
+        Ctrl-C: results.json marked "interrupted" (solver history, no metrics) was written;
+        the exception's ``results`` holds it.
+    """
+    if out is not None:
+        out = parallel.on_root(output.prepare, out, overwrite=overwrite,
+                               resume=scene.resumes(out))
+    with progress.case(label or scene.name):
+        timings: dict[str, float] = {}
+        with progress.phase("meshing"), timed(timings, "mesh"):
+            case = scene.build()
+        solution = Solution()
+        try:
+            case.solve(solution, progress, out)
+        except KeyboardInterrupt:
+            solution.status, solution.error = INTERRUPTED, "interrupted while setting up"
+        try:
+            if solution.status == INTERRUPTED:
+                results = case.interrupted(solution)
+            else:
+                results = case.measure(solution, progress)
+            results.timings = {**timings, **solution.timings, **results.timings}
+            if out is not None:
+                with progress.phase("writing results"):
+                    output.write(results, out)
+        except KeyboardInterrupt:
+            solution.status, solution.error = INTERRUPTED, "interrupted while measuring"
+            results = case.interrupted(solution)
+            results.timings = {**timings, **solution.timings}
+            if out is not None:
+                output.write(results, out, outputs=set())
+    if solution.status == DONE:
+        return results
+    kind = Interrupted if solution.status == INTERRUPTED else ConvergenceError
+    error = kind(solution.error)
+    error.results = results
+    raise error

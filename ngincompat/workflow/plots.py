@@ -1,0 +1,260 @@
+"""Matplotlib figures in the style of the paper's profile panels (e.g. Fig. 1g).
+
+Every figure is made without pyplot, so importing this module never changes matplotlib's
+backend (notebooks keep their inline figures), and written atomically. Curves on one axis
+differ in colour, line style and marker, so curves that coincide (S22 and S33 of the cube)
+stay visible; axes never use an offset, and every axis spans at least ``RELATIVE_FLOOR`` of
+its largest absolute value and at least the figure's own ``floor`` (a scene sets it from its
+stress scale), so round-off around a constant (Curl Fg : Curl Fg = 1/16 in the cylinder) or
+the discretisation error of a stress-free body is drawn flat, not magnified into apparent
+oscillation.
+"""
+
+from itertools import cycle
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from ngincompat.atomic import atomic_path
+
+#: Smallest range of an axis relative to its largest absolute value.
+RELATIVE_FLOOR = 1e-4
+
+#: (line style, marker) per curve, in order: coinciding curves stay distinguishable.
+STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)), "v"),
+          ((0, (1, 1)), "D"))
+
+
+def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_label="",
+                   floor=0.0, right_floor=0.0):
+    """A matplotlib Figure of curves against one coordinate.
+
+    Parameters
+    ----------
+    x : array
+        The coordinate.
+    curves : dict
+        Legend label -> values, on the left axis.
+    xlabel, ylabel : str
+        Axis labels with units.
+    title : str, optional
+    right : dict, optional
+        Legend label -> values on a second axis (labelled ``right_label``).
+    floor, right_floor : float
+        Smallest range of the left and the right axis.
+    """
+    fig = Figure(figsize=(5.4, 3.8), dpi=120)
+    ax = fig.subplots()
+    styles = cycle(STYLES)
+    lines = _plot(ax, x, curves, styles, colours=None)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    _floor(ax, curves.values(), floor)
+    if right:
+        twin = ax.twinx()
+        lines += _plot(twin, x, right, styles, colours=["tab:red", "tab:purple", "tab:brown"])
+        twin.set_ylabel(right_label)
+        _floor(twin, right.values(), right_floor)
+    if len(lines) > 1:
+        ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
+    if title:
+        ax.set_title(title, fontsize="medium")
+    fig.tight_layout()
+    return fig
+
+
+def _plot(ax, x, curves, styles, colours):
+    lines = []
+    n = len(np.atleast_1d(x))
+    for i, (label, values) in enumerate(curves.items()):
+        style, marker = next(styles)
+        kwargs = {"color": colours[i % len(colours)]} if colours else {}
+        (line,) = ax.plot(x, values, lw=2, ls=style, marker=marker,
+                          markevery=max(1, n // 10), markersize=4, label=label, **kwargs)
+        lines.append(line)
+    ax.ticklabel_format(axis="y", useOffset=False)
+    return lines
+
+
+def _floor(ax, values, floor):
+    """Widen the y range of ``ax`` to at least ``floor`` and ``RELATIVE_FLOOR`` of the largest
+    absolute value, around the data's middle."""
+    values = list(values)
+    data = np.concatenate([np.ravel(v) for v in values]) if values else np.zeros(0)
+    data = data[np.isfinite(data)]
+    if data.size == 0:
+        return
+    floor = max(floor, RELATIVE_FLOOR * float(np.max(np.abs(data))))
+    if floor <= 0:
+        return
+    lo, hi = float(data.min()), float(data.max())
+    if hi - lo < floor:
+        mid = (hi + lo) / 2
+        ax.set_ylim(mid - floor / 2, mid + floor / 2)
+
+
+def draw(results, spec, path):
+    """Write the figure ``spec`` (a :class:`~ngincompat.workflow.results.Figure`) of ``results``."""
+    save(figure(results, spec), path)
+
+
+def figure(results, spec):
+    """The matplotlib Figure of ``spec`` drawn from the profiles of ``results``."""
+    p = results.profiles[spec.profile]
+    if spec.kind == "maps":
+        return maps_figure(p, spec.curves, spec.xlabel, spec.title)
+    if spec.kind == "deformed":
+        panels = {label: (key, spec.deform[label]) for label, key in spec.curves.items()}
+        return deformed_figure({"": p}, panels, (spec.x, spec.y), spec.xlabel, spec.ylabel,
+                               spec.title, floor=spec.floor)
+    return profile_figure(p[spec.x], {label: p[k] for label, k in spec.curves.items()},
+                          spec.xlabel, spec.ylabel, spec.title,
+                          right={label: p[k] for label, k in spec.right.items()},
+                          right_label=spec.right_label, floor=spec.floor,
+                          right_floor=spec.right_floor)
+
+
+def maps_figure(profile, maps, label, title=None):
+    """Colour maps of 2-D fields on planar sections, each with its colour bar.
+
+    Parameters
+    ----------
+    profile : dict
+        Holds, for every key "<plane>_<field>" of ``maps``, a 2-D array of values (NaN
+        outside the body) and the grid's axes "<plane>_u" (columns) and "<plane>_v" (rows).
+    maps : dict
+        Panel title -> key; one row per plane, one column per field, in order.
+    label : str
+        Unit of the in-plane coordinates, for the axes.
+    """
+    keys = list(maps.values())
+    planes = list(dict.fromkeys(k.split("_", 1)[0] for k in keys))
+    ncols = len(keys) // len(planes)
+    fig = Figure(figsize=(4.2 * ncols, 3.4 * len(planes)), dpi=110)
+    axes = np.atleast_2d(fig.subplots(len(planes), ncols, squeeze=False))
+    for ax, (panel, key) in zip(axes.ravel(), maps.items(), strict=True):
+        plane = key.split("_", 1)[0]
+        u, v = profile[f"{plane}_u"], profile[f"{plane}_v"]
+        image = ax.imshow(np.ma.masked_invalid(profile[key]), origin="lower", cmap="viridis",
+                          extent=(u[0], u[-1], v[0], v[-1]), interpolation="nearest")
+        _panel(fig, ax, image, panel, label)
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    fig.tight_layout()
+    return fig
+
+
+def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
+    """Fields on the deformed shape: one row per body, one column per field (Fig. 7 a-c).
+
+    Parameters
+    ----------
+    rows : dict
+        Row label (e.g. the axon field; "" for none) -> profile holding the reference grid's
+        axes, the 2-D arrays of the fields and the displacements.
+    panels : dict
+        Column label (field and unit) -> (field key, displacement key). A field of shape
+        (rows, columns) is drawn on the grid moved by the displacement, an array of shape
+        (rows, columns, 2) of its components along the grid's two axes. A column is left out
+        when a row's profile lacks one of its keys (e.g. a run without the release).
+    axes : (str, str)
+        Keys of the grid's axes in the profile: the reference coordinates along the columns
+        and the rows of the arrays.
+    xlabel, ylabel : str
+        Axis labels with units.
+    floor : float
+        Smallest range of a colour scale (as for the profiles' axes, besides
+        ``RELATIVE_FLOOR`` of the largest value): round-off is drawn flat.
+
+    Every column has one colour scale for all rows (so the rows compare); a field of both
+    signs (a stress) gets a diverging scale centred on zero.
+    """
+    panels = {label: keys for label, keys in panels.items()
+              if all(k in p for p in rows.values() for k in keys)}
+    ncols = max(len(panels), 1)
+    first = next(iter(rows.values()))
+    aspect = np.ptp(first[axes[1]]) / max(np.ptp(first[axes[0]]), 1e-300)
+    fig = Figure(figsize=(4.6 * ncols, 0.5 + len(rows) * (1.0 + 3.4 * aspect)), dpi=110)
+    grid = np.atleast_2d(fig.subplots(len(rows), ncols, squeeze=False))
+    for col, (label, (key, disp)) in enumerate(panels.items()):
+        data = np.concatenate([np.ravel(p[key]) for p in rows.values()])
+        lo, hi = float(np.nanmin(data)), float(np.nanmax(data))
+        least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)))
+        if hi - lo < least:
+            lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
+        cmap = "viridis"
+        if lo < 0 < hi:
+            lo, hi, cmap = -max(-lo, hi), max(-lo, hi), "RdBu_r"
+        for row, (name, p) in enumerate(rows.items()):
+            ax = grid[row, col]
+            U, V = np.meshgrid(p[axes[0]], p[axes[1]])
+            d = np.asarray(p[disp])
+            image = ax.pcolormesh(U + d[..., 0], V + d[..., 1],
+                                  np.ma.masked_invalid(p[key]), shading="gouraud",
+                                  cmap=cmap, vmin=lo, vmax=hi)
+            ax.set_aspect("equal")
+            _panel(fig, ax, image, f"{name}: {label}" if name else label, xlabel, ylabel)
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    fig.tight_layout()
+    return fig
+
+
+def _panel(fig, ax, image, title, xlabel, ylabel=None):
+    """A colour map's colour bar, title and axis labels, in small type."""
+    fig.colorbar(image, ax=ax, shrink=0.85)
+    ax.set_title(title, fontsize="small")
+    ax.set_xlabel(xlabel, fontsize="small")
+    if ylabel:
+        ax.set_ylabel(ylabel, fontsize="small")
+    ax.tick_params(labelsize="x-small")
+
+
+def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):
+    """Several curves against one coordinate on one axis; ``curves`` maps label -> values."""
+    save(profile_figure(s, curves, xlabel, ylabel, title, floor=floor), path)
+
+
+def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False):
+    """A matplotlib Figure of curves with their own abscissae, each with markers.
+
+    Parameters
+    ----------
+    curves : dict
+        Legend label -> (x values, y values); an empty label is left out of the legend.
+    xlabel, ylabel : str
+        Axis labels with units.
+    title : str, optional
+    logx, logy : bool
+        Logarithmic axes.
+    """
+    fig = Figure(figsize=(5.0, 3.6), dpi=120)
+    ax = fig.subplots()
+    for (label, (x, y)), (style, marker) in zip(curves.items(), cycle(STYLES)):
+        ax.plot(x, y, ls=style, marker=marker or "o", lw=2, label=label or None)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if logx:
+        ax.set_xscale("log")
+    if logy:
+        ax.set_yscale("log")
+    if any(curves):
+        ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title, fontsize="medium")
+    fig.tight_layout()
+    return fig
+
+
+def error_against_time(path, curves, title=None):
+    """Error against run time on log-log axes; ``curves`` maps a label to (time, error) pairs."""
+    curves = {label: ([p[0] for p in pts], [max(p[1], 1e-16) for p in pts])
+              for label, pts in curves.items()}
+    save(curves_figure(curves, "solve time [s]", "relative error [-]", title, logx=True,
+                       logy=True), path)
+
+
+def save(fig, path):
+    """Write a figure as PNG, atomically."""
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png")

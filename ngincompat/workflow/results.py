@@ -1,0 +1,244 @@
+"""The typed record of a run: what every reader of results (command line, ``paper``,
+``expansion``, benchmarks, sweeps, notebooks) consumes.
+
+A :class:`Results` holds the scene's parameters and units, the versions that produced it, the
+mesh, the solver history of every stage, timings per phase, scalar metrics, sampled profiles,
+the figures to draw from those profiles, and the NGSolve fields themselves (for
+``ngsolve.webgui.Draw`` or VTK). Everything but the fields round-trips through JSON
+(:meth:`Results.to_dict`, :meth:`Results.from_dict`); :func:`ngincompat.workflow.output.write`
+writes it to a folder, :func:`ngincompat.workflow.output.read` reads it back.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ngincompat.fem.solver import SolverHistory, StepRecord
+from ngincompat.workflow import io
+
+#: The ending of a run, as written to results.json.
+DONE, NOT_CONVERGED, INTERRUPTED = "done", "not converged", "interrupted"
+STATUSES = (DONE, NOT_CONVERGED, INTERRUPTED)
+
+
+@dataclass
+class MeshInfo:
+    """Size of the discretisation: elements, vertices, unknowns, order and mesh size."""
+
+    ne: int
+    nv: int
+    order: int
+    maxh: float
+    ndof: int | None = None
+
+
+@dataclass
+class Figure:
+    """A profile figure, drawn by :func:`ngincompat.workflow.plots.draw` from a :class:`Results`.
+
+    Attributes
+    ----------
+    file : str
+        PNG file name.
+    x : str
+        Key of the abscissa in the profile.
+    xlabel, ylabel : str
+        Axis labels, with units.
+    curves : dict
+        Legend label -> profile key, on the left axis.
+    title : str
+        Title; names the scene and its variant.
+    right : dict
+        Legend label -> profile key, on a second (right) axis.
+    right_label : str
+        Label of the right axis, with units.
+    floor, right_floor : float
+        Smallest range of the left and right axis (besides 1e-4 of the largest value, which
+        :mod:`ngincompat.workflow.plots` always keeps): curves that vary by less (round-off around a
+        constant, discretisation error of a stress-free body) are shown flat, not magnified
+        into noise.
+    profile : str
+        Which profile of the results.
+    kind : str
+        "profile": curves against ``x``; "maps": colour maps, one panel per curve, of 2-D
+        arrays keyed "<plane>_<field>" whose axes are the profile's "<plane>_u" and
+        "<plane>_v" (one row per plane, one column per field; ``x`` names the first axis);
+        "deformed": colour maps of 2-D arrays (one panel per curve) sampled on a reference
+        grid whose axes are the profile's ``x`` (columns) and ``y`` (rows), each drawn on the
+        grid moved by the displacement that ``deform`` names for its panel (see
+        :func:`ngincompat.workflow.plots.deformed_figure`).
+    y : str
+        "deformed": key of the grid's second axis in the profile.
+    deform : dict
+        "deformed": panel label -> profile key of the displacement, an array of the grid's
+        shape with 3 components.
+    """
+
+    file: str
+    x: str
+    xlabel: str
+    curves: dict[str, str]
+    ylabel: str
+    title: str
+    right: dict[str, str] = field(default_factory=dict)
+    right_label: str = ""
+    floor: float = 0.0
+    right_floor: float = 0.0
+    profile: str = "line"
+    kind: str = "profile"
+    y: str = ""
+    deform: dict[str, str] = field(default_factory=dict)
+
+
+@dataclass(eq=False)
+class Results:
+    """Everything a run produced.
+
+    Attributes
+    ----------
+    scene : str
+        Scene name.
+    params : dict
+        The scene's parameters (as ``Scene.settings()``).
+    units : dict
+        Quantity -> unit symbol ("length" -> "mm").
+    mesh : MeshInfo
+    status : str
+        ``"done"``, ``"not converged"`` (the state is the last converged one) or
+        ``"interrupted"``.
+    error : str or None
+        Why the run did not finish.
+    solver : dict
+        Stage name -> :class:`~ngincompat.fem.solver.SolverHistory`, in the order of the stages.
+    timings : dict
+        Phase -> wall time [s].
+    metrics : dict
+        Name -> float (units: the scene's).
+    metric_units : dict
+        Metric name -> unit symbol ("-" for a ratio).
+    profiles : dict
+        Profile name -> {key: array}: fields sampled along lines.
+    figures : list of Figure
+    verdicts : list of str
+        Findings in words, made by the scene from its metrics (e.g. whether the growth is
+        compatible), shown after the metrics.
+    versions : dict
+        Package versions.
+    argv : list
+        The command line of the process.
+    files : list
+        Files written for this run, relative to its folder.
+    fields : dict
+        Name -> ngsolve CoefficientFunction on ``domain`` (not serialised).
+    domain : ngsolve.Mesh or None
+        The mesh the fields live on (not serialised).
+    frames : list of (float, dict)
+        (time, name -> field) at chosen times of a time-dependent scene, frozen copies on
+        ``domain`` (not serialised): the frames of the ``fields.pvd`` time series.
+    """
+
+    scene: str
+    params: dict[str, Any]
+    units: dict[str, str]
+    mesh: MeshInfo
+    status: str = DONE
+    error: str | None = None
+    solver: dict[str, SolverHistory] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+    metrics: dict[str, float] = field(default_factory=dict)
+    metric_units: dict[str, str] = field(default_factory=dict)
+    profiles: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    figures: list[Figure] = field(default_factory=list)
+    verdicts: list[str] = field(default_factory=list)
+    versions: dict[str, str] = field(default_factory=dict)
+    argv: list[str] = field(default_factory=list)
+    files: list[str] = field(default_factory=list)
+    fields: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
+    domain: Any = field(default=None, repr=False, compare=False)
+    frames: list[tuple[float, dict[str, Any]]] = field(default_factory=list, repr=False,
+                                                       compare=False)
+
+    @property
+    def converged(self) -> bool:
+        """Did every stage reach its end?"""
+        return self.status == DONE
+
+    @property
+    def newton_iterations(self) -> int:
+        """Newton iterations of the converged steps of every stage."""
+        return sum(h.newton_iterations for h in self.solver.values())
+
+    @property
+    def solve_seconds(self) -> float:
+        """Wall time of the solver stages (the timings whose phase is a stage)."""
+        return sum(self.timings.get(stage, 0.0) for stage in self.solver)
+
+    def summary(self) -> str:
+        """One line: status, size, Newton iterations per stage, solve and total time."""
+        total = sum(self.timings.values())
+        if not self.solver:
+            return f"{self.scene}: incompatibility only (no mechanics), {total:.2f} s"
+        stages = ", ".join(f"{stage} {h.newton_iterations}" for stage, h in self.solver.items())
+        return (f"{self.scene}: {self.status}; ndof {self.mesh.ndof}, Newton iterations "
+                f"{self.newton_iterations} ({stages}), solve {self.solve_seconds:.2f} s, "
+                f"total {total:.2f} s")
+
+    def metric_lines(self) -> list[str]:
+        """One line per metric: name, value and unit; then the scene's verdicts."""
+        lines = [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
+                 for key, value in self.metrics.items()]
+        lines += [f"  {v}" for v in self.verdicts]
+        return lines
+
+    def profile(self, name: str = "line") -> dict[str, np.ndarray]:
+        """A sampled profile by name."""
+        return self.profiles[name]
+
+    def to_dict(self) -> dict:
+        """A JSON-ready dict (non-finite floats become None, arrays lists)."""
+        return io.jsonable({
+            "scene": self.scene, "status": self.status, "error": self.error,
+            "params": self.params, "units": self.units, "mesh": asdict(self.mesh),
+            "solver": {stage: h.as_dict() for stage, h in self.solver.items()},
+            "timings": self.timings, "metrics": self.metrics,
+            "metric_units": self.metric_units, "profiles": self.profiles,
+            "figures": [asdict(f) for f in self.figures], "verdicts": self.verdicts,
+            "versions": self.versions,
+            "argv": self.argv, "files": self.files,
+        })
+
+    @classmethod
+    def from_dict(cls, data: dict) -> Results:
+        """The record of :meth:`to_dict` (profiles as arrays; fields are not restored)."""
+        def number(v):
+            return math.nan if v is None else float(v)
+
+        return cls(
+            scene=data["scene"], params=dict(data["params"]), units=dict(data["units"]),
+            mesh=MeshInfo(**data["mesh"]), status=data.get("status", DONE),
+            error=data.get("error"),
+            solver={stage: _history(h) for stage, h in data.get("solver", {}).items()},
+            timings={k: number(v) for k, v in data.get("timings", {}).items()},
+            metrics={k: number(v) for k, v in data.get("metrics", {}).items()},
+            metric_units=dict(data.get("metric_units", {})),
+            profiles={name: {k: np.asarray(v, dtype=float) for k, v in p.items()}
+                      for name, p in data.get("profiles", {}).items()},
+            figures=[Figure(**f) for f in data.get("figures", [])],
+            verdicts=list(data.get("verdicts", [])),
+            versions=dict(data.get("versions", {})), argv=list(data.get("argv", [])),
+            files=list(data.get("files", [])))
+
+
+def _history(data: dict) -> SolverHistory:
+    steps = []
+    for s in data.get("steps", []):
+        s = dict(s)
+        s["energy"] = math.nan if s.get("energy") is None else s["energy"]
+        s["residuals"] = [math.nan if r is None else r for r in s.get("residuals", [])]
+        steps.append(StepRecord(**s))
+    return SolverHistory(steps=steps, converged=data["converged"],
+                         t_reached=data["t_reached"])
