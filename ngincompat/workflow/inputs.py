@@ -3,9 +3,10 @@
 This is what the ``custom`` scene reads when a run is not built from a geometry of
 :mod:`geometries` and an expression for theta, but from files:
 
-* :func:`load_mesh` reads a Netgen ``.vol`` / ``.vol.gz`` file or an ASCII Gmsh ``.msh`` file
-  (format 2) and checks it before Netgen sees it, so that a damaged file is a
-  :class:`~ngincompat.errors.ParameterError` naming the file and the problem, not a crash;
+* :func:`load_mesh` reads a Netgen ``.vol`` / ``.vol.gz`` file, or a Gmsh, VTK, Abaqus or
+  MEDIT file through meshio (:mod:`ngincompat.workflow.meshfiles`), and checks it, so that a
+  damaged file is a :class:`~ngincompat.errors.ParameterError` naming the parameter, the
+  file and the problem, not a crash;
   :func:`save_mesh` writes a ``.vol`` / ``.vol.gz`` atomically; :func:`describe_mesh` is a
   small JSON-friendly record of a mesh for results and provenance.
 * :func:`save_growth` writes a scalar growth indicator theta interpolated into H1 on a mesh as
@@ -26,16 +27,10 @@ and ramps the growth linearly in the load parameter t in [0, 1],
 so that t = 0 is the ungrown body and t = 1 the stored growth field.
 """
 
-import contextlib
-import gzip
 import hashlib
-import io as _stdio
 import logging
 import math
 import os
-import subprocess
-import sys
-import tempfile
 import zipfile
 from pathlib import Path
 
@@ -44,11 +39,17 @@ import numpy as np
 
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import ParameterError, require
+from ngincompat.workflow import meshfiles
+from ngincompat.workflow.meshfiles import (
+    MESH_EXTENSIONS,
+    file_error,
+    one_line,
+    point,
+    suffix_of,
+)
 
 log = logging.getLogger(__name__)
 
-#: File names :func:`load_mesh` reads.
-MESH_EXTENSIONS = (".vol", ".vol.gz", ".msh")
 #: File names :func:`load_growth` reads.
 GROWTH_EXTENSIONS = (".npz", ".csv", ".txt")
 
@@ -71,30 +72,23 @@ _INTERIOR_POINTS = {
     ngs.ET.HEX: (0.5, 0.5, 0.5),
 }
 
-#: Seconds the separate process that test-reads a geometry may take.
-_GEOMETRY_PROBE_TIMEOUT = 60
-
-
 # ---------------------------------------------------------------------------------------------
 # meshes
 # ---------------------------------------------------------------------------------------------
 
 def load_mesh(path, curve_order=None):
-    """Read a volume mesh from a Netgen or Gmsh file.
+    """Read a volume mesh file: Netgen's own, or one of the formats meshio reads.
 
     Parameters
     ----------
     path : str or os.PathLike
         A Netgen mesh ``*.vol`` or gzip-compressed ``*.vol.gz`` (as written by
-        ``mesh.ngmesh.Save`` or :func:`save_mesh`), or a Gmsh mesh ``*.msh``.
-
-        Gmsh files are read with ``netgen.read_gmsh.ReadGmsh``, which understands only the
-        legacy **ASCII MSH format 2** (versions 2.0, 2.1 and 2.2). MSH 4.x, MSH 1 and binary
-        files are refused with a message saying how to export format 2 (``gmsh -3 -format
-        msh22 file.geo``, or ``Mesh.MshFileVersion = 2.2;`` and ``Mesh.Binary = 0;``).
-        First-order elements only: tetrahedra, hexahedra, prisms and pyramids (triangles and
-        quadrilaterals on the boundary); second-order elements (``Mesh.ElementOrder = 2``)
-        are refused.
+        ``mesh.ngmesh.Save`` or :func:`save_mesh`), read by Netgen; or a file that meshio
+        reads: Gmsh ``*.msh`` (formats 2.2 and 4.x, ASCII or binary, e.g. as Gmsh or
+        ``ngmesh.Export(path, "Gmsh2 Format")`` write it), VTK ``*.vtu`` / ``*.vtk``,
+        Abaqus ``*.inp``, MEDIT ``*.mesh``. Tetrahedra, hexahedra, prisms and pyramids,
+        with triangles and quadrilaterals on the boundary; second-order cells are read with
+        their corners only (straight-sided, with a warning).
     curve_order : int, optional
         None (default): the elements as the file has them. 1: straight-sided elements.
         2 or more: curve the elements to this order with the geometry stored in the file;
@@ -104,51 +98,44 @@ def load_mesh(path, curve_order=None):
     Returns
     -------
     ngsolve.Mesh
-        The 3-D mesh with the material and boundary names of the file. The vertex order is
-        that of the file (``points`` of a ``.vol``, ``$Nodes`` of a ``.msh``): per-vertex data
-        for :func:`load_growth` is given in that order.
+        The 3-D mesh with the material and boundary names of the file. Its vertices are the
+        nodes of the file that are element corners, in the order of the file (``points`` of
+        a ``.vol``, ``$Nodes`` of a ``.msh``): per-vertex data for :func:`load_growth` is
+        given in that order.
 
     Raises
     ------
     ParameterError
-        The file is missing, a directory, has another extension, cannot be read or is
-        damaged (the message says what Netgen or the check found), is not a 3-D mesh, has
-        no volume elements, has nodes outside the elements, or cannot be curved.
+        Naming ``mesh``, the file and the reason: the file is missing, a directory, has
+        another extension, is truncated or damaged, is not a 3-D volume mesh (a surface or
+        2-D mesh), has cells of another type, degenerate or inverted cells or nodes outside
+        the elements (``.vol``), or cannot be curved.
 
     Notes
     -----
-    Names. Each material region should carry a name (``.vol``: ``materials``; Gmsh: a named
-    ``Physical Volume``); the growth law and the material apply per region by name, and
-    unnamed regions are called ``default``. The outer surface should be covered by boundary
-    elements, grouped and named where the run needs them (``.vol``: ``bcnames``; Gmsh: named
-    ``Physical Surface``): clamped faces for ``dirichlet`` and mirror planes for
-    ``symmetry`` are chosen by these names. Gmsh names must not contain blanks (Netgen's
-    reader cuts them at the first blank), and every physical group of a Gmsh file needs a
-    name in ``$PhysicalNames``. The orientation of Gmsh boundary triangles is kept: ngsolve's
-    boundary normal follows it, so it should point out of the body. A file without boundary
-    elements is read (with a warning): its whole surface is then traction-free and nothing
-    can be clamped by name.
+    Names. The growth law and the material apply per region by name; clamped faces for
+    ``dirichlet`` and mirror planes for ``symmetry`` are chosen by boundary name. A ``.vol``
+    file has them in ``materials`` and ``bcnames``. In the other formats regions are the
+    Gmsh physical groups (named in ``$PhysicalNames``), MEDIT references, an integer cell
+    array (``CellEntityIds`` or the only one) or the element sets of an Abaqus file.
+    Groups without a name are called ``region<tag>`` and ``boundary<tag>`` (as
+    ``ngmesh.Export`` writes Gmsh files), untagged cells ``default``; outer faces without a
+    boundary cell in the file are added as boundary ``default``, so the surface is always
+    closed. Boundary faces are oriented with the normal out of the region they bound, and
+    cells of negative orientation are turned, whatever the file's convention; each of these
+    is logged as a warning.
 
-    Curved geometry. A Gmsh file gives straight-sided elements and has no geometry, so its
-    mesh cannot be curved. A ``.vol`` file written from a curved mesh holds the curved
-    elements (section ``curvedelements``) and reads back curved, and one written by Netgen
-    from an OCC geometry holds that geometry too, which ``curve_order >= 2`` uses. Do not
-    call ``mesh.Curve`` on the returned mesh yourself: the geometry is read only for
-    ``curve_order >= 2``, and without it Netgen curves towards the geometry the process
-    meshed last, which silently gives a wrong body.
+    Curved geometry. Only ``.vol`` files carry a geometry. A ``.vol`` file written from a
+    curved mesh holds the curved elements (section ``curvedelements``) and reads back
+    curved, and one written by Netgen from an OCC geometry holds that geometry too, which
+    ``curve_order >= 2`` uses. Do not call ``mesh.Curve`` on the returned mesh yourself:
+    the geometry is read only for ``curve_order >= 2``, and without it Netgen curves
+    towards the geometry the process meshed last, which silently gives a wrong body.
     """
-    path = _check_input_file(path, MESH_EXTENSIONS, "mesh file")
+    path = _check_input_file(path, MESH_EXTENSIONS, "mesh")
     require(curve_order is None or (isinstance(curve_order, int) and 1 <= curve_order <= 8),
             "curve_order", curve_order, "None or an integer in [1, 8]")
-    curve = curve_order is not None and curve_order > 1
-    if _suffix(path, MESH_EXTENSIONS) == ".msh":
-        if curve:
-            raise _error(path, "a Gmsh file carries no geometry to curve the mesh to: "
-                               "curve_order must be None or 1")
-        ngmesh = _read_gmsh(path)
-    else:
-        ngmesh = _read_vol(path, curve=curve)
-    mesh = _check_volume_mesh(path, ngmesh)
+    mesh = meshfiles.read(path, curve=curve_order is not None and curve_order > 1)
     if curve_order is not None:
         mesh.Curve(curve_order)
     log.info("read %s: %d elements, %d vertices, materials %s, boundaries %s", path, mesh.ne,
@@ -174,9 +161,9 @@ def save_mesh(path, mesh):
     pathlib.Path
     """
     path = Path(path)
-    suffix = _suffix(path, (".vol", ".vol.gz"))
+    suffix = suffix_of(path, (".vol", ".vol.gz"))
     if suffix is None:
-        raise _error(path, "a mesh is saved as .vol or .vol.gz")
+        raise file_error(path, "a mesh is saved as .vol or .vol.gz", "path")
     with atomic_path(path) as tmp:
         # Netgen compresses when the name ends in .vol.gz, so the temporary name must too.
         named = tmp.with_name(tmp.name + suffix)
@@ -260,8 +247,8 @@ def save_growth(path, mesh, theta, order):
     back as a growth field fails.
     """
     path = Path(path)
-    if _suffix(path, (".npz",)) is None:
-        raise _error(path, "growth data is saved as .npz")
+    if suffix_of(path, (".npz",)) is None:
+        raise file_error(path, "growth data is saved as .npz", "path")
     require(isinstance(order, (int, np.integer)) and order >= 1, "order", order,
             "an integer >= 1")
     if not isinstance(theta, ngs.CoefficientFunction):
@@ -275,7 +262,7 @@ def save_growth(path, mesh, theta, order):
     bad = _first_bad(vertex_values)
     if bad is not None:
         log.warning("%s: theta = %r at vertex %d %s; growth needs theta > 0", path,
-                    float(vertex_values[bad]), bad, _point(coords[bad]))
+                    float(vertex_values[bad]), bad, point(coords[bad]))
     fp = _fingerprint(mesh)
     data = {
         "format": np.array(GROWTH_FORMAT),
@@ -332,7 +319,7 @@ def load_growth(path, mesh):
         growth indicators must be > 0).
     """
     path = _check_input_file(path, GROWTH_EXTENSIONS, "growth file")
-    if _suffix(path, GROWTH_EXTENSIONS) == ".npz":
+    if suffix_of(path, GROWTH_EXTENSIONS) == ".npz":
         arrays = _read_npz(path)
         if "format" in arrays and str(arrays["format"]) == GROWTH_FORMAT:
             return _stored_growth(path, arrays, mesh)
@@ -361,41 +348,25 @@ def ramped_growth(theta_data, time):
 
 
 # ---------------------------------------------------------------------------------------------
-# checks shared by both readers
+# shared helpers
 # ---------------------------------------------------------------------------------------------
 
-def _error(path, reason):
-    return ParameterError(f"{path}: {reason}")
-
-
-def _suffix(path, allowed):
-    name = Path(path).name.lower()
-    for ext in sorted(allowed, key=len, reverse=True):
-        if name.endswith(ext):
-            return ext
-    return None
-
-
-def _check_input_file(path, allowed, what):
+def _check_input_file(path, allowed, name):
+    """The path of an existing, readable file with an allowed extension."""
     try:
         path = Path(os.fspath(path))
     except TypeError:
-        raise ParameterError(f"{what} {path!r} is not a file name") from None
+        raise ParameterError(f"{name} = {path!r} is not a file name") from None
     if path.is_dir():
-        raise _error(path, f"is a directory, not a {what}")
+        raise file_error(path, "is a directory, not a file", name)
     if not path.exists():
-        raise _error(path, f"{what} does not exist")
-    if _suffix(path, allowed) is None:
-        raise _error(path, f"unknown {what} extension '{''.join(path.suffixes) or path.name}';"
-                           f" allowed: {', '.join(allowed)}")
+        raise file_error(path, "does not exist", name)
+    if suffix_of(path, allowed) is None:
+        raise file_error(path, f"unknown extension '{''.join(path.suffixes) or path.name}'; "
+                               f"allowed: {', '.join(allowed)}", name)
     if not os.access(path, os.R_OK):
-        raise _error(path, f"{what} cannot be read (permission denied)")
+        raise file_error(path, "cannot be read (permission denied)", name)
     return path
-
-
-def _one_line(exc):
-    text = " ".join(str(exc).split()) or type(exc).__name__
-    return text if len(text) <= 200 else text[:197] + "..."
 
 
 def _unique(names):
@@ -406,8 +377,8 @@ def _unique(names):
     return out
 
 
-def _point(p):
-    return "(" + ", ".join(f"{float(c):.6g}" for c in p) + ")"
+def _error(path, reason):
+    return file_error(path, reason, "theta_file")
 
 
 def _first_bad(values):
@@ -417,395 +388,8 @@ def _first_bad(values):
 
 
 # ---------------------------------------------------------------------------------------------
-# Netgen .vol
+# fingerprints of a mesh
 # ---------------------------------------------------------------------------------------------
-
-#: Sections of the mesh part of a .vol file whose rows are checked: name -> row kind.
-_VOL_CHECKED = {
-    "points": "points",
-    "volumeelements": "volume",
-    "surfaceelements": "surface",
-    "surfaceelementsgi": "surface",
-    "surfaceelementsuv": "surface",
-}
-
-
-def _read_vol_text(path):
-    try:
-        if path.name.lower().endswith(".gz"):
-            with gzip.open(path, "rt", encoding="utf-8") as f:
-                return f.read()
-        return path.read_text(encoding="utf-8")
-    except (EOFError, gzip.BadGzipFile) as exc:
-        raise _error(path, f"damaged gzip data: {_one_line(exc)}") from None
-    except UnicodeDecodeError:
-        raise _error(path, "is not a text file: not a Netgen mesh") from None
-    except OSError as exc:
-        raise _error(path, f"cannot be read: {_one_line(exc)}") from None
-
-
-def _check_vol(path, text):
-    """Check the mesh part of a .vol file; return (mesh part, geometry part).
-
-    Netgen's reader does not report a damaged file: it crashes, hangs, or returns an empty
-    mesh. So the structure is checked here: the ``mesh3d`` header, a 3-D dimension, the row
-    counts of the points and elements, the point numbers of the elements and the final
-    ``endmesh`` line.
-    """
-    lines = text.split("\n")
-    n = len(lines)
-    i = 0
-
-    def next_data(i):
-        while i < n and (not lines[i].strip() or lines[i].lstrip().startswith("#")):
-            i += 1
-        return i
-
-    i = next_data(i)
-    if i >= n or lines[i].strip() != "mesh3d":
-        raise _error(path, "is not a Netgen mesh (the file does not start with 'mesh3d')")
-    i += 1
-    npoints, max_point, nvol, section = None, 0, 0, "mesh3d"
-    end = None
-    while True:
-        i = next_data(i)
-        if i >= n:
-            raise _error(path, f"is truncated: the file ends in section '{section}' without "
-                               "the final 'endmesh' line")
-        word = lines[i].strip()
-        i += 1
-        if word.replace("_", "").isalpha() and word.islower() and len(word) > 2:
-            section = word
-        if word == "endmesh":
-            end = i
-            break
-        if word == "curvedelements":
-            # An archive of the curved elements follows; Netgen reads it up to 'endmesh'.
-            while i < n and lines[i].strip() != "endmesh":
-                i += 1
-            continue
-        if word == "dimension":
-            i = next_data(i)
-            if i >= n or lines[i].strip() != "3":
-                dim = lines[i].strip() if i < n else "missing"
-                raise _error(path, f"is not a 3-D mesh (dimension {dim}): a volume mesh is "
-                                   "needed")
-            i += 1
-            continue
-        kind = _VOL_CHECKED.get(word)
-        if kind is None:
-            continue                # other sections: Netgen skips what it does not know
-        i = next_data(i)
-        try:
-            count = int(lines[i]) if i < n else -1
-        except ValueError:
-            count = -1
-        if count < 0:
-            raise _error(path, f"section '{word}' (line {i}) does not start with a row count")
-        rows = lines[i + 1:i + 1 + count]
-        if len(rows) < count or not all(r.strip() for r in rows):
-            found = sum(1 for r in rows if r.strip())
-            raise _error(path, f"is truncated or damaged: section '{word}' announces {count} "
-                               f"rows but has {found}")
-        if kind == "points":
-            npoints = count
-            _check_point_rows(path, rows)
-        elif kind == "volume":
-            nvol += count
-            max_point = max(max_point, _check_element_rows(path, word, rows, first=1))
-        else:
-            max_point = max(max_point, _check_element_rows(path, word, rows, first=4))
-        i += 1 + count
-    if nvol == 0:
-        raise _error(path, "has no volume elements: a 3-D volume mesh is needed")
-    if npoints is None:
-        raise _error(path, "has no 'points' section")
-    if max_point > npoints:
-        raise _error(path, f"is damaged: an element uses point {max_point} but the file has "
-                           f"{npoints} points")
-    return "\n".join(lines[:end]) + "\n", "\n".join(lines[end:])
-
-
-def _check_point_rows(path, rows):
-    try:
-        xyz = np.array(" ".join(rows).split(), dtype=float)
-    except ValueError as exc:
-        raise _error(path, f"is damaged: section 'points' has a value that is not a number "
-                           f"({_one_line(exc)})") from None
-    if xyz.size != 3 * len(rows):
-        raise _error(path, "is damaged: section 'points' has rows that are not 3 coordinates")
-    if not np.isfinite(xyz).all():
-        raise _error(path, "is damaged: section 'points' has coordinates that are not finite")
-
-
-def _check_element_rows(path, section, rows, first):
-    """Check rows ``... np p1 .. pnp ...`` (np at column ``first``); return the largest p."""
-    # Fast path: integer rows of one width (e.g. all tetrahedra); otherwise row by row.
-    try:
-        table = np.array(" ".join(rows).split(), dtype=np.int64)
-    except ValueError:
-        table = None
-    if table is not None and table.size > first:
-        width = first + 1 + int(table[first])
-        if width > first + 1 and table.size == width * len(rows):
-            table = table.reshape(len(rows), width)
-            if (table[:, first] == width - first - 1).all() and table[:, first + 1:].min() >= 1:
-                return int(table[:, first + 1:].max())
-    largest = 0
-    for k, row in enumerate(rows):
-        fields = row.split()
-        try:
-            npts = int(fields[first])
-            pts = [int(p) for p in fields[first + 1:first + 1 + npts]]
-        except (IndexError, ValueError):
-            pts, npts = [], -1
-        if npts < 1 or len(pts) != npts or min(pts) < 1:
-            raise _error(path, f"is damaged: row {k + 1} of section '{section}' is not an "
-                               f"element: {row.strip()[:80]!r}")
-        largest = max(largest, max(pts))
-    return largest
-
-
-def _read_vol(path, curve):
-    from netgen.meshing import Mesh as NetgenMesh
-
-    text = _read_vol_text(path)
-    mesh_part, geometry_part = _check_vol(path, text)
-    has_geometry = bool(geometry_part.strip())
-    if curve and not has_geometry:
-        raise _error(path, "carries no geometry to curve the mesh to (only .vol files that "
-                           "Netgen meshed from an OCC geometry do): curve_order must be "
-                           "None or 1")
-    if curve:
-        _probe_geometry(path, geometry_part)
-        content = mesh_part + geometry_part
-    else:
-        # Without curving the geometry is not needed: leave it out, Netgen's geometry reader
-        # does not survive a damaged one either.
-        content = mesh_part
-    with tempfile.TemporaryDirectory(prefix="ngincompat-mesh-") as tmpdir:
-        plain = Path(tmpdir) / "mesh.vol"
-        plain.write_text(content, encoding="utf-8")
-        ngmesh = NetgenMesh(dim=3)
-        try:
-            ngmesh.Load(str(plain))
-        except Exception as exc:    # Netgen raises its own exception types
-            raise _error(path, f"Netgen could not read it: {_one_line(exc)}") from None
-    return ngmesh
-
-
-_PROBE = """
-import sys
-from netgen.meshing import Mesh
-m = Mesh(dim=3)
-m.Load(sys.argv[1])
-if type(m.GetGeometry()).__name__ == "NetgenGeometry":
-    sys.exit("no geometry was read")
-"""
-
-
-#: SHA-256 of the geometry parts this process has test-read successfully.
-_GEOMETRIES_READ = set()
-
-
-def _probe_geometry(path, geometry_part):
-    """Read the geometry part of a .vol file in a separate process (it may crash or hang)."""
-    digest = hashlib.sha256(geometry_part.encode()).hexdigest()
-    if digest in _GEOMETRIES_READ:
-        return
-    with tempfile.TemporaryDirectory(prefix="ngincompat-geo-") as tmpdir:
-        probe = Path(tmpdir) / "geometry.vol"
-        probe.write_text("mesh3d\ndimension\n3\n\nendmesh\n" + geometry_part, encoding="utf-8")
-        try:
-            done = subprocess.run([sys.executable, "-c", _PROBE, str(probe)],
-                                  capture_output=True, text=True,
-                                  timeout=_GEOMETRY_PROBE_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            raise _error(path, f"its geometry (after 'endmesh') could not be read: Netgen did "
-                               f"not finish in {_GEOMETRY_PROBE_TIMEOUT} s; read the mesh without "
-                               "curving it again") from None
-    if done.returncode != 0:
-        if done.returncode < 0:
-            reason = f"Netgen crashed (signal {-done.returncode})"
-        else:
-            tail = [s for s in done.stderr.strip().splitlines() if s.strip()]
-            reason = _one_line(tail[-1]) if tail else f"exit status {done.returncode}"
-        raise _error(path, f"its geometry (after 'endmesh') could not be read: {reason}; "
-                           "read the mesh without curving it again")
-    _GEOMETRIES_READ.add(digest)
-
-
-# ---------------------------------------------------------------------------------------------
-# Gmsh .msh
-# ---------------------------------------------------------------------------------------------
-
-_GMSH_EXPORT = ("export ASCII format 2: gmsh -3 -format msh22 file.geo, or "
-                "Mesh.MshFileVersion = 2.2; Mesh.Binary = 0;")
-
-
-def _check_gmsh_header(path):
-    """Check the format line and the physical names, which come before $Nodes."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            first = ""
-            for line in f:
-                if line.strip():
-                    first = line.strip()
-                    break
-            if first in ("$NOD", "$NOE"):
-                raise _error(path, f"is a Gmsh format 1 file, which is not read; {_GMSH_EXPORT}")
-            if first != "$MeshFormat":
-                raise _error(path, "is not a Gmsh mesh (the file does not start with "
-                                   "$MeshFormat)")
-            fields = f.readline().split()
-            if len(fields) < 2:
-                raise _error(path, "is damaged: no format line after $MeshFormat")
-            version, binary = fields[0], fields[1]
-            if not version.startswith("2"):
-                raise _error(path, f"is Gmsh format {version}; only ASCII format 2 (2.0-2.2) is "
-                                   f"read; {_GMSH_EXPORT}")
-            if binary != "0":
-                raise _error(path, f"is a binary Gmsh file; {_GMSH_EXPORT}")
-            for line in f:
-                word = line.strip()
-                if word == "$PhysicalNames":
-                    _check_physical_names(path, f)
-                elif word == "$Nodes":
-                    return
-    except UnicodeDecodeError:
-        raise _error(path, f"is not a text file (a binary Gmsh file?); {_GMSH_EXPORT}") from None
-    except OSError as exc:
-        raise _error(path, f"cannot be read: {_one_line(exc)}") from None
-    raise _error(path, "is truncated or damaged: no $Nodes section")
-
-
-def _check_physical_names(path, f):
-    try:
-        count = int(f.readline())
-    except ValueError:
-        raise _error(path, "is damaged: $PhysicalNames does not start with a count") from None
-    for _ in range(count):
-        line = f.readline().strip()
-        parts = line.split(maxsplit=2)
-        if len(parts) < 3 or not parts[2].startswith('"') or not parts[2].endswith('"'):
-            raise _error(path, f"is damaged: $PhysicalNames line {line!r} is not "
-                               "'dim tag \"name\"'")
-        if len(parts[2][1:-1].split()) != 1:
-            raise _error(path, f"physical name {parts[2]} contains blanks, which Netgen's Gmsh "
-                               "reader cannot read: rename it")
-
-
-def _read_gmsh(path):
-    from netgen.read_gmsh import ReadGmsh
-
-    _check_gmsh_header(path)
-    printed = _stdio.StringIO()
-    try:
-        with contextlib.redirect_stdout(printed):
-            ngmesh = ReadGmsh(str(path))
-    except Exception as exc:
-        reason = _diagnose_gmsh(path) or f"Netgen's Gmsh reader failed: {_one_line(exc)}"
-        raise _error(path, reason) from None
-    finally:
-        if printed.getvalue().strip():
-            log.debug("ReadGmsh(%s): %s", path, printed.getvalue().strip())
-    return ngmesh
-
-
-def _diagnose_gmsh(path):
-    """After ReadGmsh failed: find the first reason in the file, or None."""
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError):
-        return None
-    names = {d: {0} for d in range(4)}
-    nodes = set()
-    announced, rows = {}, {}
-    section, k = None, 0
-    try:
-        while k < len(lines):
-            word = lines[k].strip()
-            k += 1
-            if word.startswith("$"):
-                section = None if word.startswith("$End") else word
-                if section in ("$PhysicalNames", "$Nodes", "$Elements"):
-                    announced[section], rows[section] = int(lines[k].split()[0]), 0
-                    k += 1
-                continue
-            if section not in rows:
-                continue
-            fields = word.split()
-            if not fields:
-                return f"is damaged: line {k} in {section} is empty"
-            rows[section] += 1
-            if section == "$PhysicalNames":
-                names[int(fields[0])].add(int(fields[1]))
-            elif section == "$Nodes":
-                nodes.add(int(fields[0]))
-            else:
-                reason = _diagnose_gmsh_element(fields, names, nodes)
-                if reason:
-                    return reason
-    except (ValueError, IndexError, KeyError):
-        return f"is truncated or damaged: line {k} in {section} is malformed"
-    if "$Elements" not in announced:
-        return "is truncated or damaged: no $Elements section"
-    for key, count in announced.items():
-        if rows[key] != count:
-            return f"is truncated or damaged: {key} announces {count} rows but has {rows[key]}"
-    return None
-
-
-#: Dimension of each Gmsh element type Netgen's reader knows.
-_GMSH_DIM = {1: 1, 2: 2, 3: 2, 4: 3, 5: 3, 6: 3, 7: 3, 8: 1, 9: 2, 11: 3, 15: 0, 16: 2, 17: 3,
-             18: 3, 19: 3}
-
-
-def _diagnose_gmsh_element(fields, names, nodes):
-    etype, ntags = int(fields[1]), int(fields[2])
-    if etype not in _GMSH_DIM:
-        return f"element {fields[0]} has type {etype}, which Netgen's Gmsh reader does not know"
-    if ntags < 2:
-        return (f"element {fields[0]} has {ntags} tags; Netgen's reader needs the physical and "
-                "the elementary tag")
-    physical, dim = int(fields[3]), _GMSH_DIM[etype]
-    if physical not in names[dim]:
-        return (f"physical group {physical} (dimension {dim}) has no name in $PhysicalNames; "
-                "Netgen's reader needs a name for every physical group")
-    for node in fields[3 + ntags:]:
-        if int(node) not in nodes:
-            return f"element {fields[0]} uses node {node}, which is not in $Nodes"
-    return None
-
-
-# ---------------------------------------------------------------------------------------------
-# the mesh Netgen read
-# ---------------------------------------------------------------------------------------------
-
-def _check_volume_mesh(path, ngmesh):
-    """Check a Netgen mesh for what a volume-growth run needs; return the ngsolve.Mesh."""
-    if ngmesh.dim != 3:
-        raise _error(path, f"is a {ngmesh.dim}-D mesh: a 3-D volume mesh is needed")
-    elements = ngmesh.Elements3D().NumPy()
-    if len(elements) == 0:
-        raise _error(path, "has no volume elements: a 3-D volume mesh is needed")
-    mesh = ngs.Mesh(ngmesh)
-    npoints = len(ngmesh.Points())
-    if npoints != mesh.nv:
-        raise _error(path, f"has {npoints - mesh.nv} nodes that are not element corners "
-                           "(second-order elements?): only first-order meshes are read")
-    used = np.zeros(npoints + 1, dtype=bool)
-    used[elements["nodes"].ravel()] = True
-    unused = np.flatnonzero(~used[1:])
-    if len(unused):
-        k = int(unused[0])
-        raise _error(path, f"{len(unused)} of its {npoints} nodes belong to no volume element, "
-                           f"the first is node {k + 1} at {_point(ngmesh.Coordinates()[k])}; "
-                           "remove them")
-    if mesh.GetNE(ngs.BND) == 0:
-        log.warning("%s has no boundary elements: the whole surface is traction-free and no "
-                    "boundary can be clamped by name", path)
-    return mesh
 
 
 def _vertex_coordinates(mesh):
@@ -843,7 +427,7 @@ def _read_npz(path):
         with np.load(path, allow_pickle=False) as data:
             return {key: data[key] for key in data.files}
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
-        raise _error(path, f"is not a readable .npz file: {_one_line(exc)}") from None
+        raise _error(path, f"is not a readable .npz file: {one_line(exc)}") from None
 
 
 def _user_array(path, arrays):
@@ -861,7 +445,7 @@ def _read_table(path):
     except UnicodeDecodeError:
         raise _error(path, "is not a text file") from None
     except OSError as exc:
-        raise _error(path, f"cannot be read: {_one_line(exc)}") from None
+        raise _error(path, f"cannot be read: {one_line(exc)}") from None
     delimiter = "," if path.name.lower().endswith(".csv") else None
     lines = text.splitlines()
     data = [k for k, s in enumerate(lines) if s.split("#", 1)[0].strip()]
@@ -874,7 +458,7 @@ def _read_table(path):
     try:
         table = np.loadtxt(lines, delimiter=delimiter, comments="#", ndmin=2, dtype=float)
     except ValueError as exc:
-        raise _error(path, f"is not a table of numbers: {_one_line(exc)}") from None
+        raise _error(path, f"is not a table of numbers: {one_line(exc)}") from None
     if table.shape[1] != 1:
         raise _error(path, f"has {table.shape[1]} columns: expected one value per line "
                            "(per mesh vertex)")
@@ -907,7 +491,7 @@ def _check_positive(path, values, mesh):
     if bad is not None:
         what = "is not finite" if not math.isfinite(values[bad]) else "is not > 0"
         raise _error(path, f"theta = {float(values[bad])!r} {what} at vertex {bad} "
-                           f"{_point(_vertex_coordinates(mesh)[bad])}: growth indicators must "
+                           f"{point(_vertex_coordinates(mesh)[bad])}: growth indicators must "
                            "be finite and > 0")
 
 
@@ -940,8 +524,8 @@ def _stored_growth(path, arrays, mesh):
     far = np.flatnonzero(distance > _COORD_RTOL * diameter + _COORD_ATOL)
     if len(far):
         k = int(far[0])
-        raise _error(path, f"was written on a mesh with vertex {k} at {_point(stored[k])}, in "
-                           f"this one it is at {_point(coords[k])} ({len(far)} vertices moved)")
+        raise _error(path, f"was written on a mesh with vertex {k} at {point(stored[k])}, in "
+                           f"this one it is at {point(coords[k])} ({len(far)} vertices moved)")
     order = int(arrays["order"])
     gf = ngs.GridFunction(ngs.H1(mesh, order=order))
     dofs = np.asarray(arrays["dofs"], dtype=float)
