@@ -1,14 +1,22 @@
-"""User inputs: mesh files (Netgen .vol, Gmsh .msh) and growth fields given as data."""
+"""User inputs: mesh files (Netgen .vol; Gmsh, VTK, Abaqus, MEDIT through meshio) and growth
+fields given as data."""
 
 import gzip
 import itertools
+import json
+import logging
 
+import meshio
 import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import random_points, values_at
+from netgen import occ
+from netgen.csg import CSGeometry, OrthoBrick, Pnt
+from netgen.geom2d import unit_square
 
 from geometries import cylinder
+from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.workflow import inputs
 
@@ -62,7 +70,7 @@ def write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0), version="2.2 0 8"):
             for q in quads(axis, value):
                 e = np.array([xyz[v] for v in q[:3]])
                 if np.cross(e[1] - e[0], e[2] - e[0]) @ outward < 0:
-                    q.reverse()
+                    q[1], q[3] = q[3], q[1]     # the other way round, same diagonal
                 tris += [(tag, [q[0], q[1], q[2]]), (tag, [q[0], q[2], q[3]])]
     lines = ["$MeshFormat", version, "$EndMeshFormat", "$PhysicalNames", "5",
              '2 11 "fixed"', '2 12 "loaded"', '2 13 "sides"', '3 1 "soft"', '3 2 "stiff"',
@@ -75,6 +83,95 @@ def write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0), version="2.2 0 8"):
     lines.append("$EndElements")
     path.write_text("\n".join(lines) + "\n")
     return len(tets), np.array(list(xyz.values()))
+
+
+def write_gmsh4(path, source, names, binary):
+    """Write the mesh of the Gmsh file ``source`` as Gmsh 4.1 with meshio.
+
+    Each cell block of one type and physical tag becomes an entity with that tag;
+    ``names`` is {name: (tag, dimension)} ($PhysicalNames). meshio's writer takes the
+    entities of $Entities from the nodes' entities and writes the nodes grouped by entity
+    in the order of (dimension, tag): the first nodes are given one entity each in that
+    order, the others the last one, so that the nodes keep their order."""
+    mesh = meshio.read(source)
+    cells, tags = [], []
+    for block, physical in zip(mesh.cells, mesh.cell_data["gmsh:physical"], strict=True):
+        for tag in np.unique(physical):
+            cells.append(meshio.CellBlock(block.type, block.data[physical == tag]))
+            tags.append(np.full(int((physical == tag).sum()), tag))
+    entities = sorted({(block.dim, int(tag[0])) for block, tag in zip(cells, tags, strict=True)})
+    dim_tags = np.array(entities + entities[-1:] * (len(mesh.points) - len(entities)))
+    meshio.write(path, meshio.Mesh(
+        mesh.points, cells, point_data={"gmsh:dim_tags": dim_tags},
+        cell_data={"gmsh:physical": tags, "gmsh:geometrical": tags},
+        field_data={name: np.array(td) for name, td in names.items()}),
+        file_format="gmsh", binary=binary)
+
+
+def round_vol_points(path):
+    """Write the point coordinates of a .vol file as Netgen's Gmsh export does ("%f"), so that
+    the .vol and the exported file describe the same vertices to the last bit."""
+    head, rest = path.read_text().split("\npoints\n", 1)
+    count, rest = rest.split("\n", 1)
+    rows = rest.split("\n")
+    rows[:int(count)] = [" ".join(f"{float(v):f}" for v in row.split())
+                         for row in rows[:int(count)]]
+    path.write_text(head + "\npoints\n" + count + "\n" + "\n".join(rows))
+
+
+#: The physical names the Gmsh 4 files of :func:`box_files` carry.
+BOX_NAMES = {"soft": (100001, 3), "stiff": (100002, 3),
+             **{f"face{k}": (k, 2) for k in range(1, 12)}}
+
+
+@pytest.fixture(scope="module")
+def box_files(tmp_path_factory):
+    """Two unit cubes side by side meshed by Netgen (regions soft and stiff, 11 faces with
+    the interface), as ``.vol`` and in the formats read through meshio: the Gmsh 2 file
+    exactly as ``ngmesh.Export(..., "Gmsh2 Format")`` writes it (no physical names) and,
+    written by meshio from it, Gmsh 4.1 ASCII and binary (named), Gmsh 2.2 binary, VTU,
+    VTK, Abaqus (element sets soft and stiff) and MEDIT."""
+    folder = tmp_path_factory.mktemp("box")
+    geo = CSGeometry()
+    geo.Add(OrthoBrick(Pnt(0, 0, 0), Pnt(1, 1, 1)).mat("soft").bc("outer"))
+    geo.Add(OrthoBrick(Pnt(1, 0, 0), Pnt(2, 1, 1)).mat("stiff").bc("outer"))
+    ngmesh = geo.GenerateMesh(maxh=0.4)
+    ngmesh.Save(str(folder / "box.vol"))
+    round_vol_points(folder / "box.vol")
+    ngmesh.Export(str(folder / "netgen2.msh"), "Gmsh2 Format")
+    source = folder / "netgen2.msh"
+    write_gmsh4(folder / "ascii4.msh", source, BOX_NAMES, binary=False)
+    write_gmsh4(folder / "binary4.msh", source, BOX_NAMES, binary=True)
+    mesh = meshio.read(source)
+    meshio.write(folder / "binary22.msh", mesh, file_format="gmsh22", binary=True)
+    for name in ("box.vtu", "box.vtk", "box.mesh"):
+        meshio.write(folder / name, mesh)
+    physical = mesh.cell_data["gmsh:physical"]
+    sets = {name: [np.flatnonzero((p == tag) & (c.dim == 3)) for c, p in zip(mesh.cells, physical,
+                                                                        strict=True)]
+            for name, tag in (("soft", 100001), ("stiff", 100002))}
+    meshio.write(folder / "box.inp", meshio.Mesh(mesh.points, mesh.cells, cell_sets=sets))
+    return folder
+
+
+def measures(mesh):
+    """What a mesh is for a run: vertices, element count, volume per region, area per face
+    descriptor (in their order), and the divergence theorem for X with ngsolve's normal."""
+    def areas(k):
+        mask = ngs.BitArray(len(mesh.GetBoundaries()))
+        mask.Clear()
+        mask.Set(k)
+        return ngs.Integrate(1, mesh, ngs.BND, definedon=ngs.Region(mesh, ngs.BND, mask))
+
+    return {
+        "vertices": np.array([v.point for v in mesh.vertices]),
+        "ne": mesh.ne,
+        "regions": [ngs.Integrate(1, mesh, definedon=mesh.Materials(f"^{m}$"))
+                    for m in dict.fromkeys(mesh.GetMaterials())],
+        "faces": [areas(k) for k in range(len(mesh.GetBoundaries()))],
+        "flux": ngs.Integrate(ngs.specialcf.normal(3) * ngs.CF((ngs.x, ngs.y, ngs.z)), mesh,
+                              ngs.BND),
+    }
 
 
 @pytest.fixture(scope="module")
@@ -153,6 +250,130 @@ def test_curved_vol_reads_back_curved_and_recurves_with_its_geometry(tmp_path):
         inputs.load_mesh(tmp_path / "box.msh", curve_order=2)
 
 
+def test_every_format_gives_the_mesh_of_the_vol_file(box_files, caplog):
+    """The independent check of the conversion: the same vertices in the same order, and the
+    same volume per region, area per face and boundary normals as Netgen's own .vol file."""
+    reference = measures(inputs.load_mesh(box_files / "box.vol"))
+    assert sum(reference["regions"]) == pytest.approx(2.0, rel=1e-12)
+    assert reference["flux"] == pytest.approx(3 * 2.0 + 1.0, rel=1e-12)   # + the interface
+    faces = tuple(f"face{k}" for k in range(1, 12))
+    unnamed = (("region100001", "region100002"), tuple(f"boundary{k}" for k in range(1, 12)))
+    expected_names = {
+        "netgen2.msh": unnamed, "binary22.msh": unnamed, "box.vtu": unnamed,
+        "box.vtk": unnamed, "box.mesh": unnamed,
+        "ascii4.msh": (("soft", "stiff"), faces), "binary4.msh": (("soft", "stiff"), faces),
+        "box.inp": (("soft", "stiff"), ("default",) * 3),
+    }
+    for name, (materials, boundaries) in expected_names.items():
+        caplog.clear()
+        with caplog.at_level(logging.WARNING):
+            mesh = inputs.load_mesh(box_files / name)
+        got = measures(mesh)
+        np.testing.assert_array_equal(got["vertices"], reference["vertices"], err_msg=name)
+        assert got["ne"] == reference["ne"], name
+        assert got["regions"] == pytest.approx(reference["regions"], rel=1e-12), name
+        assert got["flux"] == pytest.approx(reference["flux"], rel=1e-12), name
+        assert (mesh.GetMaterials(), mesh.GetBoundaries()) == (materials, boundaries), name
+        if name == "box.inp":           # Abaqus: element sets, the triangles carry no tags
+            assert sum(got["faces"]) == pytest.approx(sum(reference["faces"]), rel=1e-12)
+        else:
+            assert got["faces"] == pytest.approx(reference["faces"], rel=1e-12), name
+        assert ("without a name" in caplog.text) == (boundaries != faces), name
+
+
+def test_hexahedra_and_prisms_in_either_orientation(tmp_path):
+    """Cells of both orientations (file conventions differ) are turned to Netgen's: positive
+    Jacobians, outward normals; outer faces without boundary cells are added as 'default'."""
+    nodes = np.array([(x, y, z) for z in range(2) for y in range(2) for x in range(3)], float)
+    index = {tuple(p): k for k, p in enumerate(nodes)}
+    hexes = [[index[(i + dx, dy, dz)] for dz in (0, 1) for dx, dy in ((0, 0), (1, 0), (1, 1),
+                                                                     (0, 1))]
+             for i in range(2)]
+    wedges = [[h[0], h[1], h[2], h[4], h[5], h[6]] for h in hexes] + \
+             [[h[0], h[2], h[3], h[4], h[6], h[7]] for h in hexes]
+    mirrored = {"hexahedron": [0, 3, 2, 1, 4, 7, 6, 5], "wedge": [0, 2, 1, 3, 5, 4]}
+    jacobian = ngs.Det(ngs.specialcf.JacobianMatrix(3))
+    rules = {et: ngs.IntegrationRule([p], [1.0]) for et, p in
+             ((ngs.ET.HEX, (0.5, 0.5, 0.5)), (ngs.ET.PRISM, (1 / 3, 1 / 3, 0.5)))}
+    for kind, cells in (("hexahedron", hexes), ("wedge", wedges)):
+        cells = np.array(cells)
+        cells[1::2] = cells[1::2][:, mirrored[kind]]        # every other cell mirrored
+        meshio.write(tmp_path / f"{kind}.vtu", meshio.Mesh(nodes, [(kind, cells)]))
+        mesh = inputs.load_mesh(tmp_path / f"{kind}.vtu")
+        assert mesh.ne == len(cells) and set(mesh.GetBoundaries()) == {"default"}
+        assert ngs.Integrate(1, mesh) == pytest.approx(2.0, rel=1e-12)
+        assert min(jacobian(mesh.MapToAllElements(rules, ngs.VOL))) > 0
+        n = ngs.specialcf.normal(3)
+        assert ngs.Integrate(n * ngs.CF((ngs.x, ngs.y, ngs.z)), mesh, ngs.BND) == \
+            pytest.approx(6.0, rel=1e-12)
+
+
+def test_second_order_cells_are_read_with_their_corners(tmp_path, caplog):
+    ngmesh = occ.OCCGeometry(occ.Cylinder(occ.Pnt(0, 0, 0), occ.Z, r=1, h=1)).GenerateMesh(
+        maxh=0.6)
+    straight = ngs.Mesh(ngmesh.Copy())
+    ngmesh.SecondOrder()
+    ngmesh.Export(str(tmp_path / "cylinder.msh"), "Gmsh2 Format")
+    assert {c.type for c in meshio.read(tmp_path / "cylinder.msh").cells} == {"tetra10",
+                                                                             "triangle6"}
+    with caplog.at_level(logging.WARNING):
+        mesh = inputs.load_mesh(tmp_path / "cylinder.msh")
+    assert "second-order cells (tetra10, triangle6) are read with their corners only" in \
+        caplog.text
+    assert (mesh.nv, mesh.ne) == (straight.nv, straight.ne)
+    np.testing.assert_allclose([v.point for v in mesh.vertices],
+                               [v.point for v in straight.vertices], atol=5e-7)
+    volume = ngs.Integrate(1, mesh)
+    assert volume == pytest.approx(ngs.Integrate(1, straight), rel=1e-5)
+    assert ngs.Integrate(1, ngs.Mesh(ngmesh)) - volume > 0.05    # the curved cells' volume
+
+
+# --- the command line on mesh files ----------------------------------------------------------
+
+#: A run of the custom scene on a mesh file: theta = 1 + X1 t / 10.
+RUN = ["--set", "theta=1+0.1*X1*t", "--set", "order=2", "-q"]
+
+
+def run_custom(out, mesh):
+    assert main(["run", "custom", "--out", str(out), "--set", f"mesh={mesh}", *RUN]) == 0
+    return json.loads((out / "results.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def vol_run(box_files, tmp_path_factory):
+    return run_custom(tmp_path_factory.mktemp("run"), box_files / "box.vol")
+
+
+def assert_same_run(results, reference):
+    """The same growth on the same mesh: the same metrics, to round-off."""
+    assert results["status"] == "done" and results["mesh"] == reference["mesh"]
+    assert set(results["metrics"]) == set(reference["metrics"])
+    for key, value in reference["metrics"].items():
+        if value is None:
+            assert results["metrics"][key] is None, key
+        else:
+            assert results["metrics"][key] == pytest.approx(value, rel=1e-9, abs=1e-15), key
+
+
+def test_cli_runs_on_a_vol_file(vol_run, box_files):
+    assert vol_run["status"] == "done"
+    assert vol_run["mesh"]["ne"] == inputs.load_mesh(box_files / "box.vol").ne
+    # eq. (16): |b| on n2 is |grad theta| / (3 theta^(4/3)), largest where theta = 1
+    assert vol_run["metrics"]["burgers_max"] == pytest.approx(0.1 / 3, rel=1e-5)
+
+
+def test_cli_runs_on_a_gmsh4_ascii_file(tmp_path, box_files, vol_run):
+    assert_same_run(run_custom(tmp_path, box_files / "ascii4.msh"), vol_run)
+
+
+def test_cli_runs_on_a_gmsh4_binary_file(tmp_path, box_files, vol_run):
+    assert_same_run(run_custom(tmp_path, box_files / "binary4.msh"), vol_run)
+
+
+def test_cli_runs_on_a_gmsh2_file_as_netgen_exports_it(tmp_path, box_files, vol_run):
+    assert_same_run(run_custom(tmp_path, box_files / "netgen2.msh"), vol_run)
+
+
 # --- growth data -----------------------------------------------------------------------------
 
 def test_growth_round_trip_on_the_same_mesh_file(tmp_path, cube_vol):
@@ -191,14 +412,14 @@ def test_growth_of_a_run_reads_back_on_its_saved_mesh(tmp_path, cube_vol):
 
 def test_growth_on_another_mesh_is_refused(tmp_path, cube_vol, unit_cube_hex):
     inputs.save_growth(tmp_path / "growth.npz", inputs.load_mesh(cube_vol[0]), 1 + ngs.x, 2)
-    with pytest.raises(ParameterError, match=rf"growth\.npz: was written on a mesh with "
+    with pytest.raises(ParameterError, match=rf"growth\.npz': was written on a mesh with "
                                              rf"{cube_vol[1].nv} vertices, this one has "
                                              rf"{unit_cube_hex.nv}"):
         inputs.load_growth(tmp_path / "growth.npz", unit_cube_hex)
     moved = ngs.Mesh(cube_vol[1].ngmesh.Copy())
     moved.ngmesh.Scale(2.0)
     moved = ngs.Mesh(moved.ngmesh)
-    with pytest.raises(ParameterError, match=r"growth\.npz: was written on a mesh with vertex"):
+    with pytest.raises(ParameterError, match=r"growth\.npz': was written on a mesh with vertex"):
         inputs.load_growth(tmp_path / "growth.npz", moved)
 
 
@@ -210,7 +431,7 @@ def test_growth_with_other_dofs_is_refused(tmp_path, cube_vol):
         arrays = dict(data)
     arrays["dofs"][mesh.nv:] = arrays["dofs"][mesh.nv:][::-1]    # higher-order dofs shuffled
     np.savez(path, **arrays)
-    with pytest.raises(ParameterError, match=r"growth\.npz: its dofs do not give back"):
+    with pytest.raises(ParameterError, match=r"growth\.npz': its dofs do not give back"):
         inputs.load_growth(path, mesh)
 
 
@@ -250,7 +471,7 @@ def test_ramped_growth(cube_vol):
 
 # --- bad inputs ------------------------------------------------------------------------------
 
-def _bad_mesh_files(tmp_path, cube_vol):
+def _bad_mesh_files(tmp_path, cube_vol, box_files):
     """file -> the reason the error must give."""
     text = cube_vol[0].read_text()
     (tmp_path / "dir.vol").mkdir()
@@ -264,21 +485,30 @@ def _bad_mesh_files(tmp_path, cube_vol):
     (tmp_path / "flat.vol").write_text(text.replace("dimension\n3", "dimension\n2", 1))
     before, after = text.split("\nvolumeelements\n")
     (tmp_path / "novolume.vol").write_text(before + "\npoints\n" + after.split("\npoints\n")[1])
-    write_box_msh(tmp_path / "v4.msh", version="4.1 0 8")
-    write_box_msh(tmp_path / "binary.msh", version="2.2 1 8")
-    write_box_msh(tmp_path / "truncated.msh")
-    box = (tmp_path / "truncated.msh").read_text()
+    box = (box_files / "netgen2.msh").read_text()
     (tmp_path / "truncated.msh").write_text(box[:box.index("$Elements") + 200])
-    (tmp_path / "unnamed.msh").write_text(box.replace('3 2 "stiff"\n', "").replace(
-        "$PhysicalNames\n5", "$PhysicalNames\n4"))
-    (tmp_path / "blank.msh").write_text(box.replace('"soft"', '"soft tissue"'))
-    (tmp_path / "surface.msh").write_text(
-        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n"
-        "$EndNodes\n$Elements\n1\n1 2 2 0 1 1 2 3\n$EndElements\n")
+    binary = (box_files / "binary4.msh").read_bytes()
+    (tmp_path / "truncated4.msh").write_bytes(binary[:len(binary) // 2])
+    mesh = meshio.read(box_files / "netgen2.msh")
+    triangles = [c for c in mesh.cells if c.type == "triangle"]
+    meshio.write(tmp_path / "surface.msh", meshio.Mesh(mesh.points, triangles),
+                 file_format="gmsh22")
+    meshio.write(tmp_path / "stray.msh", meshio.Mesh(mesh.points, [
+        *mesh.cells, ("triangle", np.array([[0, 1, len(mesh.points) - 1]]))]),
+        file_format="gmsh22")
+    square = unit_square.GenerateMesh(maxh=0.5)
+    square.Export(str(tmp_path / "square.msh"), "Gmsh2 Format")
+    corners = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 1]], float)
+    meshio.write(tmp_path / "degenerate.vtu", meshio.Mesh(corners, [("tetra", [[0, 1, 2, 3]])]))
+    cube = np.array(list(itertools.product((0, 1), repeat=3)), float)[:, ::-1]
+    meshio.write(tmp_path / "tangled.vtu", meshio.Mesh(cube, [("hexahedron",
+                                                                [[0, 1, 3, 2, 4, 5, 6, 7]])]))
+    meshio.write(tmp_path / "polygons.vtu", meshio.Mesh(corners, [("polygon", [[0, 1, 3, 2]])]))
+    allowed = ".vol, .vol.gz, .msh, .vtu, .vtk, .inp, .mesh"
     return {
         "missing.vol": "does not exist",
         "dir.vol": "is a directory",
-        "mesh.stl": "unknown mesh file extension '.stl'; allowed: .vol, .vol.gz, .msh",
+        "mesh.stl": f"unknown extension '.stl'; allowed: {allowed}",
         "junk.vol": "not a Netgen mesh",
         "truncated.vol": "truncated",
         "noend.vol": "truncated",
@@ -286,22 +516,24 @@ def _bad_mesh_files(tmp_path, cube_vol):
         "badpoint.vol": "an element uses point 999 but the file has",
         "flat.vol": "not a 3-D mesh",
         "novolume.vol": "no volume elements",
-        "v4.msh": "Gmsh format 4.1; only ASCII format 2",
-        "binary.msh": "binary Gmsh file",
-        "truncated.msh": "truncated",
-        "unnamed.msh": "physical group 2 (dimension 3) has no name",
-        "blank.msh": 'physical name "soft tissue" contains blanks',
-        "surface.msh": "2-D mesh",
+        "truncated.msh": "cannot be read as a gmsh file (truncated or damaged?)",
+        "truncated4.msh": "cannot be read as a gmsh file (truncated or damaged?)",
+        "surface.msh": "is a surface mesh (triangles and quadrilaterals only): a 3-D volume mesh",
+        "square.msh": "is a 2-D mesh (its nodes lie in one coordinate plane): a 3-D volume mesh",
+        "stray.msh": "has boundary triangles that are no face of a volume cell",
+        "degenerate.vtu": "1 of its 1 tetra cells are degenerate (flat)",
+        "tangled.vtu": "1 of its 1 hexahedron cells are inverted at some corners",
+        "polygons.vtu": "has cells of type 'polygon', which are not read",
     }
 
 
-def test_bad_mesh_files_name_file_and_reason(tmp_path, cube_vol):
-    for name, reason in _bad_mesh_files(tmp_path, cube_vol).items():
+def test_bad_mesh_files_name_parameter_file_and_reason(tmp_path, cube_vol, box_files):
+    for name, reason in _bad_mesh_files(tmp_path, cube_vol, box_files).items():
         with pytest.raises(ParameterError) as err:
             inputs.load_mesh(tmp_path / name)
         message = str(err.value)
-        assert name in message and reason in message, message
-        assert "\n" not in message
+        assert message.startswith(f"mesh = '{tmp_path / name}': "), message
+        assert reason in message and "\n" not in message, message
 
 
 def test_bad_growth_files_name_file_and_reason(tmp_path, cube_vol):
@@ -323,7 +555,7 @@ def test_bad_growth_files_name_file_and_reason(tmp_path, cube_vol):
     expected = {
         "missing.npz": "does not exist",
         "dir.csv": "is a directory",
-        "theta.json": "unknown growth file extension '.json'; allowed: .npz, .csv, .txt",
+        "theta.json": "unknown extension '.json'; allowed: .npz, .csv, .txt",
         "short.csv": f"has {nv - 2} values, expected {nv}",
         "negative.csv": f"theta = -0.5 is not > 0 at vertex 5 ({x5})",
         "nan.txt": "theta = nan is not finite at vertex 3",
