@@ -9,9 +9,10 @@ Example::
     ngincompat run custom --out o3 --set mesh=o/mesh.vol --set theta_file=o/growth.npz
 
 A mesh file (Netgen ``.vol``/``.vol.gz``, or Gmsh ``.msh``, VTK, Abaqus or MEDIT through
-meshio, :func:`ngincompat.workflow.inputs.load_mesh`) replaces the geometry builder; a growth file (``growth.npz`` of an earlier run with
-``outputs=growth``, or one value per vertex in ``.npz``/``.csv``/``.txt``) replaces the
-expression, ramped linearly in t: theta(X, t) = 1 + t (theta_data(X) - 1).
+meshio, :func:`ngincompat.workflow.inputs.load_mesh`) replaces the geometry builder; a growth
+file (``growth.npz`` of an earlier run with ``outputs=growth``, or one value per vertex in
+``.npz``/``.csv``/``.txt``) replaces the expression, ramped linearly in t:
+theta(X, t) = 1 + t (theta_data(X) - 1).
 """
 
 import dataclasses

@@ -39,9 +39,9 @@ import numpy as np
 
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import ParameterError, require
-from ngincompat.workflow import meshfiles
+from ngincompat.workflow import meshfiles, volfile
 from ngincompat.workflow.meshfiles import (
-    MESH_EXTENSIONS,
+    MESHIO_FORMATS,
     file_error,
     one_line,
     point,
@@ -49,6 +49,9 @@ from ngincompat.workflow.meshfiles import (
 )
 
 log = logging.getLogger(__name__)
+
+#: File names :func:`load_mesh` reads.
+MESH_EXTENSIONS = (*volfile.EXTENSIONS, *MESHIO_FORMATS)
 
 #: File names :func:`load_growth` reads.
 GROWTH_EXTENSIONS = (".npz", ".csv", ".txt")
@@ -135,7 +138,15 @@ def load_mesh(path, curve_order=None):
     path = _check_input_file(path, MESH_EXTENSIONS, "mesh")
     require(curve_order is None or (isinstance(curve_order, int) and 1 <= curve_order <= 8),
             "curve_order", curve_order, "None or an integer in [1, 8]")
-    mesh = meshfiles.read(path, curve=curve_order is not None and curve_order > 1)
+    curve = curve_order is not None and curve_order > 1
+    suffix = suffix_of(path, MESH_EXTENSIONS)
+    if suffix in volfile.EXTENSIONS:
+        mesh = volfile.read(path, curve=curve)
+    elif curve:
+        raise file_error(path, "this format carries no geometry to curve the mesh to: "
+                               "curve_order must be None or 1")
+    else:
+        mesh = meshfiles.read(path, suffix)
     if curve_order is not None:
         mesh.Curve(curve_order)
     log.info("read %s: %d elements, %d vertices, materials %s, boundaries %s", path, mesh.ne,
