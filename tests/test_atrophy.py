@@ -133,9 +133,13 @@ def test_frames_at_chosen_times_make_a_pvd_time_series(tmp_path):
     assert 0 < losses[0] < losses[1] < losses[2]
 
 
-@pytest.mark.parametrize("times", ["0,5", "5,11", "a,b"])
-def test_times_outside_the_run_are_refused(times):
-    with pytest.raises(ParameterError, match=r"times.*\(0, t_end = 10\]"):
+@pytest.mark.parametrize("times, message", [
+    ("0,5", r"times.*\(0, t_end = 10\]"), ("5,11", r"times.*\(0, t_end = 10\]"),
+    ((5.0, 11.0), r"times.*\(0, t_end = 10\]"),
+    ("a,b", r"^times = 'a,b' is not a valid list of floats: allowed a comma list of numbers"),
+])
+def test_times_outside_the_run_are_refused(times, message):
+    with pytest.raises(ParameterError, match=message):
         AtrophyScene(times=times, seed="uniform", **SMALL)
 
 

@@ -39,6 +39,7 @@ tissues (stresses then read in units of mu) and nu = 0.49 (nearly incompressible
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -59,8 +60,10 @@ from ngincompat.mechanics.kinematics import deformation_gradient
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
-from ngincompat.scenes.base import Scene, param
+from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, param
+from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.hemisphere import spherical_basis
+from ngincompat.scenes.material import NU
 from ngincompat.workflow import output
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
@@ -74,16 +77,6 @@ GEOMETRIES = ("idealized", "mni152")
 #: Endings of a user's own brain: a NIfTI label image (1 gray, 2 white) or a Netgen mesh
 #: with materials gray and white.
 USER_FILES = (".nii", ".nii.gz", ".vol", ".vol.gz")
-
-
-def parse_vector(name, text, allowed):
-    """Three numbers from "X,Y,Z"; ParameterError naming ``name`` otherwise."""
-    try:
-        values = tuple(float(v) for v in str(text).split(","))
-    except ValueError:
-        values = ()
-    require(len(values) == 3, name, text, allowed)
-    return values
 
 
 @dataclass(frozen=True)
@@ -100,72 +93,71 @@ class AtrophyScene(Scene):
                "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
                "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
                "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
-    metric_quantities = {**Scene.metric_quantities, "front_radius": "length",
+    metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
+                         "G_norm_L2": "length^(1/2)", "front_radius": "length",
                          "burgers_peak_depth": "length", "stress_peak_depth": "length",
-                         "c_integral": "length^3"}
+                         "c_integral": "length^3", **CURVATURE_QUANTITIES}
 
-    order: int = param(2, "polynomial order of the displacement (>= 2 for mixed)")
-    maxh: float = param(1.0, "mesh size (the voxel edge of mni152 and NIfTI brains)",
-                        "length")
-    g_order: int = param(2, "order of the H1 space that Fg is projected into for Curl Fg")
+    order: int = ORDER(2, help="polynomial order of the displacement (>= 2 for mixed)")
+    maxh: float = MAXH(1.0, help="mesh size (the voxel edge of mni152 and NIfTI brains)")
+    g_order: int = G_ORDER(2, help="order of the H1 space that Fg is projected into for "
+                                   "Curl Fg")
     geometry: str = param("idealized", "brain: idealized (ellipsoid), mni152 (MNI ICBM152 "
                           "template, needs nilearn), or a file: NIfTI labels (1 gray, 2 "
                           "white) or a Netgen mesh (materials gray, white)")
     elements: str = param("hex", "elements of a voxel brain (mni152, NIfTI): hex, or tet (six "
-                          "per voxel, as the curvature output needs)")
-    semi_axes: str = param("8.5,7.0,6.0", "semi-axes of the idealized brain along e1, e2, e3",
-                           "length")
-    gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length")
-    d_ext: float = param(0.015, "extracellular (isotropic) diffusivity", "length^2/time")
+                          "per voxel, as the curvature output needs)", choices=ELEMENTS)
+    semi_axes: tuple[float, float, float] = param(
+        (8.5, 7.0, 6.0), "semi-axes of the idealized brain along e1, e2, e3", "length",
+        range="> 0")
+    gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length",
+                                  range="> 0")
+    d_ext: float = param(0.015, "extracellular (isotropic) diffusivity", "length^2/time",
+                         range=">= 0")
     d_axn: float = param(0.0, "axonal diffusivity added along radial axons in white matter",
-                         "length^2/time")
-    alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time")
-    seed: str = param("0,0,-5", "seed: uniform, or its centre X,Y,Z (in or on the body)",
-                      "length")
-    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length")
-    c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)")
+                         "length^2/time", range=">= 0")
+    alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time", range=">= 0")
+    seed: Literal["uniform"] | tuple[float, float, float] = param(
+        (0.0, 0.0, -5.0), "seed: uniform, or its centre X,Y,Z (in or on the body)", "length")
+    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length", range="> 0")
+    c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)",
+                      range="(0, 1]")
     rate_gray: float = param(0.03, "initial rate of volume loss of gray matter at c = 1",
-                             "1/time")
+                             "1/time", range=">= 0")
     rate_white: float = param(0.001, "initial rate of volume loss of white matter at c = 1",
-                              "1/time")
-    theta_min: float = param(0.7, "smallest volume ratio theta (largest loss 1 - theta_min)")
-    t_end: float = param(40.0, "duration", "time")
-    dt: float = param(0.2, "time step of transport and atrophy", "time")
-    snapshots: int = param(4, "equilibria solved at this many equally spaced times")
-    times: str = param("", "times of the equilibria and of the frames of fields.pvd instead: "
-                       "comma list in (0, t_end] (t_end is always one)", "time")
-    mu_gray: float = param(1.0, "shear modulus of gray matter", "stress")
-    mu_white: float = param(1.0, "shear modulus of white matter", "stress")
-    nu: float = param(0.49, "Poisson's ratio of both tissues")
-    formulation: str = param("mixed", "mixed (pressure against volumetric locking, on Je) "
-                             "or displacement")
+                              "1/time", range=">= 0")
+    theta_min: float = param(0.7, "smallest volume ratio theta (largest loss 1 - theta_min)",
+                             range="(0, 1)")
+    t_end: float = param(40.0, "duration", "time", range="> 0")
+    dt: float = param(0.2, "time step of transport and atrophy", "time", range="> 0")
+    snapshots: int = param(4, "equilibria solved at this many equally spaced times",
+                           range=">= 1")
+    times: tuple[float, ...] = param((), "times of the equilibria and of the frames of "
+                                     "fields.pvd instead: comma list in (0, t_end] (t_end is "
+                                     "always one)", "time")
+    mu_gray: float = param(1.0, "shear modulus of gray matter", "stress", range="> 0")
+    mu_white: float = param(1.0, "shear modulus of white matter", "stress", range="> 0")
+    nu: float = NU(0.49)                # both tissues
+    formulation: Literal["mixed", "displacement"] = param(
+        "mixed", "mixed (pressure against volumetric locking, on Je) or displacement")
 
     def __post_init__(self):
         super().__post_init__()
         require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
                 self.geometry, f"{', '.join(GEOMETRIES)} or a file ending in "
                 f"{', '.join(USER_FILES)}")
-        require(self.elements in ELEMENTS, "elements", self.elements, " or ".join(ELEMENTS))
         axes = self.axes()
-        require(min(axes) > 0, "semi_axes", self.semi_axes, "three lengths > 0")
-        require(0 < self.gray_thickness < min(axes) / 2, "gray_thickness",
+        require(self.gray_thickness < min(axes) / 2, "gray_thickness",
                 self.gray_thickness, f"in (0, {min(axes) / 2:g}) (half the smallest semi-axis)")
-        require(self.d_ext >= 0, "d_ext", self.d_ext, ">= 0 (diffusivity)")
-        require(self.d_axn >= 0, "d_axn", self.d_axn, ">= 0 (diffusivity)")
-        require(self.alpha >= 0, "alpha", self.alpha, ">= 0 (conversion rate)")
-        require(0 < self.c0 <= 1, "c0", self.c0, "in (0, 1]")
-        require(self.seed_radius > 0, "seed_radius", self.seed_radius, "> 0")
         centre = self.seed_centre()
         if centre is not None and self.geometry == "idealized":
             inside = sum((x / a) ** 2 for x, a in zip(centre, axes, strict=True))
             require(inside <= 1 + 1e-9, "seed", self.seed,
                     "uniform, or X,Y,Z inside or on the body "
                     f"((X/{axes[0]:g})^2 + (Y/{axes[1]:g})^2 + (Z/{axes[2]:g})^2 <= 1)")
-        require(self.t_end > 0, "t_end", self.t_end, "> 0")
-        require(0 < self.dt <= self.t_end, "dt", self.dt, f"in (0, t_end = {self.t_end:g}]")
-        require(isinstance(self.snapshots, int) and 1 <= self.snapshots <= self.n_steps(),
-                "snapshots", self.snapshots, f"an integer in [1, {self.n_steps()}] (the "
-                "number of time steps)")
+        require(self.dt <= self.t_end, "dt", self.dt, f"in (0, t_end = {self.t_end:g}]")
+        require(self.snapshots <= self.n_steps(), "snapshots", self.snapshots,
+                f"an integer in [1, {self.n_steps()}] (the number of time steps)")
         self.snapshot_steps()
         for law in self.laws().values():
             law.check_step(self.t_end / self.n_steps())
@@ -175,13 +167,11 @@ class AtrophyScene(Scene):
 
     def axes(self):
         """The semi-axes as three floats."""
-        return parse_vector("semi_axes", self.semi_axes, "three lengths A,B,C > 0")
+        return self.semi_axes
 
     def seed_centre(self):
         """The seed's centre, or None for a uniform seed."""
-        if str(self.seed).strip() == "uniform":
-            return None
-        return parse_vector("seed", self.seed, "uniform, or a position X,Y,Z")
+        return None if self.seed == "uniform" else self.seed
 
     def n_steps(self):
         """Number of equal time steps, of length t_end / n <= dt."""
@@ -192,15 +182,12 @@ class AtrophyScene(Scene):
         time series taken: ``times`` rounded to the nearest step, else ``snapshots`` equally
         spaced ones; the last step always."""
         n = self.n_steps()
-        if not str(self.times).strip():
+        if not self.times:
             return [round(k * n / self.snapshots) for k in range(1, self.snapshots + 1)]
         allowed = f"a comma list of times in (0, t_end = {self.t_end:g}]"
-        try:
-            times = [float(v) for v in str(self.times).split(",")]
-        except ValueError:
-            times = [np.nan]
-        require(all(0 < t <= self.t_end + 1e-9 for t in times), "times", self.times, allowed)
-        return sorted({max(1, round(t / self.t_end * n)) for t in times} | {n})
+        require(all(0 < t <= self.t_end + 1e-9 for t in self.times), "times", self.times,
+                allowed)
+        return sorted({max(1, round(t / self.t_end * n)) for t in self.times} | {n})
 
     def laws(self):
         """The atrophy law of each tissue."""

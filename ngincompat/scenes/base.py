@@ -1,31 +1,41 @@
 """What every scene shares: typed parameters settable by name, their validation, and the
 entry to the pipeline.
 
-A scene is a frozen dataclass. Its fields are its parameters, each with a default, a help text
-and a unit in the field's metadata; ``Scene.from_settings`` builds one from ``KEY=VALUE``
-strings (the command line's ``--set``), converting each value to the field's type and naming
-the key and the allowed values in every error. ``scene.build()`` returns its case (see
+A scene is a frozen dataclass. Its fields are its parameters, each with its type (the
+annotation) and a declaration (:class:`~ngincompat.parameters.Param`: help, unit, allowed
+range); ``Scene.from_settings`` builds one from ``KEY=VALUE`` strings (the command line's
+``--set``) or values, and every value, a Python keyword argument too, is converted to its
+parameter's type and checked against its range before the scene's own checks (those that
+relate several parameters) in ``__post_init__``. ``scene.build()`` returns its case (see
 :mod:`ngincompat.workflow.pipeline`); ``scene.run(out=None)`` runs the whole pipeline and returns
-the
-:class:`~ngincompat.workflow.results.Results`, writing files only when ``out`` is given.
+the :class:`~ngincompat.workflow.results.Results`, writing files only when ``out`` is given.
 """
 
-import dataclasses
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 from ngincompat import parallel
 from ngincompat.errors import ParameterError, require
+from ngincompat.parameters import (
+    Outputs,
+    Param,
+    convert_fields,
+    declarations,
+    param,
+    to_json,
+)
 from ngincompat.progress import SILENT, Progress
 from ngincompat.workflow import io, pipeline
-from ngincompat.workflow.output import OUTPUTS
 from ngincompat.workflow.results import MeshInfo, Results
 
-
-def param(default, help, unit=""):
-    """A scene parameter with its documentation."""
-    return field(default=default, metadata={"help": help, "unit": unit})
+#: The discretisation parameters of every scene; a scene with other defaults (or its own
+#: help text) calls the same declaration: ``order: int = ORDER(3)``.
+ORDER = Param("polynomial order of the displacement", range="[1, 10]")
+MAXH = Param("mesh size", "length", range="> 0")
+STEPS = Param("initial number of load steps (adaptive: cut on failure)", range=">= 1")
+G_ORDER = Param("order of the H1 space that Fg given as data is projected into for Curl Fg "
+                "(analytic growth is differentiated exactly)", range="[1, 12]")
 
 
 @dataclass(frozen=True)
@@ -38,55 +48,34 @@ class Scene:
     #: Every metric the scene can report (a run reports those its settings produce); sweeps
     #: check the metrics they ask for against it before running anything.
     metrics: ClassVar[tuple[str, ...]] = ()
-    #: The quantity each dimensional metric measures, spelled in the scene's units by
-    #: :meth:`unit_of`; every other metric is a ratio (relative errors, growth multipliers).
-    metric_quantities: ClassVar[dict[str, str]] = {
-        "strain_energy": "energy", "strain_energy_clamped": "energy",
-        "strain_energy_released": "energy",
-        "max_principal_stress": "stress", "max_principal_stress_clamped": "stress",
-        "max_principal_stress_released": "stress", "pressure_inflated": "stress",
-        "pressure_end_of_hold": "stress",
-        "burgers_max": "1/length", "burgers_apex": "1/length", "rotation_rate": "1/length",
-        "rotation_rate_expected": "1/length",
-        "burgers_max_radius": "length", "volume_inflated": "volume",
-        "G_norm_L2": "length^(1/2)",
-        "scalar_curvature_min": "1/length^2", "scalar_curvature_max": "1/length^2",
-        "einstein_norm_L2": "length^(-1/2)", "einstein_norm_L2_error": "length^(-1/2)",
-    }
+    #: The quantity each dimensional metric of the scene measures, spelled in the scene's
+    #: units by :meth:`unit_of`; every other metric is a ratio (relative errors, growth
+    #: multipliers). Each scene lists its own.
+    metric_quantities: ClassVar[dict[str, str]] = {}
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
     #: Whether the scene distributes its mesh when launched on several MPI ranks
     #: (:mod:`ngincompat.parallel`); the others refuse to run under MPI.
     distributed: ClassVar[bool] = False
 
-    order: int = param(4, "polynomial order of the displacement")
-    maxh: float = param(0.25, "mesh size", "length")
-    steps: int = param(1, "initial number of load steps (adaptive: cut on failure)")
-    g_order: int = param(6, "order of the H1 space that Fg given as data is projected into "
-                            "for Curl Fg (analytic growth is differentiated exactly)")
-    outputs: str = param("vtk,figures", "files besides results.json: comma list of "
-                                        "vtk, figures, growth (mesh.vol + growth.npz), "
-                                        "curvature (of the growth metric); or none")
+    order: int = ORDER(4)
+    maxh: float = MAXH(0.25)
+    steps: int = STEPS(1)
+    g_order: int = G_ORDER(6)
+    outputs: Outputs = param(Outputs("vtk,figures"), "files besides results.json: comma "
+                             "list of vtk, figures, growth (mesh.vol + growth.npz), "
+                             "curvature (of the growth metric); or none")
     mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
                                   "incompatibility of the growth field only")
 
     def __post_init__(self):
-        require(isinstance(self.order, int) and 1 <= self.order <= 10, "order", self.order,
-                "an integer in [1, 10]")
-        require(self.maxh > 0, "maxh", self.maxh, "> 0")
-        require(isinstance(self.steps, int) and self.steps >= 1, "steps", self.steps,
-                "an integer >= 1")
-        require(isinstance(self.g_order, int) and 1 <= self.g_order <= 12, "g_order",
-                self.g_order, "an integer in [1, 12]")
-        unknown = self.output_set() - set(OUTPUTS)
-        require(not unknown, "outputs", self.outputs,
-                f"a comma list of {', '.join(sorted(OUTPUTS))}, or none")
+        # every value to its parameter's type and range; a subclass checks the relations
+        # between parameters after calling this
+        convert_fields(self)
 
     def output_set(self):
         """The optional files this run writes, as a set of names."""
-        if self.outputs.strip() in ("", "none"):
-            return set()
-        return {item.strip() for item in self.outputs.split(",")}
+        return set(self.outputs)
 
     def build(self):
         """The scene's case (see :mod:`ngincompat.workflow.pipeline`)."""
@@ -122,29 +111,36 @@ class Scene:
                        versions=io.versions(), argv=list(sys.argv), domain=mesh, **kwargs)
 
     @classmethod
+    def declarations(cls):
+        """name -> :class:`~ngincompat.parameters.Parameter` (type, default, help, unit,
+        allowed range) of every parameter."""
+        return declarations(cls)
+
+    @classmethod
     def parameters(cls):
         """name -> (default, help, unit) of every parameter."""
-        return {f.name: (f.default, f.metadata.get("help", ""), f.metadata.get("unit", ""))
-                for f in dataclasses.fields(cls)}
+        return {name: (p.default, p.help, p.unit) for name, p in cls.declarations().items()}
 
     @classmethod
     def typed_settings(cls, settings):
-        """A mapping of parameter names to strings or values with each string converted to
-        its parameter's type (that of its default; "3" -> 3.0 for maxh).
+        """A mapping of parameter names to strings or values with each value converted to
+        its parameter's type and checked ("3" -> 3.0 for maxh), in the JSON-ready form
+        results.json records (tuples as lists, outputs as "vtk,figures").
 
         Raises
         ------
         ParameterError
-            An unknown parameter, or a string that is not a value of its parameter's type.
+            An unknown parameter, or a value that is not of its parameter's type or outside
+            its range.
         """
-        fields = {f.name: f for f in dataclasses.fields(cls)}
+        declared = cls.declarations()
         typed = {}
         for key, raw in settings.items():
-            if key not in fields:
+            if key not in declared:
                 raise ParameterError(
                     f"unknown parameter {key!r} for scene {cls.name!r}: allowed "
-                    f"{', '.join(sorted(fields))}")
-            typed[key] = _convert(key, raw, type(fields[key].default))
+                    f"{', '.join(sorted(declared))}")
+            typed[key] = declared[key].to_json(declared[key].convert(raw))
         return typed
 
     @classmethod
@@ -176,24 +172,7 @@ class Scene:
         return "\n".join(lines)
 
     def settings(self):
-        """The parameters as a plain dict (for results.json)."""
-        return dataclasses.asdict(self)
-
-
-def _convert(key, raw, kind):
-    if not isinstance(raw, str):
-        return raw
-    try:
-        if kind is bool:
-            if raw.lower() in ("1", "true", "yes", "on"):
-                return True
-            if raw.lower() in ("0", "false", "no", "off"):
-                return False
-            raise ValueError
-        if kind is int:
-            return int(raw)
-        if kind is float:
-            return float(raw)
-    except ValueError:
-        raise ParameterError(f"{key} = {raw!r} is not a valid {kind.__name__}") from None
-    return raw
+        """The parameters as a JSON-ready dict (for results.json): tuples as lists, outputs
+        as "vtk,figures"; :meth:`from_settings` reads it back (so does the string form of
+        earlier results.json files, "8.5,7.0,6.0")."""
+        return to_json(self)

@@ -1,6 +1,7 @@
 """The cube of section 3.1: isotropic volume growth driven by a unidirectional field."""
 
 from dataclasses import dataclass
+from typing import Literal
 
 import ngsolve as ngs
 
@@ -36,17 +37,16 @@ class CubeScene(prescribed.PrescribedScene):
     variant = ("model", "formulation")
     distributed = True
 
-    side: float = param(1.0, "edge length of the cube", "length")
+    side: float = param(1.0, "edge length of the cube", "length", range="> 0")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length")
-    mu: float = param(0.55, "shear modulus", "stress")
-    nu: float = param(0.4, "Poisson's ratio")
-    elements: str = param("hex", "element shape: hex (the paper's C3D8 layout) or tet")
-    model: str = param("full", "full cube, or quarter (mirror planes X2 = X3 = side / 2)")
+    elements: Literal["hex", "tet"] = param("hex", "element shape: hex (the paper's C3D8 "
+                                            "layout) or tet")
+    model: Literal["full", "quarter"] = param("full", "full cube, or quarter (mirror planes "
+                                              "X2 = X3 = side / 2)")
 
     def __post_init__(self):
         super().__post_init__()
         require(self.a * self.side > -1, "a", self.a, "> -1 / side (theta stays positive)")
-        require(self.model in ("full", "quarter"), "model", self.model, "full or quarter")
         require(self.quadrature == "gauss" or self.elements == "tet", "quadrature",
                 self.quadrature, "gauss with elements=hex (symmetric rules are for "
                 "tetrahedra: elements=tet)")

@@ -18,6 +18,7 @@ theta(X, t) = 1 + t (theta_data(X) - 1).
 import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -31,6 +32,7 @@ from ngincompat.mechanics.growth import KINDS, make_growth
 from ngincompat.mechanics.materials import MATERIALS, make_material
 from ngincompat.scenes import prescribed
 from ngincompat.scenes.base import param
+from ngincompat.scenes.material import Fibers
 from ngincompat.workflow.inputs import (
     GROWTH_EXTENSIONS,
     MESH_EXTENSIONS,
@@ -43,7 +45,7 @@ _AXES = {"X1": 0, "X2": 1, "X3": 2}
 
 
 @dataclass(frozen=True)
-class CustomScene(prescribed.PrescribedScene):
+class CustomScene(Fibers, prescribed.PrescribedScene):
     """Any geometry, growth kind, theta(X1, X2, X3, t) and material.
 
     theta is a safe expression (see :mod:`ngincompat.mechanics.expressions`) in X1, X2, X3, t, R
@@ -57,30 +59,23 @@ class CustomScene(prescribed.PrescribedScene):
     summary = "your own geometry, growth kind, theta(X, t) and material"
     variant = ("geometry", "growth", "material")
 
-    geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(BUILDERS)))
-    growth: str = param("isotropic", "a registered growth kind: isotropic, area, fiber, ...")
+    geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(BUILDERS)),
+                          choices=BUILDERS)
+    growth: str = param("isotropic", "a registered growth kind: isotropic, area, fiber, ...",
+                        choices=KINDS)
     theta: str = param("1 + 0.25*X1*t", "growth indicator theta(X1, X2, X3, t), t in [0, 1]")
     direction: str = param("e3", "N0 (area) or f0 (fiber growth): e1, e2, e3, radial, "
                                  "radial_xy, circumferential")
-    material: str = param("neo-hookean", "a registered material: neo-hookean, goh, ...")
-    mu: float = param(0.55, "shear modulus", "stress")
-    nu: float = param(0.4, "Poisson's ratio")
-    k1: float = param(1.0, "GOH fiber stiffness", "stress")
-    k2: float = param(1.0, "GOH fiber nonlinearity")
-    kappa: float = param(0.0, "GOH fiber dispersion in [0, 1/3]")
+    material: str = param("neo-hookean", "a registered material: neo-hookean, goh, ...",
+                          choices=MATERIALS)
     fiber: str = param("e1", "GOH fiber direction a0 (as direction)")
-    line: str = param("X1", "axis of the profile line: X1, X2 or X3")
+    line: Literal["X1", "X2", "X3"] = param("X1", "axis of the profile line: X1, X2 or X3")
     mesh: str = param("", "mesh file (.vol, .vol.gz, .msh) instead of the geometry builder")
     theta_file: str = param("", "growth field as data (.npz of a run's outputs=growth, or one "
                                 "value per vertex in .npz/.csv/.txt) instead of theta")
 
     def __post_init__(self):
         super().__post_init__()
-        require(self.geometry in BUILDERS, "geometry", self.geometry,
-                ", ".join(sorted(BUILDERS)))
-        require(self.growth in KINDS, "growth", self.growth, ", ".join(KINDS))
-        require(self.material in MATERIALS, "material", self.material, ", ".join(MATERIALS))
-        require(self.line in _AXES, "line", self.line, "X1, X2 or X3")
         self.make_material()
         parse_expression(self.theta, name="theta")
         fields.from_name(self.direction)

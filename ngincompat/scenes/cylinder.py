@@ -13,7 +13,7 @@ from ngincompat.mechanics import fields
 from ngincompat.mechanics.growth import FiberGrowth
 from ngincompat.mechanics.kinematics import deformation_gradient, elastic_part
 from ngincompat.scenes import prescribed
-from ngincompat.scenes.base import param
+from ngincompat.scenes.base import MAXH, ORDER, param
 
 
 @dataclass(frozen=True)
@@ -33,13 +33,14 @@ class CylinderScene(prescribed.PrescribedScene):
     metrics = prescribed.PrescribedScene.metrics + (
         "b_eq27_error", "Fe_rotation_deviation", "rotation_rate", "rotation_rate_expected",)
 
-    order: int = param(3, "polynomial order of the displacement")
-    maxh: float = param(0.25, "mesh size", "length")
-    area: float = param(float(np.pi / 4), "cross-section", "length^2")
-    length: float = param(1.0, "length", "length")
+    metric_quantities = {**prescribed.PrescribedScene.metric_quantities,
+                         "rotation_rate": "1/length", "rotation_rate_expected": "1/length"}
+
+    order: int = ORDER(3)
+    maxh: float = MAXH(0.25)
+    area: float = param(float(np.pi / 4), "cross-section", "length^2", range="> 0")
+    length: float = param(1.0, "length", "length", range="> 0")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X2 t", "1/length")
-    mu: float = param(0.55, "shear modulus", "stress")
-    nu: float = param(0.4, "Poisson's ratio")
 
     def build(self):
         mesh = cylinder(area=self.area, length=self.length, maxh=self.maxh,

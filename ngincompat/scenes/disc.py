@@ -1,26 +1,27 @@
 """The disc of section 3.3: transversely isotropic area growth with GOH fibers."""
 
 from dataclasses import dataclass
+from typing import Literal
 
 import ngsolve as ngs
 import numpy as np
 
 from geometries import disc
 from ngincompat import sampling
-from ngincompat.errors import require
 from ngincompat.fem import postprocess
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.growth import AreaGrowth
 from ngincompat.mechanics.materials import make_material
 from ngincompat.scenes import prescribed
-from ngincompat.scenes.base import param
+from ngincompat.scenes.base import MAXH, ORDER, param
+from ngincompat.scenes.material import K1, K2, MU, Fibers
 
 FIBERS = {"radial": "radial_xy", "circumferential": "circumferential"}
 
 
 @dataclass(frozen=True)
-class DiscScene(prescribed.PrescribedScene):
+class DiscScene(Fibers, prescribed.PrescribedScene):
     """Disc R0 = 1 mm, height 0.5 mm; area growth theta = 1 + R t / 4 about N0 = e3 (eq. 51),
     R = sqrt(X1^2 + X2^2); traction-free.
 
@@ -41,23 +42,19 @@ class DiscScene(prescribed.PrescribedScene):
     metrics = prescribed.PrescribedScene.metrics + (
         "b_eq22_error", "b_out_of_plane", "b_along_grad_theta", "sigma_r_rim_rel",)
 
-    order: int = param(3, "polynomial order of the displacement")
-    maxh: float = param(0.2, "mesh size", "length")
-    R0: float = param(1.0, "radius", "length")
-    height: float = param(0.5, "thickness", "length")
-    material: str = param("goh", "goh or neo-hookean")
-    fibers: str = param("radial", "GOH fiber family: radial or circumferential")
-    mu: float = param(0.003, "shear modulus (GOH ground matrix c)", "stress")
-    nu: float = param(0.4, "Poisson's ratio of the ground matrix")
-    k1: float = param(0.0023632, "GOH fiber stiffness", "stress")
-    k2: float = param(0.8393, "GOH fiber nonlinearity")
-    kappa: float = param(0.0, "GOH fiber dispersion in [0, 1/3]")
+    order: int = ORDER(3)
+    maxh: float = MAXH(0.2)
+    R0: float = param(1.0, "radius", "length", range="> 0")
+    height: float = param(0.5, "thickness", "length", range="> 0")
+    material: Literal["goh", "neo-hookean"] = param("goh", "goh or neo-hookean")
+    fibers: str = param("radial", "GOH fiber family: radial or circumferential",
+                        choices=FIBERS)
+    mu: float = MU(0.003)               # the GOH ground matrix's c; nu = 0.4 of the block
+    k1: float = K1(0.0023632)
+    k2: float = K2(0.8393)
 
     def __post_init__(self):
         super().__post_init__()
-        require(self.material in ("goh", "neo-hookean"), "material", self.material,
-                "goh or neo-hookean")
-        require(self.fibers in FIBERS, "fibers", self.fibers, "radial or circumferential")
         self.make_material()
 
     def make_material(self):

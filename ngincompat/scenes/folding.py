@@ -125,7 +125,7 @@ from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import Progress
 from ngincompat.references.bifurcation import Bilayer, onset
 from ngincompat.sampling import element_points
-from ngincompat.scenes.base import Scene, param
+from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, param
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
 
@@ -211,7 +211,9 @@ class FoldingScene(Scene):
                "max_principal_stress_released", "top_curvature_released",
                "peak_tension_depth", "peak_tension_depth_released", "release_reaction_rel",
                "top_stretch_min")
-    metric_quantities = {**Scene.metric_quantities, "onset_wavelength": "length",
+    metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
+                         "max_principal_stress_released": "stress",
+                         "onset_wavelength": "length",
                          "fold_amplitude": "length", "onset_time": "time",
                          "burgers_max_depth": "length", "burgers_max_X1": "length",
                          "equilibrium_eigenvalue": "stress/length^2",
@@ -220,74 +222,67 @@ class FoldingScene(Scene):
                          "peak_tension_depth_released": "length"}
     units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
 
-    order: int = param(2, "polynomial order of the displacement")
-    maxh: float = param(0.15, "mesh size in the subcortex", "length")
+    order: int = ORDER(2)
+    maxh: float = MAXH(0.15, help="mesh size in the subcortex")
     cortex_maxh: float = param(0.025, "mesh size in the cortex and on the interface "
-                                      "(>= 2 quadratic elements across the cortex)", "length")
-    g_order: int = param(3, "order of the H1 space that Fg is projected into for Curl Fg")
-    growth_order: int = param(1, "order of the (L2) growth field theta")
-    length: float = param(3.0, "length of the bilayer (X1)", "length")
-    height: float = param(1.0, "height of the bilayer (X3)", "length")
-    depth: float = param(0.05, "thickness of the slab (X2, out of plane)", "length")
-    cortex_thickness: float = param(0.05, "thickness of the cortex", "length")
-    mu_white: float = param(1.0, "shear modulus of the subcortex (white matter)", "stress")
-    mu_ratio: float = param(3.0, "mu_gray / mu_white")
-    lam_ratio: float = param(100.0, "lambda / mu in both layers (nearly incompressible)")
+                                      "(>= 2 quadratic elements across the cortex)", "length",
+                               range="> 0")
+    g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
+                                   "Curl Fg")
+    growth_order: int = param(1, "order of the (L2) growth field theta", range=">= 0")
+    length: float = param(3.0, "length of the bilayer (X1)", "length", range="> 0")
+    height: float = param(1.0, "height of the bilayer (X3)", "length", range="> 0")
+    depth: float = param(0.05, "thickness of the slab (X2, out of plane)", "length",
+                         range="> 0")
+    cortex_thickness: float = param(0.05, "thickness of the cortex", "length", range="> 0")
+    mu_white: float = param(1.0, "shear modulus of the subcortex (white matter)", "stress",
+                            range="> 0")
+    mu_ratio: float = param(3.0, "mu_gray / mu_white", range="> 0")
+    lam_ratio: float = param(100.0, "lambda / mu in both layers (nearly incompressible)",
+                             range="> 0")
     cortex_rate: float = param(0.008, "cortex growth rate: theta_c = 1 + cortex_rate t",
-                               "1/time")
+                               "1/time", range="> 0")
     axon_rate: float = param(0.08, "G_axn of d theta_a/dt = G_axn <lambda_e - "
-                                   "stretch_crit>", "1/time")
-    stretch_crit: float = param(1.0, "axon stretch lambda_e below which axons do not grow")
-    axon_max: float = param(3.0, "saturation of axon growth (eq. 45, gamma = 0)")
-    axons: str = param("curved", "axon field: " + ", ".join(AXONS))
+                                   "stretch_crit>", "1/time", range="> 0")
+    stretch_crit: float = param(1.0, "axon stretch lambda_e below which axons do not grow",
+                                range="> 0")
+    axon_max: float = param(3.0, "saturation of axon growth (eq. 45, gamma = 0)",
+                            range="> 1")
+    axons: str = param("curved", "axon field: " + ", ".join(AXONS), choices=AXONS)
     t_end: float = param(40.0, "end of growth (40: theta_c = 1.32, before the top surface "
-                               "creases; the paper's 75 days are past it)", "time")
+                               "creases; the paper's 75 days are past it)", "time",
+                         range="> 0")
     dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
-                      "time")
+                      "time", range="> 0")
     approach_dt: float = param(10.0, "largest time step on the perfect branch (at least "
                                      "onset_dt) until 2 onset_dt before the bifurcation "
-                                     "analysis' onset", "time")
+                                     "analysis' onset", "time", range="> 0")
     onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
-                                  "the onset)", "time")
+                                  "the onset)", "time", range="> 0")
     observe_dt: float = param(1.25, "growth time between the records of the viscous march "
                                     "(smallest eigenvalue, fold amplitude, top stretch); 0: "
-                                    "every step", "time")
+                                    "every step", "time", range=">= 0")
     imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
-                                      "onset / cortex_thickness")
+                                      "onset / cortex_thickness", range="(0, 0.1]")
     buckle: bool = param(True, "past the onset, perturb by the buckling mode and follow the "
                                "folds to t_end (false: end at the onset)")
     release: bool = param(True, "at the end remove the supports but the rigid-motion pins "
                                 "(growth frozen)")
     viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
-                                   "(eta in stress x time / length^2)", "time/length^2")
+                                   "(eta in stress x time / length^2)", "time/length^2",
+                             range="> 0")
 
     def __post_init__(self):
         super().__post_init__()
         require(self.order >= 2, "order", self.order, ">= 2 (quadratic elements across the "
                 "cortex)")
-        require(self.length > 0, "length", self.length, "> 0")
-        require(self.height > 0, "height", self.height, "> 0")
-        require(self.depth > 0, "depth", self.depth, "> 0")
-        require(0 < self.cortex_thickness < self.height, "cortex_thickness",
+        require(self.cortex_thickness < self.height, "cortex_thickness",
                 self.cortex_thickness, f"in (0, height = {self.height:g})")
-        require(0 < self.cortex_maxh <= self.maxh, "cortex_maxh", self.cortex_maxh,
+        require(self.cortex_maxh <= self.maxh, "cortex_maxh", self.cortex_maxh,
                 f"in (0, maxh = {self.maxh:g}]")
         require(self.cortex_maxh <= self.cortex_thickness / 2, "cortex_maxh",
                 self.cortex_maxh, f"<= cortex_thickness / 2 = {self.cortex_thickness / 2:g} "
                 "(two quadratic elements across the cortex)")
-        require(self.mu_white > 0, "mu_white", self.mu_white, "> 0")
-        require(self.mu_ratio > 0, "mu_ratio", self.mu_ratio, "> 0")
-        require(self.lam_ratio > 0, "lam_ratio", self.lam_ratio, "> 0")
-        require(self.cortex_rate > 0, "cortex_rate", self.cortex_rate, "> 0")
-        require(self.axons in AXONS, "axons", self.axons, ", ".join(AXONS))
-        require(self.t_end > 0, "t_end", self.t_end, "> 0")
-        require(self.dt > 0, "dt", self.dt, "> 0")
-        require(self.onset_dt > 0, "onset_dt", self.onset_dt, "> 0")
-        require(self.approach_dt > 0, "approach_dt", self.approach_dt, "> 0")
-        require(self.observe_dt >= 0, "observe_dt", self.observe_dt, ">= 0")
-        require(0 < self.imperfection <= 0.1, "imperfection", self.imperfection,
-                "in (0, 0.1] (of the cortex thickness)")
-        require(self.viscosity > 0, "viscosity", self.viscosity, "> 0")
         self.axon_law()
 
     def axon_law(self):

@@ -1,6 +1,7 @@
 """The hemisphere of section 3.2: isotropic growth driven by a radial field."""
 
 from dataclasses import dataclass
+from typing import Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -12,7 +13,7 @@ from ngincompat.fem import postprocess
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.references.radial import solve_radial
 from ngincompat.scenes import prescribed
-from ngincompat.scenes.base import param
+from ngincompat.scenes.base import MAXH, ORDER, STEPS, param
 
 #: The growth profiles f(R / R0) of Fig. 2f: f(0) = 0, f(1) = 1, as (CF builder, numpy).
 PROFILES = {
@@ -47,25 +48,22 @@ class HemisphereScene(prescribed.PrescribedScene):
         "b_radial_rel", "b_meridional_off_circumferential", "b_circumferential_off_meridional",
         "radial_sigma_rr_error", "radial_sigma_thetatheta_error", "radial_sigma_phiphi_error",)
 
-    order: int = param(5, "polynomial order of the displacement")
-    maxh: float = param(0.5, "mesh size", "length")
-    steps: int = param(2, "initial number of load steps (two take 4 Newton iterations each, "
-                            "one 7-9)")
+    order: int = ORDER(5)
+    maxh: float = MAXH(0.5)
+    steps: int = STEPS(2, help="initial number of load steps (two take 4 Newton iterations "
+                               "each, one 7-9)")
     centre_maxh: float = param(0.05, "mesh size at the centre (theta has a cone point there)",
-                               "length")
-    R0: float = param(1.0, "radius", "length")
-    profile: str = param("linear", "growth profile f: linear, concave or convex")
-    flat_face: str = param("free", "flat face: free (the paper's) or symmetry")
-    model: str = param("full", "full hemisphere, or quarter (mirror planes X1 = 0, X2 = 0)")
-    mu: float = param(0.55, "shear modulus", "stress")
-    nu: float = param(0.4, "Poisson's ratio")
+                               "length", range="> 0")
+    R0: float = param(1.0, "radius", "length", range="> 0")
+    profile: str = param("linear", "growth profile f: linear, concave or convex",
+                         choices=PROFILES)
+    flat_face: Literal["free", "symmetry"] = param("free", "flat face: free (the paper's) "
+                                                   "or symmetry")
+    model: Literal["full", "quarter"] = param("full", "full hemisphere, or quarter (mirror "
+                                              "planes X1 = 0, X2 = 0)")
 
     def __post_init__(self):
         super().__post_init__()
-        require(self.profile in PROFILES, "profile", self.profile, ", ".join(PROFILES))
-        require(self.flat_face in ("free", "symmetry"), "flat_face", self.flat_face,
-                "free or symmetry")
-        require(self.model in ("full", "quarter"), "model", self.model, "full or quarter")
         require(0 < self.centre_maxh <= self.maxh, "centre_maxh", self.centre_maxh,
                 f"in (0, maxh = {self.maxh}]")
 

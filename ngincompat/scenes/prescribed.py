@@ -10,15 +10,15 @@ body.
 """
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat import config, sampling
-from ngincompat.errors import require
 from ngincompat.fem import postprocess
 from ngincompat.fem.problem import GrowthMechanics, check_formulation
-from ngincompat.fem.quadrature import CHECK_DEGREE, check_quadrature
+from ngincompat.fem.quadrature import CHECK_DEGREE, QUADRATURES, check_quadrature
 from ngincompat.fem.solver import LINEAR_SOLVERS, NewtonOptions, resolve_linear_solver
 from ngincompat.fem.stages import PrescribedGrowthStage
 from ngincompat.incompatibility import curvature as cv
@@ -28,6 +28,8 @@ from ngincompat.mechanics.kinematics import deformation_gradient
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.scenes import curvature as curvature_report
 from ngincompat.scenes.base import Scene, param
+from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
+from ngincompat.scenes.material import Elastic
 from ngincompat.workflow.pipeline import solve_stages, timed
 from ngincompat.workflow.results import Figure
 
@@ -124,32 +126,38 @@ class PrescribedCase:
 
 
 @dataclass(frozen=True)
-class PrescribedScene(Scene):
-    """A scene with a prescribed growth field; subclasses implement ``build()``."""
+class PrescribedScene(Elastic, Scene):
+    """A scene with a prescribed growth field; subclasses implement ``build()``.
 
-    formulation: str = param("displacement", "displacement, or mixed (a condensed pressure "
-                             "against volumetric locking as nu -> 0.5; neo-Hookean only)")
+    Its material is neo-Hookean from mu and nu (:class:`~ngincompat.scenes.material.Elastic`)
+    unless a scene says otherwise."""
+
+    formulation: Literal["displacement", "mixed"] = param(
+        "displacement", "displacement, or mixed (a condensed pressure against volumetric "
+        "locking as nu -> 0.5; neo-Hookean only)")
     reuse_tangent: bool = param(True, "keep the factorised tangent while each Newton "
                                 "iteration at least halves the residual (the free hemisphere: "
                                 "6 tangents for 18 iterations against 14 fresh ones)")
     linear_solver: str = param("auto", "Newton's linear solver: direct, cg or gmres (BDDC "
-                               "preconditioned); auto: direct serially, cg with MPI")
+                               "preconditioned); auto: direct serially, cg with MPI",
+                               choices=LINEAR_SOLVERS)
     quadrature: str = param("gauss", "rule of energy, residual and tangent: gauss (NGSolve's, "
                             "degree 2 order - 2), or symmetric on tetrahedra (the same degree, "
                             "74 points instead of 216 at order 6, order <= 8; needs "
                             "fenics-basix; the energy reported is integrated again at degree "
-                            f"{CHECK_DEGREE})")
+                            f"{CHECK_DEGREE})", choices=QUADRATURES)
 
     #: Metrics of every prescribed-growth scene; subclasses add their verification metrics.
     metrics = ("strain_energy", "max_principal_stress", "burgers_max", "G_error_L2_rel",
                "G_norm_L2", "G_elastic_vs_growth_L2_rel", "scalar_curvature_min",
                "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
+    metric_quantities = {"strain_energy": "energy", "max_principal_stress": "stress",
+                         "burgers_max": "1/length", "G_norm_L2": "length^(1/2)",
+                         **CURVATURE_QUANTITIES}
 
     def __post_init__(self):
         super().__post_init__()
         # every parameter is checked before anything is computed
-        require(self.linear_solver in LINEAR_SOLVERS, "linear_solver", self.linear_solver,
-                ", ".join(LINEAR_SOLVERS))
         check_formulation(self.make_material(), self.formulation, self.order)
         check_quadrature(self.quadrature, self.order)
 

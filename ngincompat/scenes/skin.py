@@ -68,7 +68,9 @@ from ngincompat.mechanics.laws import HillLaw
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
-from ngincompat.scenes.base import Scene, param
+from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, param
+from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
+from ngincompat.scenes.material import MU, Elastic
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
 
@@ -85,7 +87,7 @@ CONTACT_METRICS = tuple(f"{k}_{when}" for when in ("inflated", "end_of_hold")
                         for k in CONTACT_QUANTITIES)
 
 @dataclass(frozen=True)
-class SkinExpansionScene(Scene):
+class SkinExpansionScene(Elastic, Scene):
     """Tissue expansion of a 10 x 10 x 0.3 cm skin patch (section 3.6)."""
 
     name = "skin"
@@ -102,52 +104,59 @@ class SkinExpansionScene(Scene):
                "einstein_norm_L2_error")
     units = {"length": "cm", "stress": "MPa", "energy": "MPa cm^3 (J)", "volume": "cm^3",
              "area": "cm^2", "time": "day"}
-    metric_quantities = {**Scene.metric_quantities,
+    metric_quantities = {"volume_inflated": "volume", "pressure_inflated": "stress",
+                         "pressure_end_of_hold": "stress",
                          **{f"{k}_{when}": q for k, q in CONTACT_QUANTITIES.items()
                             for when in ("inflated", "end_of_hold")},
+                         "burgers_max": "1/length", "burgers_apex": "1/length",
+                         "burgers_max_radius": "length",
+                         "max_principal_stress_clamped": "stress",
+                         "strain_energy_clamped": "energy",
+                         "max_principal_stress_released": "stress",
+                         "strain_energy_released": "energy",
                          "min_principal_stress_contact_zone": "stress",
-                         "min_principal_stress_contact_zone_mean": "stress"}
+                         "min_principal_stress_contact_zone_mean": "stress",
+                         **CURVATURE_QUANTITIES}
 
-    order: int = param(2, "polynomial order of the displacement")
-    maxh: float = param(1.0, "mesh size", "length")
-    g_order: int = param(4, "order of the H1 space that Fg is projected into for Curl Fg")
-    growth_order: int = param(3, "order of the (L2) growth field theta")
-    footprint: str = param("rectangle", "expander base: " + ", ".join(FOOTPRINTS))
+    order: int = ORDER(2)
+    maxh: float = MAXH(1.0)
+    g_order: int = G_ORDER(4, help="order of the H1 space that Fg is projected into for "
+                                   "Curl Fg")
+    growth_order: int = param(3, "order of the (L2) growth field theta", range=">= 0")
+    footprint: str = param("rectangle", "expander base: " + ", ".join(FOOTPRINTS),
+                           choices=FOOTPRINTS)
     footprint_area: float = param(24.5, "area of the expander's base, the same for every "
-                                       "footprint (7 x 3.5 cm for the rectangle)", "area")
+                                        "footprint (7 x 3.5 cm for the rectangle)", "area",
+                                  range="> 0")
     expander: str = param("contact", "how the expander acts: contact (a rigid dome the skin "
-                                     "rests on) or pressure (uniform on the footprint)")
-    penalty: float = param(1000.0, "contact: pressure per unit penetration", "stress/length")
+                                     "rests on) or pressure (uniform on the footprint)",
+                          choices=EXPANDERS)
+    penalty: float = param(1000.0, "contact: pressure per unit penetration", "stress/length",
+                           range="> 0")
     contact_width: float = param(0.005, "contact: penetration over which the penalty's ramp "
-                                        "is rounded", "length")
-    volume: float = param(50.0, "expander volume at the end of inflation", "volume")
-    inflation_steps: int = param(10, "initial number of inflation steps")
-    hold_days: float = param(7.0, "duration of the hold", "time")
-    dt: float = param(1.0, "time step of the hold (halved where Newton needs it)", "time")
-    mu: float = param(0.1786, "shear modulus of skin", "stress")
-    nu: float = param(0.4, "Poisson's ratio of skin")
-    k: float = param(0.1, "Hill law: largest growth rate", "1/time")
-    K: float = param(0.2, "Hill law: stimulus of half the largest rate")
-    n: float = param(2.0, "Hill law exponent")
-    theta_crit: float = param(1.05, "elastic area stretch below which skin does not grow")
-    theta_max: float = param(3.0, "saturation of area growth")
+                                        "is rounded", "length", range=">= 0")
+    volume: float = param(50.0, "expander volume at the end of inflation", "volume",
+                          range="> 0")
+    inflation_steps: int = param(10, "initial number of inflation steps", range=">= 1")
+    hold_days: float = param(7.0, "duration of the hold", "time", range=">= 0")
+    dt: float = param(1.0, "time step of the hold (halved where Newton needs it)", "time",
+                      range="> 0")
+    mu: float = MU(0.1786)              # skin; nu = 0.4 of the block
+    k: float = param(0.1, "Hill law: largest growth rate", "1/time", range="> 0")
+    K: float = param(0.2, "Hill law: stimulus of half the largest rate", range="> 0")
+    n: float = param(2.0, "Hill law exponent", range=">= 1")
+    theta_crit: float = param(1.05, "elastic area stretch below which skin does not grow",
+                              range="> 0")
+    theta_max: float = param(3.0, "saturation of area growth", range="> 1")
     resume: bool = param(False, "continue an interrupted hold from the folder's checkpoint")
 
     def __post_init__(self):
         super().__post_init__()
-        require(self.footprint in FOOTPRINTS, "footprint", self.footprint,
-                ", ".join(FOOTPRINTS))
-        require(self.volume > 0, "volume", self.volume, "> 0")
-        require(self.expander in EXPANDERS, "expander", self.expander, ", ".join(EXPANDERS))
-        require(self.penalty > 0, "penalty", self.penalty, "> 0")
         largest = footprint_area(self.footprint, SIDE - 2 * THICKNESS)
-        require(0 < self.footprint_area <= largest, "footprint_area", self.footprint_area,
+        require(self.footprint_area <= largest, "footprint_area", self.footprint_area,
                 f"in (0, {largest:.4g}] for the {self.footprint} (a margin of one thickness "
                 "to the patch's edge)")
         self.expander_body()
-        require(self.hold_days >= 0, "hold_days", self.hold_days, ">= 0")
-        require(self.dt > 0, "dt", self.dt, "> 0")
-        require(self.inflation_steps >= 1, "inflation_steps", self.inflation_steps, ">= 1")
         NeoHookean.from_nu(self.mu, self.nu)
         self.law()
 

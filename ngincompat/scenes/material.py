@@ -1,0 +1,40 @@
+"""The material parameters the scenes share, declared once.
+
+:class:`Elastic` (mu, nu) and :class:`Fibers` (the GOH fiber parameters k1, k2, kappa) are
+blocks of fields a scene inherits; their defaults are the paper's idealized material
+(mu = 0.55 MPa, nu = 0.4, sections 3.1-3.4). A scene with other values calls the same
+declaration with its own default, ``mu: float = MU(0.1786)``, so help, unit and range stay
+those written here; a scene with moduli per tissue declares those itself, with ``NU`` for
+their Poisson's ratio.
+
+The ranges are those of every material (:mod:`ngincompat.mechanics.materials`); a material
+that allows less (GOH: nu in (0, 0.5)) says so when the scene builds it in ``__post_init__``.
+"""
+
+from dataclasses import dataclass
+
+from ngincompat.scenes.base import Param
+
+MU = Param("shear modulus", "stress", range="> 0")
+NU = Param("Poisson's ratio", range="(-1, 0.5)")
+K1 = Param("GOH fiber stiffness", "stress", range=">= 0")
+K2 = Param("GOH fiber nonlinearity", range="> 0")
+KAPPA = Param("GOH fiber dispersion (0: aligned, 1/3: isotropic)", range="[0, 1/3]")
+
+
+@dataclass(frozen=True)
+class Elastic:
+    """Shear modulus and Poisson's ratio of the scene's material (of the ground matrix for
+    GOH)."""
+
+    mu: float = MU(0.55)
+    nu: float = NU(0.4)
+
+
+@dataclass(frozen=True)
+class Fibers:
+    """The GOH fiber parameters (eq. 39), used when the scene's material is GOH."""
+
+    k1: float = K1(1.0)
+    k2: float = K2(1.0)
+    kappa: float = KAPPA(0.0)
