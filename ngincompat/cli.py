@@ -21,6 +21,7 @@ import sys
 
 from ngincompat import parallel
 from ngincompat.errors import ConvergenceError, Interrupted, ParameterError
+from ngincompat.parameters import OUTPUTS, Outputs
 from ngincompat.progress import Progress
 
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_INTERRUPTED = 0, 2, 3, 4, 130
@@ -37,24 +38,22 @@ def _settings(pairs, option="--set"):
 
 
 #: --outputs: what to compute (incompatibility always, mechanics optionally), then the
-#: optional outputs of a scene, :data:`ngincompat.workflow.output.OUTPUTS` (spelled out here: the
-#: command line does not import NGSolve before it needs to).
-OUTPUT_NAMES = ("incompatibility", "mechanics", "vtk", "figures", "growth", "curvature")
+#: optional outputs of a scene, :data:`ngincompat.parameters.OUTPUTS`.
+OUTPUT_NAMES = ("incompatibility", "mechanics", *OUTPUTS)
 
 
 def _outputs(text):
     """--outputs LIST -> the scene settings ``mechanics`` and ``outputs``.
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
-    energy; the scene's optional outputs (:data:`ngincompat.workflow.output.OUTPUTS`) are passed
-    on."""
+    energy; the scene's optional outputs (:data:`ngincompat.parameters.OUTPUTS`) are passed
+    on, checked by :class:`~ngincompat.parameters.Outputs`."""
     items = {item.strip() for item in text.split(",") if item.strip()}
     unknown = items - set(OUTPUT_NAMES)
     if unknown or not items:
         raise ParameterError(f"--outputs {text!r}: allowed a comma list of "
                              f"{', '.join(OUTPUT_NAMES)}")
-    files = [name for name in OUTPUT_NAMES[2:] if name in items]
-    return {"mechanics": "mechanics" in items, "outputs": ",".join(files) or "none"}
+    return {"mechanics": "mechanics" in items, "outputs": str(Outputs(items & set(OUTPUTS)))}
 
 
 def _cmd_list(args):
@@ -62,9 +61,10 @@ def _cmd_list(args):
     for name, cls in SCENES.items():
         print(f"{name:10s} {cls.summary}")
         if args.verbose:
-            for key, (default, help, unit) in cls.parameters().items():
-                unit = f" [{cls.unit_of(unit)}]" if unit else ""
-                print(f"    {key:10s} = {default!r:24s} {help}{unit}")
+            for key, p in cls.declarations().items():
+                unit = f" [{cls.unit_of(p.unit)}]" if p.unit else ""
+                default = p.to_json(p.default)
+                print(f"    {key:10s} = {default!r:24s} {p.help}{unit}; {p.allowed()}")
     return 0
 
 

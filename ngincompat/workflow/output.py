@@ -18,16 +18,14 @@ import ngsolve as ngs
 
 from ngincompat import parallel
 from ngincompat.errors import ParameterError
+from ngincompat.parameters import OUTPUTS as OUTPUTS  # the names, re-exported
+from ngincompat.parameters import Outputs
 from ngincompat.workflow import io, plots
 from ngincompat.workflow.inputs import save_growth, save_mesh
 from ngincompat.workflow.results import Results
 
 #: Files that mark a folder as holding a run (a scene's, or a summary of several).
 MARKERS = ("results.json", "summary.json")
-#: Optional outputs of a run, as named in a scene's ``outputs`` parameter: files, and
-#: ``curvature`` (the curvature of the growth metric,
-#: :mod:`ngincompat.incompatibility.curvature`, in the metrics, the VTK fields and the figures).
-OUTPUTS = ("vtk", "figures", "growth", "curvature")
 
 
 def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
@@ -100,11 +98,9 @@ def _remove_if_empty(folder: Path) -> None:
 
 
 def wanted(results: Results) -> set[str]:
-    """The optional files the scene's ``outputs`` parameter asks for."""
-    text = str(results.params.get("outputs", "none")).strip()
-    if text in ("", "none"):
-        return set()
-    return {item.strip() for item in text.split(",")}
+    """The optional outputs (:data:`OUTPUTS`) the scene's ``outputs`` parameter asks for, as
+    results.json records it ("vtk,figures", "none")."""
+    return set(Outputs(results.params.get("outputs", "none")))
 
 
 def write(results: Results, out, outputs: set[str] | None = None) -> Results:
