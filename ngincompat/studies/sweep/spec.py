@@ -19,7 +19,9 @@ and the metrics to collect, read and validated into a :class:`Sweep` and expande
 
 A value of ``[vary]`` or ``[zip]`` is a list or a range: ``{start, stop, num}`` is
 ``numpy.linspace(start, stop, num)``, ``{start, stop, step}`` the integers from ``start`` to
-``stop`` (included when a step lands on it) by ``step``. The cases are the product of the rows
+``stop`` (included when a step lands on it) by ``step``. A tuple parameter takes a list
+or its string form, ``semi_axes = [3.0, 2.5, 2.0]`` or ``"3,2.5,2"`` in ``[fixed]``, and a
+list of them in ``[vary]``. The cases are the product of the rows
 of ``[zip]`` (outermost) with the values of ``[vary]`` in the file's order, the last key
 varying fastest.
 
@@ -135,7 +137,7 @@ class Sweep:
         ------
         ParameterError
             A parameter the sweep varies ([vary] or [zip]), an unknown parameter, or a value
-            that is not of its parameter's type.
+            that is not of its parameter's type or outside its range.
         """
         for key in settings:
             for section, table in (("zip", self.zipped), ("vary", self.vary)):
@@ -227,7 +229,7 @@ def parse_sweep(data, source="sweep"):
     scene = data["scene"]
     if not isinstance(scene, str) or scene not in SCENES:
         fail(f"scene = {scene!r} is unknown: allowed {', '.join(sorted(SCENES))}")
-    allowed = SCENES[scene].parameters()
+    allowed = SCENES[scene].declarations()
 
     tables = {}
     for section in ("fixed", "vary", "zip"):
@@ -245,11 +247,13 @@ def parse_sweep(data, source="sweep"):
 
     fixed = {}
     for key, value in tables["fixed"].items():
-        if not _is_scalar(value):
+        if not _is_value(value, allowed[key]):
             fail(f"fixed.{key} = {value!r} must be a single value (vary it in [vary])")
         fixed[key] = value
-    vary = {key: _values(f"vary.{key}", raw, fail) for key, raw in tables["vary"].items()}
-    zipped = {key: _values(f"zip.{key}", raw, fail) for key, raw in tables["zip"].items()}
+    vary = {key: _values(f"vary.{key}", raw, fail, allowed[key])
+            for key, raw in tables["vary"].items()}
+    zipped = {key: _values(f"zip.{key}", raw, fail, allowed[key])
+              for key, raw in tables["zip"].items()}
     lengths = {key: len(values) for key, values in zipped.items()}
     if len(set(lengths.values())) > 1:
         fail("the lists of [zip] must have equal lengths: "
@@ -274,18 +278,25 @@ def _is_scalar(value):
     return isinstance(value, (str, int, float, bool))
 
 
+def _is_value(value, parameter):
+    """Whether ``value`` is one value of ``parameter`` (a list of numbers for a tuple)."""
+    if parameter.takes_list and isinstance(value, list):
+        return all(_is_number(v) for v in value)
+    return _is_scalar(value)
+
+
 def _is_number(value):
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _values(name, raw, fail):
+def _values(name, raw, fail, parameter):
     """The list of values of one varied parameter: a list or a range table."""
     if isinstance(raw, dict):
         values = _range(name, raw, fail)
     elif isinstance(raw, list):
         values = raw
         for i, value in enumerate(values):
-            if not _is_scalar(value):
+            if not _is_value(value, parameter):
                 fail(f"{name}[{i}] = {value!r} must be a single value")
     else:
         fail(f"{name} = {raw!r} must be a list of values or a range {{start=, stop=, num=}} "
