@@ -34,7 +34,7 @@ several parameters stay in the dataclass's ``__post_init__``.
 Why not pydantic: its dataclasses would validate the fields, but the messages (several lines,
 its own wording) would have to be rewritten into the form above, the string forms of the
 command line ("8.5,7.0,6.0", "vtk,figures", "yes") would still need their own parsers, and
-it would be a dependency of the main job for about two hundred lines of code here.
+it would be a dependency of the main job for what is about 270 lines of code here.
 """
 
 import dataclasses
