@@ -1,0 +1,169 @@
+"""Mechanically coupled growth (section 2.6-2.7): one problem, the sum of energy terms.
+
+The unknowns are the displacement u (VectorH1 of ``order``) and those the terms add (the
+growth theta of :class:`~ngincompat.fem.terms.GrowthEnergy`, the pressure of a
+:class:`~ngincompat.fem.terms.VolumeConstraint`); the residual is the sum of the terms'
+residuals, e.g. for the skin held by a pressure
+
+    int P : Grad v dV + int R^g eta dV + int p dV/du . v dA + (V(u) - V*) q,
+
+P = dW/dF with W = Jg Psi(F Fg(theta)^-1) and R^g the implicit Euler growth residual of
+eq. (48). Its linearisation, assembled symbolically, is the consistent tangent including c^g
+(eq. 49), so the global Newton iteration converges quadratically. A step is ``dt.Set(...)``
+(0: growth frozen), ``growing`` (1) the growth's share of it (0 holds theta at theta_n while
+the step goes on, a pseudo-time step).
+
+For example, fiber growth by a strain-driven law on a free body with a viscous
+regularisation::
+
+    growth = GrowthEnergy("fiber", fields.constant("e1"), law, material)
+    viscous = ViscousRegularisation()
+    problem = CoupledProblem(mesh, [growth, viscous, RigidPins()], order=2)
+    viscous.viscosity.Set(1.0)
+    solve_coupled(problem, t_end=1.0, dt=0.25)      # growth.theta: the grown field
+"""
+
+from collections.abc import Mapping, Sequence
+
+import ngsolve as ngs
+
+from ngincompat.errors import require
+from ngincompat.fem.problem import REALCOMPILE_NDOF, displacement_space, ensure_heap
+from ngincompat.fem.terms import Term, Unknown
+
+
+class CoupledProblem:
+    """Equilibrium and coupled growth of a body, the sum of ``terms``.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+    terms : sequence of Term
+        The terms (:class:`~ngincompat.fem.terms.Term`), in the order their integrals enter
+        the residual; each is attached to this problem and to no other.
+    order : int
+        Polynomial order of the displacement, >= 1.
+    dirichlet, symmetry : as for :class:`~ngincompat.fem.problem.GrowthMechanics`
+        A body with neither Dirichlet boundaries nor a term that holds it needs
+        :class:`~ngincompat.fem.terms.RigidPins` among its terms.
+    condense : bool
+        Static condensation of element-interior dofs (theta's among them).
+    realcompile : bool or None
+        Compile the residual of the growth term to C++
+        (:func:`~ngincompat.fem.problem.compiled`); None: from
+        :data:`~ngincompat.fem.problem.REALCOMPILE_NDOF` dofs on.
+
+    Attributes
+    ----------
+    u : ngsolve.GridFunction
+        The displacement, first component of ``state``; ``displacement`` its
+        :class:`~ngincompat.fem.terms.Unknown`, ``space`` its space.
+    dt, growing : ngsolve.Parameter
+        The step (0) and the growth's share of it (1).
+    pinned : tuple of int
+        Dofs held fixed besides the Dirichlet ones (:meth:`pin`).
+    """
+
+    has_energy = False
+    inverse = "umfpack"
+
+    def __init__(self, mesh: ngs.Mesh, terms: Sequence[Term], order: int = 2,
+                 dirichlet: str = "", symmetry: Mapping[str, str] | None = None,
+                 condense: bool = True, realcompile: bool | None = None):
+        require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
+        ensure_heap(order)
+        self.mesh, self.order, self.condense = mesh, order, condense
+        self.terms = tuple(terms)
+        self.dt = ngs.Parameter(0.0)
+        self.growing = ngs.Parameter(1.0)
+        self.space = displacement_space(mesh, order, dirichlet, dict(symmetry or {}))
+        added = [tuple(term.spaces(self)) for term in self.terms]
+        self.fes = ngs.FESpace([self.space] + [s for spaces in added for s in spaces])
+        self.state = ngs.GridFunction(self.fes)
+        self.u = self.state.components[0]
+        self.freedofs = self.fes.FreeDofs(coupling=condense)
+        self.pinned = ()
+        self.realcompile = (self.fes.ndof >= REALCOMPILE_NDOF if realcompile is None
+                            else realcompile)
+        trials, tests = self.fes.TnT()
+        unknowns = [Unknown(*field) for field in zip(trials, tests, self.state.components,
+                                                     strict=True)]
+        self.displacement = unknowns[0]
+        self.form = ngs.BilinearForm(self.fes, condense=condense)
+        first = 1
+        for term, spaces in zip(self.terms, added, strict=True):
+            residual = term.attach(self, unknowns[first:first + len(spaces)])
+            first += len(spaces)
+            if residual is not None:
+                self.form += residual
+
+    @property
+    def ndof(self):
+        return self.fes.ndof
+
+    def pin(self, dofs):
+        """Hold the dofs ``dofs`` fixed (at their current values)."""
+        dofs = tuple(dofs)
+        self.pinned += dofs
+        for dof in dofs:
+            self.freedofs.Clear(dof)
+
+    def energy(self):
+        """The energy of the current step at the current state, the sum of the terms'
+        energies in their order, e.g. with a viscous regularisation and a dead traction
+
+            Phi(u) = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV - s int t . u dA.
+
+        At frozen growth (``growing`` = 0, or dt = 0) the residual is its derivative in u
+        (the growth rows hold theta at theta_n)."""
+        return sum(term.energy() for term in self.terms)
+
+    def frozen_energy(self):
+        """The energy at frozen growth (a step dt = 0, which switches the viscous term off)
+        at the current state: the energy whose derivative the residual of :meth:`frozen_tangent`
+        is."""
+        dt = self.dt.Get()
+        self.dt.Set(0.0)
+        try:
+            return self.energy()
+        finally:
+            self.dt.Set(dt)
+
+    def frozen_tangent(self):
+        """The tangent at frozen growth (a step dt = 0: theta held at theta_n, no viscosity)
+        at the current state, assembled into and returned as ``form.mat``. Its growth rows
+        are then the identity and do not depend on u, so condensed onto u it is the Hessian
+        of the energy int Jg Psi(F Fg^-1) dV by the rule of the residual the problem solves
+        (NGSolve integrates the compound form more finely than an energy on u alone)."""
+        dt = self.dt.Get()
+        self.dt.Set(0.0)
+        try:
+            self.form.AssembleLinearization(self.state.vec)
+        finally:
+            self.dt.Set(dt)
+        return self.form.mat
+
+    def measures(self):
+        """What the terms report of the current state, merged in their order."""
+        measured = {}
+        for term in self.terms:
+            measured.update(term.measures())
+        return measured
+
+    def accept_step(self):
+        """Make the converged state the start of the next step, in every term (theta_n <-
+        theta_n+1, u_n <- u_n+1)."""
+        for term in self.terms:
+            term.accept_step()
+
+    def saved(self):
+        """What a checkpoint keeps of the terms besides the state."""
+        kept = {}
+        for term in self.terms:
+            kept.update(term.saved())
+        return kept
+
+    def restore(self, data):
+        """Take back into the terms what :meth:`saved` kept (``data`` from a checkpoint)."""
+        for term in self.terms:
+            term.restore(data)

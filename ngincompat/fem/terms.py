@@ -1,0 +1,358 @@
+"""The energy terms a :class:`~ngincompat.fem.coupled.CoupledProblem` is the sum of.
+
+A coupled step's residual is the derivative of
+
+    Phi(u, ...) = sum over the terms of their energies,
+
+each term adding its integrals to the residual (the tangent is their linearisation), its
+unknowns to the problem's state, and what it measures of the state. The growth law is the one
+part that is not a derivative: its implicit Euler residual (eq. 48) is the growth term's second
+row, so only at frozen growth (dt = 0 or ``growing`` = 0) is the residual the derivative of
+Phi in u.
+
+============================  =============================================================
+:class:`GrowthEnergy`         int Jg Psi(F Fg(theta)^-1) dV, theta by a growth law (eq. 48)
+:class:`ViscousRegularisation`  eta / (2 dt) int |u - u_n|^2 dV
+:class:`DeadTraction`         -s int t . u dA on some boundaries
+:class:`VolumeConstraint`     p (V(u) - V*), the volume under a boundary held by a pressure
+:class:`RigidPins`            no energy: pins the rigid-body motions of a free body
+============================  =============================================================
+
+and :class:`~ngincompat.fem.contact.ExpanderContact`, the penalty contact with an expander.
+A term is one class with the methods of :class:`Term`; nothing else needs to know it.
+"""
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Protocol
+
+import ngsolve as ngs
+import numpy as np
+
+from ngincompat.fem.problem import compiled, rigid_pins
+from ngincompat.mechanics import kinematics
+from ngincompat.mechanics.fields import DirectionField
+from ngincompat.mechanics.growth import GrowthKind, growth_kind
+from ngincompat.mechanics.laws import GrowthLaw, euler_residual
+from ngincompat.mechanics.materials import Material
+
+
+@dataclass(frozen=True)
+class Unknown:
+    """One field of a coupled problem: its trial and test functions in the problem's
+    compound space and its values, a component of the problem's state."""
+
+    trial: object
+    test: object
+    field: ngs.GridFunction
+
+
+class Term(Protocol):
+    """What a term of a :class:`~ngincompat.fem.coupled.CoupledProblem` provides.
+
+    The problem calls :meth:`spaces` of every term, builds its state on the displacement
+    space followed by those spaces, then :meth:`attach` of every term in the order given
+    (the order in which their integrals enter the residual). A term is bound to the one
+    problem it is attached to. The defaults below are those of a term without unknowns,
+    measures, history or checkpointed data; a term may subclass this protocol to inherit
+    them.
+    """
+
+    def spaces(self, problem) -> Sequence[ngs.FESpace]:
+        """The spaces of the unknowns the term adds (the problem's ``mesh``, ``order`` and
+        displacement ``space`` are set when this is called)."""
+        return ()
+
+    def attach(self, problem, unknowns: Sequence[Unknown]):
+        """Bind the term to ``problem`` (its displacement is ``problem.displacement``),
+        ``unknowns`` those of :meth:`spaces`; returns the term's residual, integrals linear
+        in the test functions (e.g. ``r * ngs.dx``), or None."""
+        ...
+
+    def energy(self) -> float:
+        """The term's energy at the problem's current state and step."""
+        ...
+
+    def measures(self) -> dict[str, float]:
+        """What the term reports of the current state, by name."""
+        return {}
+
+    def accept_step(self) -> None:
+        """The converged state becomes the start of the next step."""
+
+    def saved(self) -> dict:
+        """What a checkpoint keeps of the term besides the state (name -> array or float)."""
+        return {}
+
+    def restore(self, data) -> None:
+        """Take back what :meth:`saved` kept, from a checkpoint's ``data`` (a mapping that
+        may lack the keys of older checkpoints)."""
+
+
+class GrowthEnergy(Term):
+    """The strain energy of a growing body with its growth law: int Jg Psi(Fe) dV,
+    Fe = F Fg(theta)^-1 (eq. 30 without body force), and the implicit Euler update of the
+    growth theta (eq. 48).
+
+    Unknown: theta in L2 of ``growth_order`` (default: the displacement's order - 1), whose
+    dofs are element-local, so that static condensation removes them from the global system.
+    The residual is
+
+        int P : Grad v dV + int R^g eta dV,      P = dW/dF, W = Jg Psi(F Fg(theta)^-1),
+
+    R^g the growth residual of eq. (48) with the step ``growing`` dt (the problem's
+    Parameters); its linearisation, assembled symbolically, is the consistent tangent with
+    c^g (eq. 49), so Newton converges quadratically.
+
+    Parameters
+    ----------
+    kind : str or GrowthKind subclass
+        Growth kind, a registered name (:data:`ngincompat.mechanics.growth.KINDS`:
+        "isotropic", "area", "fiber", ...) or the class itself; theta drives it through
+        ``from_theta`` and growth laws through its ``stretch(F)``.
+    direction : DirectionField or None
+        N0 (area) or f0 (fiber growth); None for a kind without a direction.
+    law : GrowthLaw
+        See :mod:`ngincompat.mechanics.laws`.
+    material : Material
+        See :mod:`ngincompat.mechanics.materials`.
+    fibers : sequence of DirectionField
+        Reference fiber directions a0 for anisotropic materials.
+    growth_order : int, optional
+        Order of theta.
+    """
+
+    def __init__(self, kind: str | type[GrowthKind], direction: DirectionField | None,
+                 law: GrowthLaw, material: Material, fibers: Sequence[DirectionField] = (),
+                 growth_order: int | None = None):
+        self.growth_class = kind if isinstance(kind, type) else growth_kind(kind)
+        self.kind = self.growth_class.kind
+        self.direction, self.law, self.material = direction, law, material
+        self.fibers = tuple(fibers)
+        self.growth_order = growth_order
+
+    def spaces(self, problem):
+        order = max(problem.order - 1, 0) if self.growth_order is None else self.growth_order
+        return (ngs.L2(problem.mesh, order=order),)
+
+    def attach(self, problem, unknowns):
+        (growth,) = unknowns
+        self.mesh, self.u = problem.mesh, problem.u
+        self.theta = growth.field
+        self.theta.Set(1.0)
+        self.theta_old = ngs.GridFunction(growth.field.space)
+        self.theta_old.Set(1.0)
+        u, v = problem.displacement.trial, problem.displacement.test
+        th, eta = growth.trial, growth.test
+        F = kinematics.deformation_gradient(u)
+        W = self.energy_density(F, th)
+        stretch = self.model(th).stretch(F)
+        rate = euler_residual(self.law, th, self.theta_old, problem.growing * problem.dt,
+                              stretch)
+        # dW/du . v as P : Grad v with P = dW/dF: the same residual and tangent, the tangent's
+        # element matrices in about 0.4 of the time of the symbolic Diff of W by u (measured:
+        # 0.30 s against 0.81 s, order 3, 0.4-cube, area growth)
+        stress = W.Diff(F)
+        return compiled(ngs.InnerProduct(stress, ngs.Grad(v)) + rate * eta,
+                        problem.realcompile) * ngs.dx
+
+    def model(self, theta):
+        """The growth model of the term's kind and direction for the growth theta."""
+        return self.growth_class.from_theta(theta, self.direction)
+
+    def energy_density(self, F, theta=None):
+        """Strain energy per reference volume, Jg Psi(F Fg^-1), at the growth ``theta``
+        (default: the current one), the fibers pushed to the intermediate configuration,
+        Fg a0 / |Fg a0| (eq. 39)."""
+        growth = self.model(self.theta if theta is None else theta)
+        Fe = kinematics.elastic_part(F, growth.Fg)
+        pushed = []
+        for f in self.fibers:
+            a = growth.Fg * f.cf
+            pushed.append(a / ngs.Norm(a))
+        return growth.Jg * self.material.energy(Fe, tuple(pushed))
+
+    def energy(self):
+        """The strain energy int Jg Psi dV of the current state."""
+        return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
+                             self.mesh)
+
+    def accept_step(self):
+        """theta_n <- theta_n+1."""
+        self.theta_old.vec.data = self.theta.vec
+
+    def saved(self):
+        return {"theta_old": self.theta_old.vec.FV().NumPy()}
+
+    def restore(self, data):
+        self.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
+
+
+class ViscousRegularisation(Term):
+    """eta / (2 dt) int |u - u_n|^2 dV: the residual eta / dt int (u - u_n) . v dV, with u_n
+    the last converged displacement and eta the Parameter ``viscosity`` (stress x time /
+    length^2; 0 switches it off, as does a frozen step, dt = 0).
+
+    It adds eta / dt M to the tangent, which keeps Newton's system positive definite past a
+    buckling point (smallest eigenvalue of K w = omega M w above -eta / dt) and lets an
+    unstable mode grow at the finite rate -omega / eta instead of jumping. With the problem's
+    ``growing`` = 0 a step dt > 0 holds the growth and keeps this term: the pseudo-time step
+    of a relaxation at frozen growth (:class:`~ngincompat.fem.stages.RelaxationStage`).
+    """
+
+    def __init__(self):
+        self.viscosity = ngs.Parameter(0.0)
+
+    def attach(self, problem, unknowns):
+        self.problem, self.u = problem, problem.u
+        self.u_old = ngs.GridFunction(problem.space)
+        dt = problem.dt
+        rate = self.viscosity / ngs.IfPos(dt, dt, 1.0) * ngs.IfPos(dt, 1, 0)
+        return rate * ngs.InnerProduct(problem.displacement.trial - self.u_old,
+                                       problem.displacement.test) * ngs.dx
+
+    def restart(self, viscosity):
+        """Set eta and measure u - u_n from the current displacement."""
+        self.viscosity.Set(viscosity)
+        self.u_old.vec.data = self.u.vec
+
+    def energy(self):
+        dt = self.problem.dt.Get()
+        if dt <= 0:
+            return 0.0
+        change = self.u - self.u_old
+        return self.viscosity.Get() / (2 * dt) * ngs.Integrate(ngs.InnerProduct(change, change),
+                                                               self.problem.mesh)
+
+    def accept_step(self):
+        """u_n <- u_n+1."""
+        self.u_old.vec.data = self.u.vec
+
+
+class DeadTraction(Term):
+    """A dead traction s t on the ``boundaries`` (a region expression such as "left|right"):
+    the energy -s int t . u dA, the residual -s int t . v dA, with t the GridFunction
+    ``field`` and s the Parameter ``scale`` (0 at first). :meth:`hold` sets t to the forces
+    that the supports of another problem exerted there, e.g. to remove them gradually."""
+
+    def __init__(self, boundaries: str):
+        self.boundaries = boundaries
+        self.scale = ngs.Parameter(0.0)
+
+    def attach(self, problem, unknowns):
+        self.problem = problem
+        self.field = ngs.GridFunction(problem.space, name="traction")
+        return -self.scale * ngs.InnerProduct(self.field, problem.displacement.test) * ngs.ds(
+            self.boundaries)
+
+    def energy(self):
+        problem = self.problem
+        return -self.scale.Get() * ngs.Integrate(
+            ngs.InnerProduct(self.field, problem.u), problem.mesh,
+            definedon=problem.mesh.Boundaries(self.boundaries))
+
+    def hold(self):
+        """Hold the current state in equilibrium by this traction: t with
+        int t . v dA = R(u) . v on the boundaries, R the problem's residual without it (the
+        reactions there of the supports of the problem the state comes from; elsewhere R is
+        its residual, about 0), i.e. t = M_b^-1 R with M_b the boundary mass matrix on the
+        free dofs of the boundaries, and ``scale`` = 1. Returns the norm of R there."""
+        problem = self.problem
+        V = problem.space
+        on = V.GetDofs(problem.mesh.Boundaries(self.boundaries)) & V.FreeDofs()
+        for dof in problem.pinned:
+            on.Clear(dof)
+        self.scale.Set(0.0)
+        residual = problem.state.vec.CreateVector()
+        problem.form.Apply(problem.state.vec, residual)
+        reactions = problem.u.vec.CreateVector()
+        reactions.FV().NumPy()[:] = residual.FV().NumPy()[:V.ndof]
+        u, v = V.TnT()
+        mass = ngs.BilinearForm(V)
+        mass += ngs.InnerProduct(u, v) * ngs.ds(self.boundaries)
+        mass.Assemble()
+        self.field.vec.data = mass.mat.Inverse(on, inverse="sparsecholesky") * reactions
+        self.scale.Set(1.0)
+        return float(np.linalg.norm(reactions.FV().NumPy()[np.array(on, dtype=bool)]))
+
+
+def enclosed_volume_density(u):
+    """x3 det(dx_a / dX_b) (a, b = 1, 2), x = X + u: per reference area of a boundary
+    initially in the plane X3 = 0, whose integral is the volume V enclosed under the
+    boundary's current place (the boundary's edge held in that plane)."""
+    Fs = ngs.Id(3) + ngs.Grad(u).Trace()
+    x3 = ngs.z + u[2]
+    return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
+
+
+class VolumeConstraint(Term):
+    """The volume V under the ``boundary`` (initially in the plane X3 = 0, e.g. an
+    expander's footprint; :func:`enclosed_volume_density`) held at the Parameter ``target``
+    V* by a pressure p, one more unknown: the energy p (V(u) - V*), a saddle point in (u, p),
+    whose residual is
+
+        int p dV/du . v dA + (V(u) - V*) q.
+
+    The first integral is formed by NGSolve's ``Diff(u, v)``, which does not differentiate
+    through the surface gradient ``Grad(u).Trace()`` (NGSolve 6.2.2608): of
+    dV/du . v = v3 det + x3 d(det)/du . v it has the first part only, the pressure's vertical
+    work, so the residual is the derivative of the energy along vertical displacements and
+    the pressure, not along in-plane ones (``tests/test_coupled.py`` pins this)."""
+
+    def __init__(self, boundary: str):
+        self.boundary = boundary
+        self.target = ngs.Parameter(0.0)
+
+    def spaces(self, problem):
+        return (ngs.NumberSpace(problem.mesh),)
+
+    def attach(self, problem, unknowns):
+        (multiplier,) = unknowns
+        self.mesh, self.u, self.multiplier = problem.mesh, problem.u, multiplier.field
+        p, q = multiplier.trial, multiplier.test
+        u, v = problem.displacement.trial, problem.displacement.test
+        dV = enclosed_volume_density(u)
+        area = ngs.Integrate(1, self.mesh, ngs.BND, definedon=self.mesh.Boundaries(self.boundary))
+        return ((p * dV).Diff(u, v) * ngs.ds(self.boundary)
+                + (dV - self.target / area) * q * ngs.ds(self.boundary))
+
+    def set_target(self, volume, lift=False):
+        """Set the volume target (``lift`` as for an expander's, here without effect)."""
+        self.target.Set(volume)
+
+    def volume(self):
+        """The volume enclosed under the boundary in the current state."""
+        return ngs.Integrate(enclosed_volume_density(self.u), self.mesh, ngs.BND,
+                             definedon=self.mesh.Boundaries(self.boundary))
+
+    def pressure(self):
+        """The pressure that holds the volume (the multiplier, with the sign of a pressure
+        pushing on the boundary)."""
+        return -self.multiplier.vec[0]
+
+    def energy(self):
+        return self.multiplier.vec[0] * (self.volume() - self.target.Get())
+
+    def measures(self):
+        return {"pressure": self.pressure()}
+
+    def saved(self):
+        return {"volume_target": self.target.Get()}
+
+    def restore(self, data):
+        if "volume_target" in data:             # older checkpoints: the hold sets it
+            self.target.Set(float(data["volume_target"]))
+
+
+class RigidPins(Term):
+    """No energy: the rigid-body motions of a body without Dirichlet boundaries (those that
+    its symmetry planes leave free) removed by pinning displacement components at vertices,
+    a statically determinate support (:func:`~ngincompat.fem.problem.rigid_pins`)."""
+
+    def attach(self, problem, unknowns):
+        problem.pin(rigid_pins(problem.mesh, problem.fes))
+        return None
+
+    def energy(self):
+        return 0.0
+
