@@ -13,30 +13,33 @@ from scipy.optimize import brentq
 
 from geometries import cube, skin_patch
 from ngincompat.errors import ParameterError
-from ngincompat.fem.problem import CoupledGrowth, euler_residual, find_compiler
+from ngincompat.fem.coupled import CoupledProblem
+from ngincompat.fem.problem import find_compiler
 from ngincompat.fem.solver import NewtonOptions, solve_coupled
 from ngincompat.fem.stages import CoupledStage
+from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation, VolumeConstraint
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import IsotropicGrowth
-from ngincompat.mechanics.laws import ConstantRateLaw, HillLaw, StrainDrivenLaw
+from ngincompat.mechanics.laws import ConstantRateLaw, HillLaw, StrainDrivenLaw, euler_residual
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import SILENT
 
 LAW = StrainDrivenLaw(tau=1.0, theta_max=1.5, gamma=2.0, theta_crit=1.0)
 
 
-def _stretched_bar(law, kind="fiber", stretch=1.2):
-    """Unit cube held at a fiber stretch ``stretch`` along e1, free laterally."""
-    problem = CoupledGrowth(cube(maxh=0.5), kind, fields.constant("e1"), law,
-                            NeoHookean.from_nu(1.0, 0.3), order=2,
-                            symmetry={"left": "x", "right": "x"})
+def _stretched_bar(law, kind="fiber", stretch=1.2, realcompile=None):
+    """Unit cube held at a fiber stretch ``stretch`` along e1, free laterally; the problem
+    and its growth term."""
+    growth = GrowthEnergy(kind, fields.constant("e1"), law, NeoHookean.from_nu(1.0, 0.3))
+    problem = CoupledProblem(cube(maxh=0.5), [growth, RigidPins()], order=2,
+                             symmetry={"left": "x", "right": "x"}, realcompile=realcompile)
     problem.u.Set(ngs.CF(((stretch - 1) * ngs.x, 0, 0)))
-    return problem
+    return problem, growth
 
 
 def test_homogeneous_growth_follows_the_scalar_implicit_euler_update():
     """With the fiber stretch held at 1.2, theta follows the scalar eq. (48) step by step."""
-    problem = _stretched_bar(LAW)
+    problem, growth = _stretched_bar(LAW)
     history = solve_coupled(problem, t_end=2.0, dt=0.25)
     assert history.converged
     theta = 1.0
@@ -44,14 +47,14 @@ def test_homogeneous_growth_follows_the_scalar_implicit_euler_update():
         def residual(T, dt=step.dt, old=theta):
             return T - old - dt * max((1.5 - T) / 0.5, 0) ** 2 * max(1.2 / T - 1, 0)
         theta = brentq(residual, 0.9, 1.5)
-    mean = ngs.Integrate(problem.theta, problem.mesh)
+    mean = ngs.Integrate(growth.theta, problem.mesh)
     assert theta > 1.1
     assert mean == pytest.approx(theta, rel=1e-4)
 
 
 def test_global_newton_converges_quadratically_with_coupled_growth():
     """The tangent includes c^g (eq. 49): the recorded residuals fall quadratically."""
-    problem = _stretched_bar(LAW)
+    problem, _ = _stretched_bar(LAW)
     history = solve_coupled(problem, t_end=0.5, dt=0.5,
                             options=NewtonOptions(max_iter=20, rtol=1e-13))
     res = np.asarray(history.steps[0].residuals)
@@ -77,18 +80,12 @@ def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent(caplog):
     """The C++-compiled residual (the default from REALCOMPILE_NDOF dofs on) is the same
     function as NGSolve's own compilation, and so is its linearisation. Where a C++
     compiler is installed the compilation must not have fallen back to NGSolve's own."""
-    problem = _stretched_bar(LAW)
+    problem, growth = _stretched_bar(LAW)
     problem.dt.Set(0.25)
-    problem.theta.Set(1.0 + 0.1 * ngs.y)
+    growth.theta.Set(1.0 + 0.1 * ngs.y)
     x = problem.state.vec
-    plain = CoupledGrowth(problem.mesh, "fiber", fields.constant("e1"), LAW,
-                          NeoHookean.from_nu(1.0, 0.3), order=2,
-                          symmetry={"left": "x", "right": "x"}, realcompile=False)
-    native = CoupledGrowth(problem.mesh, "fiber", fields.constant("e1"), LAW,
-                           NeoHookean.from_nu(1.0, 0.3), order=2,
-                           symmetry={"left": "x", "right": "x"}, realcompile=True)
     results = []
-    for p in (plain, native):
+    for p, _ in (_stretched_bar(LAW, realcompile=False), _stretched_bar(LAW, realcompile=True)):
         p.dt.Set(0.25)
         r = x.CreateVector()
         p.form.Apply(x, r)
@@ -107,17 +104,17 @@ def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent(caplog):
 
 def test_growth_saturates_at_theta_max():
     law = HillLaw(k=5.0, K=0.05, n=2, theta_crit=1.0, theta_max=1.3)
-    problem = _stretched_bar(law, stretch=1.5)
+    problem, growth = _stretched_bar(law, stretch=1.5)
     solve_coupled(problem, t_end=3.0, dt=0.5)
     pts = problem.mesh(0.5, 0.5, 0.5)
-    assert problem.theta(pts) == pytest.approx(1.3, abs=2e-2)
-    assert problem.theta(pts) <= 1.3 + 1e-2
+    assert growth.theta(pts) == pytest.approx(1.3, abs=2e-2)
+    assert growth.theta(pts) <= 1.3 + 1e-2
 
 
 def test_no_growth_below_the_critical_stretch():
-    problem = _stretched_bar(StrainDrivenLaw(tau=1.0, theta_max=2.0, theta_crit=1.3))
+    problem, growth = _stretched_bar(StrainDrivenLaw(tau=1.0, theta_max=2.0, theta_crit=1.3))
     solve_coupled(problem, t_end=1.0, dt=0.5)
-    assert ngs.Integrate(problem.theta, problem.mesh) == pytest.approx(1.0, abs=1e-12)
+    assert ngs.Integrate(growth.theta, problem.mesh) == pytest.approx(1.0, abs=1e-12)
 
 
 @pytest.mark.parametrize("law, name", [
@@ -131,34 +128,36 @@ def test_growth_laws_reject_bad_parameters(law, name):
         law()
 
 
-def test_coupled_growth_names_the_registered_kinds():
+def test_the_growth_term_names_the_registered_kinds():
     """An unknown kind is refused with the registry's kinds; a kind given as its class works
     like its name; a kind that needs a direction refuses to go without."""
     mesh = cube(maxh=1.0)
     material = NeoHookean.from_nu(1.0, 0.3)
     with pytest.raises(ParameterError, match="growth = 'volume' is unknown: allowed isotropic, "
                                              "area, fiber"):
-        CoupledGrowth(mesh, "volume", None, LAW, material)
+        GrowthEnergy("volume", None, LAW, material)
     with pytest.raises(ParameterError, match=r"area growth needs a direction \(N0\)"):
-        CoupledGrowth(mesh, "area", None, LAW, material)
-    assert CoupledGrowth(mesh, IsotropicGrowth, None, LAW, material).kind == "isotropic"
+        CoupledProblem(mesh, [GrowthEnergy("area", None, LAW, material), RigidPins()])
+    assert GrowthEnergy(IsotropicGrowth, None, LAW, material).kind == "isotropic"
 
 
 def test_volume_constraint_meets_its_target():
     """The pressure is the unknown conjugate to the enclosed volume: the target is met."""
     mesh = skin_patch(footprint="circle", maxh=2.5, curve_order=1)
-    problem = CoupledGrowth(mesh, "area", fields.constant("e3"),
-                            HillLaw(k=0.1, K=0.2), NeoHookean.from_nu(0.18, 0.4), order=2,
-                            dirichlet="periphery", symmetry={"bottom": "z"},
-                            volume="footprint")
+    volume = VolumeConstraint("footprint")
+    growth = GrowthEnergy("area", fields.constant("e3"), HillLaw(k=0.1, K=0.2),
+                          NeoHookean.from_nu(0.18, 0.4))
+    problem = CoupledProblem(mesh, [growth, volume], order=2, dirichlet="periphery",
+                             symmetry={"bottom": "z"})
 
     def schedule(t):
         problem.dt.Set(0.0)
-        problem.volume_target.Set(5.0 * t)
+        volume.target.Set(5.0 * t)
 
     solve_coupled(problem, t_end=1.0, dt=0.5, schedule=schedule)
-    assert problem.volume() == pytest.approx(5.0, rel=1e-8)
-    assert problem.pressure() > 0
+    assert volume.volume() == pytest.approx(5.0, rel=1e-8)
+    assert volume.pressure() > 0
+    assert problem.measures() == {"pressure": volume.pressure()}
 
 
 def _computed_growth_G_error(maxh, growth_order, g_order):
@@ -190,7 +189,7 @@ def test_G_of_a_computed_growth_field_meets_its_target():
 
 def test_a_march_ends_where_on_step_says_so():
     """on_step returning True (an instability detected) ends the march there, converged."""
-    problem = _stretched_bar(LAW)
+    problem, _ = _stretched_bar(LAW)
     seen = []
 
     def on_step(t):
@@ -208,10 +207,12 @@ def test_viscous_regularisation_lags_and_a_frozen_step_removes_it():
     a step at frozen growth (dt = 0, which switches the viscous term off) then reaches the
     state of the march without it, to the Newton tolerance."""
     def grown(viscosity):
-        problem = CoupledGrowth(cube(maxh=0.5), "fiber", fields.constant("e1"),
-                                ConstantRateLaw(0.2), NeoHookean.from_nu(1.0, 0.3), order=2,
-                                symmetry={"left": "x"}, viscous=True)
-        problem.viscosity.Set(viscosity)
+        viscous = ViscousRegularisation()
+        problem = CoupledProblem(cube(maxh=0.5), [
+            GrowthEnergy("fiber", fields.constant("e1"), ConstantRateLaw(0.2),
+                         NeoHookean.from_nu(1.0, 0.3)), viscous, RigidPins()],
+            order=2, symmetry={"left": "x"})
+        viscous.viscosity.Set(viscosity)
         CoupledStage("growth", problem, t_end=1.0, dt=1.0).run(SILENT)
         return problem
 
@@ -231,15 +232,15 @@ def test_stress_form_equals_the_symbolic_derivative_in_u():
     """The residual written as P : Grad v with P = dW/dF gives the residual and tangent of
     the form dW/du . v differentiated symbolically in u (built here independently), growth
     unknowns included, to round-off."""
-    problem = CoupledGrowth(cube(maxh=0.5), "area", fields.constant("e3"), LAW,
-                            NeoHookean.from_nu(1.0, 0.3), order=3)
+    term = GrowthEnergy("area", fields.constant("e3"), LAW, NeoHookean.from_nu(1.0, 0.3))
+    problem = CoupledProblem(cube(maxh=0.5), [term, RigidPins()], order=3)
     problem.dt.Set(0.1)
     (u, theta), (v, eta) = (list(t)[:2] for t in problem.fes.TnT())
     F = kinematics.deformation_gradient(u)
-    growth = euler_residual(LAW, theta, problem.theta_old, problem.dt,
-                            problem._growth(theta).stretch(F))
+    growth = euler_residual(LAW, theta, term.theta_old, problem.dt,
+                            term.model(theta).stretch(F))
     symbolic = ngs.BilinearForm(problem.fes, condense=True)
-    symbolic += (problem._energy_density(F, theta).Diff(u, v) + growth * eta) * ngs.dx
+    symbolic += (term.energy_density(F, theta).Diff(u, v) + growth * eta) * ngs.dx
     x = problem.state.vec.CreateVector()
     x.data = problem.state.vec
     x.FV().NumPy()[:] += 0.01 * np.random.default_rng(1).standard_normal(len(x))
@@ -253,60 +254,3 @@ def test_stress_form_equals_the_symbolic_derivative_in_u():
     symbolic.AssembleLinearization(x)
     K, K_symbolic = (np.array(f.mat.COO()[2]) for f in (problem.form, symbolic))
     assert np.abs(K - K_symbolic).max() < 1e-12 * np.abs(K).max()
-
-
-@pytest.mark.parametrize("loaded", [False, True], ids=["frozen", "viscous-traction"])
-def test_the_potential_is_the_energy_of_the_frozen_residual(loaded):
-    """At frozen growth the coupled residual is the derivative of the step's energy in u:
-    the strain energy int Jg Psi dV (dt = 0), and with a viscous pseudo-time step and a dead
-    traction Phi = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV - s int t . u dA
-    (:meth:`~ngincompat.fem.problem.CoupledGrowth.potential`). Its central difference along a
-    displacement w equals R(u) . w. This is what lets the frozen Newton solves of
-    :mod:`ngincompat.fem.stages` test their line search on the energy."""
-    if loaded:
-        problem = CoupledGrowth(cube(maxh=0.5), "fiber", fields.constant("e1"), LAW,
-                                NeoHookean.from_nu(1.0, 0.3), order=2,
-                                symmetry={"left": "x"}, viscous=True, traction="right|top")
-        problem.traction_field.Set(ngs.CF((0.3 + ngs.y, 0.2 * ngs.z, -0.1)))
-        problem.load_scale.Set(0.7)
-        problem.u_old.Set(ngs.CF((0.02 * ngs.y, 0.01, -0.03 * ngs.x)))
-        problem.viscosity.Set(5.0)
-        problem.growing.Set(0.0)
-        problem.dt.Set(0.25)
-    else:
-        problem = _stretched_bar(LAW, stretch=1.1)
-        problem.dt.Set(0.0)
-    problem.theta.Set(1.0 + 0.1 * ngs.x)
-    problem.theta_old.vec.data = problem.theta.vec
-    problem.u.Set(ngs.CF((0.1 * ngs.x + 0.05 * ngs.y * ngs.z, 0.03 * ngs.x * ngs.y, 0)))
-    w = problem.state.vec.CreateVector()
-    direction = ngs.GridFunction(problem.fes)
-    direction.components[0].Set(ngs.CF((ngs.y * ngs.z, 0.5 * ngs.x * ngs.x, ngs.y)))
-    w.data = direction.vec
-    w.FV().NumPy()[[not free for free in problem.fes.FreeDofs()]] = 0.0
-    residual = problem.state.vec.CreateVector()
-    problem.form.Apply(problem.state.vec, residual)
-    u0 = problem.state.vec.CreateVector()
-    u0.data = problem.state.vec
-    eps = 1e-5
-    problem.state.vec.data = u0 + eps * w
-    plus = problem.potential()
-    problem.state.vec.data = u0 - eps * w
-    minus = problem.potential()
-    slope = ngs.InnerProduct(residual, w)
-    assert abs(slope) > 1e-3
-    assert (plus - minus) / (2 * eps) == pytest.approx(slope, rel=1e-6)
-    if loaded:      # each term counts: without the viscous and the load terms it fails
-        problem.state.vec.data = u0 + eps * w
-        plus = problem.strain_energy()
-        problem.state.vec.data = u0 - eps * w
-        minus = problem.strain_energy()
-        assert (plus - minus) / (2 * eps) != pytest.approx(slope, rel=1e-3)
-
-
-def test_the_potential_of_a_volume_constraint_is_refused():
-    problem = CoupledGrowth(skin_patch(footprint="circle", maxh=2.5, curve_order=1), "area",
-                            fields.constant("e3"), LAW, NeoHookean.from_nu(0.18, 0.4),
-                            order=1, dirichlet="periphery", volume="footprint")
-    with pytest.raises(ParameterError, match="volume"):
-        problem.potential()

@@ -14,9 +14,10 @@ from geometries import bilayer, cube
 from ngincompat.cli import main
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.fem import buckling, postprocess
-from ngincompat.fem.problem import CoupledGrowth
+from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.shape import circle_curvature
 from ngincompat.fem.solver import NewtonOptions, solve_coupled
+from ngincompat.fem.terms import GrowthEnergy, RigidPins
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual
 from ngincompat.mechanics.materials import NeoHookean, Regional
@@ -115,13 +116,14 @@ def coupled_block(mesh, order=2):
     state that does not take the growth up is compressed by lambda (1 - 1 / theta), 20 times
     mu: its tangent had 418 negative eigenvalues, down to -2e6 on the mesh's scale.)"""
     law = StrainDrivenLaw(tau=10.0, theta_max=3.0, gamma=0.0, theta_crit=1.0)
-    problem = CoupledGrowth(mesh, "fiber", fields.constant("e1"), law,
-                            NeoHookean(1.0, 100.0), order=order, growth_order=order - 1)
+    growth = GrowthEnergy("fiber", fields.constant("e1"), law, NeoHookean(1.0, 100.0),
+                          growth_order=order - 1)
+    problem = CoupledProblem(mesh, [growth, RigidPins()], order=order)
     x, z = ngs.x, ngs.z
     problem.u.Set(ngs.CoefficientFunction((0.2 * x + 0.1 * x * x + 0.02 * x * z, 0.0,
                                            -0.03 * x * x)))
-    problem.theta.Set(1.2 + 0.2 * ngs.x)
-    problem.theta_old.vec.data = problem.theta.vec
+    growth.theta.Set(1.2 + 0.2 * ngs.x)
+    growth.theta_old.vec.data = growth.theta.vec
     return problem
 
 

@@ -10,8 +10,10 @@ from conftest import random_points, values_at
 
 from geometries import cube
 from ngincompat.errors import ParameterError
-from ngincompat.fem.problem import CoupledGrowth, GrowthMechanics
+from ngincompat.fem.coupled import CoupledProblem
+from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.fem.solver import solve_coupled, solve_growth
+from ngincompat.fem.terms import GrowthEnergy, RigidPins
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields
 from ngincompat.mechanics import growth as growth_module
@@ -239,15 +241,15 @@ def test_a_new_kind_works_in_coupled_growth_by_name(restore_kinds):
     _axial_kind()
     thetas = []
     for kind, direction in (("axial-e1", None), (FiberGrowth, fields.constant("e1"))):
-        problem = CoupledGrowth(cube(maxh=1.0), kind, direction,
-                                StrainDrivenLaw(tau=1.0, theta_max=1.5),
-                                NeoHookean.from_nu(1.0, 0.3), order=2,
-                                symmetry={"left": "x", "right": "x"})
+        growth = GrowthEnergy(kind, direction, StrainDrivenLaw(tau=1.0, theta_max=1.5),
+                              NeoHookean.from_nu(1.0, 0.3))
+        problem = CoupledProblem(cube(maxh=1.0), [growth, RigidPins()], order=2,
+                                 symmetry={"left": "x", "right": "x"})
         problem.u.Set(ngs.CF((0.2 * ngs.x, 0, 0)))
         assert solve_coupled(problem, t_end=1.0, dt=0.5).converged
-        thetas.append(problem.theta.vec.FV().NumPy().copy())
-    assert problem.kind == "fiber"
-    assert ngs.Integrate(problem.theta, problem.mesh) > 1.05
+        thetas.append(growth.theta.vec.FV().NumPy().copy())
+    assert growth.kind == "fiber"
+    assert ngs.Integrate(growth.theta, problem.mesh) > 1.05
     np.testing.assert_allclose(thetas[0], thetas[1], rtol=0, atol=1e-12)
 
 

@@ -27,7 +27,7 @@ TIMEOUT = 600  # seconds, per notebook (and so per cell)
 
 #: What the scene pipeline does for a notebook: building and solving the mechanics, and the
 #: projected Curl Fg. A notebook that uses these re-implements a scene.
-PIPELINE = {"GrowthMechanics", "CoupledGrowth", "solve_growth", "solve_coupled",
+PIPELINE = {"GrowthMechanics", "CoupledProblem", "solve_growth", "solve_coupled",
             "curl_projected"}
 
 

@@ -110,7 +110,7 @@ def test_clamped_and_released_states_are_found_from_the_deflated_one(expanded_ca
     # what is measured of the inflated skin is the state at the end of the hold
     deflation = results.solver["deflation"]
     assert deflation.converged and 0 < deflation.t_reached < 1
-    assert case.problem.pressure() == results.metrics["pressure_end_of_hold"] > 0
+    assert case.holder.pressure() == results.metrics["pressure_end_of_hold"] > 0
     for stage in ("deflation_clamped", "deflation_released"):
         steps = results.solver[stage].steps
         assert len(steps) == 1 and steps[0].converged and steps[0].dt == 1.0

@@ -10,6 +10,7 @@ from conftest import cube_problem
 
 from geometries import cube
 from ngincompat.errors import ParameterError
+from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import (
     CoupledStage,
@@ -18,6 +19,9 @@ from ngincompat.fem.stages import (
     restore_checkpoint,
     save_checkpoint,
 )
+from ngincompat.fem.terms import GrowthEnergy, VolumeConstraint
+from ngincompat.mechanics.laws import StrainDrivenLaw
+from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import SILENT
 
 
@@ -81,82 +85,94 @@ def test_growth_from_a_start_state_is_solved_at_once_and_falls_back_to_load_step
     assert difference.Norm() <= 1e-12 * reference.Norm()
 
 
-def _coupled_stub(mesh, order=1):
-    space = ngs.H1(mesh, order=order)
-    stub = SimpleNamespace(dt=ngs.Parameter(0.25), volume_target=ngs.Parameter(0.0),
-                           state=ngs.GridFunction(space), theta_old=ngs.GridFunction(space),
-                           lifts=[])
+def _holder():
+    """A stand-in for a term that holds a volume: its target and the lifts asked for."""
+    holder = SimpleNamespace(target=ngs.Parameter(0.0), lifts=[])
 
-    def set_volume_target(volume, lift=False):
-        stub.volume_target.Set(volume)
-        stub.lifts.append(lift)
+    def set_target(volume, lift=False):
+        holder.target.Set(volume)
+        holder.lifts.append(lift)
 
-    stub.set_volume_target = set_volume_target
-    return stub
+    holder.set_target = set_target
+    return holder
 
 
 def test_coupled_stage_drives_the_volume_linearly_and_freezes_growth():
-    problem = _coupled_stub(cube(maxh=1.0))
+    problem, holder = SimpleNamespace(dt=ngs.Parameter(0.25)), _holder()
     stage = CoupledStage("inflation", problem, t_end=3.0, dt=1.0, t_start=1.0, grow=False,
-                         volume=(10.0, 50.0))
+                         volume=(10.0, 50.0), holder=holder)
     for t, expected in ((1.0, 10.0), (2.0, 30.0), (2.5, 40.0), (3.0, 50.0)):
         stage.load(t)
-        assert problem.volume_target.Get() == pytest.approx(expected)
+        assert holder.target.Get() == pytest.approx(expected)
     assert problem.dt.Get() == 0.0
     # the state moves with the expander only going forward, not back after a failed step
     stage.load(2.0)
-    assert problem.lifts == [False, True, True, True, False]
-    growing = _coupled_stub(cube(maxh=1.0))
+    assert holder.lifts == [False, True, True, True, False]
+    growing = SimpleNamespace(dt=ngs.Parameter(0.25))
     CoupledStage("hold", growing, t_end=7.0, dt=0.5).load(3.0)
-    assert growing.dt.Get() == 0.25 and growing.volume_target.Get() == 0.0
+    assert growing.dt.Get() == 0.25
 
 
 def test_coupled_stage_ramps_a_dead_traction_after_its_start():
     """``traction`` scales the problem's dead load linearly over the stage (the contact
     expander's deflation: 1 -> 0), and ``start`` runs once, before the first load."""
-    problem = _coupled_stub(cube(maxh=1.0))
-    problem.load_scale = ngs.Parameter(0.0)
+    problem = SimpleNamespace(dt=ngs.Parameter(0.25))
+    load = SimpleNamespace(scale=ngs.Parameter(0.0))
     started = []
 
     class Started(Exception):
         pass
 
     def start():
-        started.append(problem.load_scale.Get())
+        started.append(load.scale.Get())
         raise Started
 
     stage = CoupledStage("deflation", problem, t_end=1.0, dt=0.25, grow=False,
-                         traction=(1.0, 0.0), start=start)
+                         traction=(1.0, 0.0), dead_load=load, start=start)
     with pytest.raises(Started):
         stage.run(SILENT)
     assert started == [0.0]
     for t, expected in ((0.0, 1.0), (0.25, 0.75), (0.6, 0.4), (1.0, 0.0)):
         stage.load(t)
-        assert problem.load_scale.Get() == pytest.approx(expected)
-    assert problem.volume_target.Get() == 0.0 and problem.lifts == []
+        assert load.scale.Get() == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("missing", [dict(volume=(0.0, 1.0)), dict(traction=(1.0, 0.0))])
+def test_a_coupled_stage_that_drives_a_load_needs_its_term(missing):
+    with pytest.raises(ParameterError, match="^holder = None|^dead_load = None"):
+        CoupledStage("stage", SimpleNamespace(dt=ngs.Parameter(0.0)), t_end=1.0, dt=1.0,
+                     **missing)
+
+
+def _coupled(mesh, order=1):
+    """A coupled problem with growth and a volume held under the cube's bottom face."""
+    growth = GrowthEnergy("isotropic", None, StrainDrivenLaw(tau=1.0, theta_max=2.0),
+                          NeoHookean.from_nu(1.0, 0.3))
+    volume = VolumeConstraint("bottom")
+    return CoupledProblem(mesh, [growth, volume], order=order, dirichlet="left"), growth, volume
 
 
 def test_checkpoint_restores_the_state_and_refuses_another_mesh(tmp_path):
     mesh = cube(maxh=1.0)
-    problem = _coupled_stub(mesh)
+    problem, growth, volume = _coupled(mesh)
     rng = np.random.default_rng(0)
-    problem.state.vec.FV().NumPy()[:] = rng.normal(size=problem.state.space.ndof)
-    problem.theta_old.vec.FV().NumPy()[:] = 1 + rng.uniform(size=problem.theta_old.space.ndof)
-    problem.volume_target.Set(41.5)
+    problem.state.vec.FV().NumPy()[:] = rng.normal(size=problem.fes.ndof)
+    growth.theta_old.vec.FV().NumPy()[:] = 1 + rng.uniform(size=growth.theta_old.space.ndof)
+    volume.target.Set(41.5)
     path = tmp_path / "checkpoint.npz"
     assert restore_checkpoint(problem, path) is None
     save_checkpoint(problem, path, 2.5)
-    fresh = _coupled_stub(mesh)
+    fresh, fresh_growth, fresh_volume = _coupled(mesh)
     assert restore_checkpoint(fresh, path) == 2.5
-    assert fresh.volume_target.Get() == 41.5     # an expander's controlled size
+    assert fresh_volume.target.Get() == 41.5     # an expander's controlled size
     np.testing.assert_array_equal(fresh.state.vec.FV().NumPy(), problem.state.vec.FV().NumPy())
-    np.testing.assert_array_equal(fresh.theta_old.vec.FV().NumPy(),
-                                  problem.theta_old.vec.FV().NumPy())
+    np.testing.assert_array_equal(fresh_growth.theta_old.vec.FV().NumPy(),
+                                  growth.theta_old.vec.FV().NumPy())
     with pytest.raises(ParameterError, match="does not fit this mesh and order"):
-        restore_checkpoint(_coupled_stub(mesh, order=2), path)
+        restore_checkpoint(_coupled(mesh, order=2)[0], path)
 
 
 @pytest.mark.parametrize("flow_rtol", [0.0, 1.0, -1e-3])
 def test_the_relaxation_flow_tolerance_must_lie_in_the_unit_interval(flow_rtol):
     with pytest.raises(ParameterError, match=r"flow_rtol.*in \(0, 1\)"):
-        RelaxationStage("release", None, viscosity=1.0, dt=1.0, flow_rtol=flow_rtol)
+        RelaxationStage("release", None, None, viscosity=1.0, dt=1.0, flow_rtol=flow_rtol)

@@ -52,7 +52,6 @@ for stage in stages:
 print("onset", case.noted, flush=True)
 if case.mode is not None and scene.buckle and solution.converged:
     case.perturb()
-    case.problem.viscosity.Set(case.eta)
     report(case.buckling_stage())
     print(json.dumps({k: [round(x, 5) for x in v] for k, v in case.series["buckling"].items()}))
 print("status", solution.status, solution.error)

@@ -152,7 +152,7 @@ def smallest_eigenpairs(problem, count=1, negative=False):
 
     Parameters
     ----------
-    problem : GrowthMechanics or CoupledGrowth
+    problem : GrowthMechanics or CoupledProblem
         Its displacement ``u`` (the current state), its tangent at frozen growth
         (``frozen_tangent()``: K is the derivative of the very residual the problem solves,
         with its integration rule; a Hessian integrated more coarsely has spurious modes in a

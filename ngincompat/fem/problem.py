@@ -1,4 +1,4 @@
-"""The mechanics of a growing body (section 2.4): the only module that builds FESpaces and forms.
+"""The mechanics of a body under prescribed growth (section 2.4), and what the problems share.
 
 Equilibrium, eq. (30) without body force, is the stationarity of the total elastic energy
 
@@ -13,6 +13,10 @@ components at vertices as there are motions left free (a statically determinate 
 components at three vertices without symmetry planes: it carries no reaction for a
 self-equilibrated body, so it gives the same solution as Lagrange multipliers on the rigid
 modes while keeping the tangent symmetric positive definite near equilibrium).
+
+The displacement space, the pins, the local heap and the compiled residual here serve the
+coupled problem too (:class:`~ngincompat.fem.coupled.CoupledProblem`, a sum of the energy
+terms of :mod:`ngincompat.fem.terms`).
 """
 
 import logging
@@ -32,8 +36,7 @@ from ngincompat.errors import require
 from ngincompat.fem.quadrature import volume_measure
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
-from ngincompat.mechanics.growth import GrowthKind, GrowthModel, growth_kind
-from ngincompat.mechanics.laws import GrowthLaw, euler_residual
+from ngincompat.mechanics.growth import GrowthModel
 from ngincompat.mechanics.materials import Material, MixedMaterial
 
 log = logging.getLogger(__name__)
@@ -51,10 +54,11 @@ def ensure_heap(order):
     config.ensure_heap(400 * 3 * (order + 1) ** 6)
 
 
-#: Size (ndof) from which :class:`CoupledGrowth` compiles its residual to machine code by
-#: default. On the skin at its defaults (27k dofs, 1100 tetrahedra) the tangent assembly then
-#: takes 1.3 s instead of 3.1 s, after 8 s of compilation in every run (measured): worth it
-#: from about five tangents at that size, and not for the small problems of the tests.
+#: Size (ndof) from which a :class:`~ngincompat.fem.coupled.CoupledProblem` compiles its
+#: residual to machine code by default. On the skin at its defaults (27k dofs, 1100
+#: tetrahedra) the tangent assembly then takes 1.3 s instead of 3.1 s, after 8 s of
+#: compilation in every run (measured): worth it from about five tangents at that size, and
+#: not for the small problems of the tests.
 REALCOMPILE_NDOF = 20000
 
 
@@ -466,309 +470,3 @@ def _support_preference(pts):
     first = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
     rest = [(v, c) for v in range(len(pts)) for c in range(3) if (v, c) not in first]
     return first + rest
-
-
-class CoupledGrowth:
-    """Equilibrium and mechanically coupled growth (section 2.6-2.7) solved together.
-
-    Unknowns: the displacement u (VectorH1), the growth theta (L2 of ``growth_order``: its
-    dofs are element-local, so static condensation removes them from the global system) and,
-    with a volume constraint, the pressure p (one number). The residual is
-
-        int dW/du . v dV + int R^g eta dV  [+ p dV/du . v + (V(u) - V*) q],
-
-    with W = Jg Psi(F Fg(theta)^-1) and R^g the implicit-Euler growth residual of eq. (48).
-    Its linearisation, assembled symbolically, is the consistent tangent including c^g
-    (eq. 49), so the global Newton iteration converges quadratically.
-
-    Parameters
-    ----------
-    mesh : ngsolve.Mesh
-    kind : str or GrowthKind subclass
-        Growth kind, a registered name (:data:`ngincompat.mechanics.growth.KINDS`: "isotropic",
-        "area",
-        "fiber", ...) or the class itself; theta drives it through ``from_theta`` and growth
-        laws through its ``stretch(F)``.
-    direction : DirectionField or None
-        N0 (area) or f0 (fiber growth); None for a kind without a direction.
-    law : GrowthLaw
-        See :mod:`ngincompat.mechanics.laws`.
-    material : Material
-        See :mod:`ngincompat.mechanics.materials`.
-    order : int
-        Displacement order; ``growth_order`` that of theta (default order - 1).
-    dirichlet, symmetry : as for :class:`GrowthMechanics`
-    volume : str, optional
-        A boundary, initially in the plane X3 = 0, whose enclosed volume
-        V = int x3 det(dx_a / dX_b) dA (a, b = 1, 2) is held at the Parameter
-        ``volume_target`` by the pressure p (e.g. an expander's footprint).
-    viscous : bool
-        Add a viscous regularisation: the energy of a step gains
-        eta / (2 dt) int |u - u_n|^2 dV (u_n the last converged displacement), i.e. the
-        residual eta / dt int (u - u_n) . v dV, with eta the Parameter ``viscosity``
-        (stress x time / length^2; 0 switches it off, as does a frozen step, dt = 0). It
-        adds eta / dt M to the tangent, which keeps Newton's system positive definite past
-        a buckling point (smallest eigenvalue of K w = omega M w above -eta / dt) and lets
-        an unstable mode grow at the finite rate -omega / eta instead of jumping. The
-        Parameter ``growing`` (1) multiplies the growth's step: 0 holds theta at theta_n
-        while a step dt > 0 keeps the viscous term, the pseudo-time step of a relaxation at
-        frozen growth (:class:`~ngincompat.fem.stages.RelaxationStage`).
-    realcompile : bool or None
-        Compile the residual to C++ (:func:`compiled`); None: from
-        :data:`REALCOMPILE_NDOF` dofs on.
-    expander : ngincompat.fem.contact.Expander, optional
-        With ``volume``: instead of a pressure, an expander under the boundary, in contact
-        with it (the penalty of :mod:`ngincompat.fem.contact`), whose own volume
-        H int phi dA is ``volume_target``: its height H follows the target, so there is no
-        extra unknown, and the volume under the boundary is measured (it exceeds the
-        expander's where the skin leaves it and falls short by the penetration).
-    traction : str, optional
-        Boundaries (a region expression such as "left|right") on which a dead traction
-        ``load_scale`` t acts: the residual gains -load_scale int t . v dA, t the
-        GridFunction ``traction_field``; :meth:`hold_by_traction` sets it to the forces that
-        the supports of another problem exerted there, e.g. to remove them gradually.
-    """
-
-    has_energy = False
-    inverse = "umfpack"
-
-    def __init__(self, mesh: ngs.Mesh, kind: str | type[GrowthKind],
-                 direction: DirectionField | None, law: GrowthLaw, material: Material,
-                 order: int = 2, growth_order: int | None = None,
-                 fibers: Sequence[DirectionField] = (), dirichlet: str = "",
-                 symmetry: Mapping[str, str] | None = None, volume: str | None = None,
-                 condense: bool = True, viscous: bool = False,
-                 realcompile: bool | None = None, expander=None,
-                 traction: str | None = None):
-        require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
-        require(expander is None or volume, "expander", expander,
-                "None without a volume boundary (the expander holds the volume)")
-        ensure_heap(order)
-        growth_order = max(order - 1, 0) if growth_order is None else growth_order
-        symmetry = dict(symmetry or {})
-        self.growth_class = kind if isinstance(kind, type) else growth_kind(kind)
-        self.kind = self.growth_class.kind
-        self.mesh, self.direction, self.law = mesh, direction, law
-        self.material, self.order, self.condense = material, order, condense
-        self.fibers = tuple(fibers)
-        V = displacement_space(mesh, order, dirichlet, symmetry)
-        Q = ngs.L2(mesh, order=growth_order)
-        spaces = [V, Q] + ([ngs.NumberSpace(mesh)] if volume and not expander else [])
-        self.fes = ngs.FESpace(spaces)
-        self.state = ngs.GridFunction(self.fes)
-        self.u = self.state.components[0]
-        self.theta = self.state.components[1]
-        self.theta.Set(1.0)
-        self.theta_old = ngs.GridFunction(Q)
-        self.theta_old.Set(1.0)
-        self.dt = ngs.Parameter(0.0)
-        self.volume_target = ngs.Parameter(0.0)
-        self.volume_region = volume
-        self.expander = expander
-        self.freedofs = self.fes.FreeDofs(coupling=condense)
-        self.pinned = () if (dirichlet or volume) else rigid_pins(mesh, self.fes)
-        for dof in self.pinned:
-            self.freedofs.Clear(dof)
-
-        trials, tests = self.fes.TnT()
-        u, th, v, eta = trials[0], trials[1], tests[0], tests[1]
-        F = kinematics.deformation_gradient(u)
-        W = self._energy_density(F, th)
-        self.form = ngs.BilinearForm(self.fes, condense=condense)
-        stretch = self._growth(th).stretch(F)
-        self.growing = ngs.Parameter(1.0)
-        growth_residual = euler_residual(law, th, self.theta_old, self.growing * self.dt,
-                                         stretch)
-        if realcompile is None:
-            realcompile = self.fes.ndof >= REALCOMPILE_NDOF
-        # dW/du . v as P : Grad v with P = dW/dF: the same residual and tangent, the tangent's
-        # element matrices in about 0.4 of the time of the symbolic Diff of W by u (measured:
-        # 0.30 s against 0.81 s, order 3, 0.4-cube, area growth)
-        stress = W.Diff(F)
-        self.form += compiled(ngs.InnerProduct(stress, ngs.Grad(v)) + growth_residual * eta,
-                              realcompile) * ngs.dx
-        self.viscosity = ngs.Parameter(0.0)
-        self.u_old = ngs.GridFunction(V) if viscous else None
-        if viscous:
-            rate = self.viscosity / ngs.IfPos(self.dt, self.dt, 1.0) * ngs.IfPos(self.dt, 1, 0)
-            self.form += rate * ngs.InnerProduct(u - self.u_old, v) * ngs.dx
-        self.traction = traction
-        self.load_scale = ngs.Parameter(0.0)
-        self.traction_field = ngs.GridFunction(V, name="traction") if traction else None
-        if traction:
-            self.form += -self.load_scale * ngs.InnerProduct(self.traction_field, v) * ngs.ds(
-                traction)
-        if expander is not None:    # the penalty's kink needs more integration points
-            self.base_integral = ngs.Integrate(expander.shape(ngs.x, ngs.y)[0], mesh, ngs.BND,
-                                               definedon=mesh.Boundaries(volume), order=8)
-            contact = expander.energy(self._position(u), self._height()).Diff(u, v)
-            self.form += contact.Compile() * ngs.ds(volume, bonus_intorder=2)
-        elif volume:
-            p, q = trials[2], tests[2]
-            dV = self._volume_density(u)
-            area = ngs.Integrate(1, mesh, ngs.BND, definedon=mesh.Boundaries(volume))
-            self.form += (p * dV).Diff(u, v) * ngs.ds(volume)
-            self.form += (dV - self.volume_target / area) * q * ngs.ds(volume)
-
-    @property
-    def ndof(self):
-        return self.fes.ndof
-
-    def _growth(self, theta):
-        """The growth model of the problem's kind and direction for the indicator theta."""
-        return self.growth_class.from_theta(theta, self.direction)
-
-    def _energy_density(self, F, theta):
-        growth = self._growth(theta)
-        Fe = kinematics.elastic_part(F, growth.Fg)
-        pushed = []
-        for f in self.fibers:
-            a = growth.Fg * f.cf
-            pushed.append(a / ngs.Norm(a))
-        return growth.Jg * self.material.energy(Fe, tuple(pushed))
-
-    @staticmethod
-    def _position(u):
-        """The current position x = X + u."""
-        return ngs.CoefficientFunction((ngs.x, ngs.y, ngs.z)) + u
-
-    @staticmethod
-    def _volume_density(u):
-        Fs = ngs.Id(3) + ngs.Grad(u).Trace()
-        x3 = ngs.z + u[2]
-        return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
-
-    def hold_by_traction(self):
-        """Hold the current state in equilibrium by a dead traction: ``traction_field`` t
-        with int t . v dA = R(u) . v on the ``traction`` boundaries, R the residual without
-        it (the reactions there of the supports of the problem the state comes from;
-        elsewhere R is its residual, about 0), i.e. t = M_b^-1 R with M_b the boundary mass
-        matrix on the free dofs of those boundaries, and ``load_scale`` = 1. Returns the
-        norm of R there."""
-        require(self.traction is not None, "traction", self.traction,
-                "the boundaries of a dead traction, given when the problem is built")
-        V = self.u.space
-        on = V.GetDofs(self.mesh.Boundaries(self.traction)) & V.FreeDofs()
-        for dof in self.pinned:
-            on.Clear(dof)
-        self.load_scale.Set(0.0)
-        residual = self.state.vec.CreateVector()
-        self.form.Apply(self.state.vec, residual)
-        reactions = self.u.vec.CreateVector()
-        reactions.FV().NumPy()[:] = residual.FV().NumPy()[:V.ndof]
-        u, v = V.TnT()
-        mass = ngs.BilinearForm(V)
-        mass += ngs.InnerProduct(u, v) * ngs.ds(self.traction)
-        mass.Assemble()
-        self.traction_field.vec.data = mass.mat.Inverse(on, inverse="sparsecholesky") * reactions
-        self.load_scale.Set(1.0)
-        return float(np.linalg.norm(reactions.FV().NumPy()[np.array(on, dtype=bool)]))
-
-    def expander_to_traction(self):
-        """Hand the expander's load over to a dead traction (the expander being emptied):
-        the force the expander exerts on the ``volume`` boundary in the current state becomes
-        ``traction_field`` t (``load_scale`` = 1, :meth:`hold_by_traction`) and the expander
-        is lowered to height 0, under the boundary (which stays in X3 >= 0), so the state
-        remains an equilibrium. Returns the norm of that force."""
-        require(self.expander is not None and self.traction == self.volume_region,
-                "traction", self.traction, f"the expander's boundary {self.volume_region!r} "
-                "(built with an expander)")
-        self.volume_target.Set(0.0)
-        return self.hold_by_traction()
-
-    def frozen_tangent(self):
-        """The tangent at frozen growth (a step dt = 0: theta held at theta_n, no viscosity)
-        at the current state, assembled into and returned as ``form.mat``. Its growth rows
-        are then the identity and do not depend on u, so condensed onto u it is the Hessian
-        of the energy int Jg Psi(F Fg^-1) dV by the rule of the residual the problem solves
-        (NGSolve integrates the compound form more finely than an energy on u alone)."""
-        dt = self.dt.Get()
-        self.dt.Set(0.0)
-        try:
-            self.form.AssembleLinearization(self.state.vec)
-        finally:
-            self.dt.Set(dt)
-        return self.form.mat
-
-    def energy_density(self, F):
-        """Strain energy per reference volume at the current growth, Jg Psi(F Fg^-1)."""
-        return self._energy_density(F, self.theta)
-
-    def volume(self):
-        """The volume enclosed under the constrained boundary in the current state."""
-        return ngs.Integrate(self._volume_density(self.u), self.mesh, ngs.BND,
-                             definedon=self.mesh.Boundaries(self.volume_region))
-
-    def pressure(self):
-        """The pressure that holds the volume (the multiplier, with the sign of a pressure
-        pushing on the constrained boundary); 0 without a volume constraint or with an
-        expander (see :meth:`contact_pressure`)."""
-        if not self.volume_region or self.expander:
-            return 0.0
-        return -self.state.components[2].vec[0]
-
-    def _height(self):
-        """The expander's height H (a CF) whose volume H int phi dA is the target."""
-        return self.volume_target / self.base_integral
-
-    def set_volume_target(self, volume, lift=False):
-        """Set the volume target; with an expander and ``lift``, the state moves with the
-        expander's top (u += dH phi(x1, x2) e3, dH its change of height, x = X + u the
-        point's current place): a predictor that keeps every point's height above the
-        expander, for Newton to start close to contact. (Lifted by phi at the reference X
-        instead, the skin, drawn in over the dome, sank into it, and each inflation step
-        began with Newton steps shortened 128-fold: the default circle's inflation took 152
-        iterations against 79.)"""
-        change = volume - self.volume_target.Get()
-        self.volume_target.Set(volume)
-        if lift and self.expander is not None and change != 0:
-            phi = self.expander.shape(ngs.x + self.u[0], ngs.y + self.u[1])[0]
-            step = ngs.GridFunction(self.u.space)
-            step.Set(ngs.CoefficientFunction((0, 0, change / self.base_integral * phi)))
-            self.u.vec.data += step.vec
-
-    def expander_height(self):
-        """The expander's height H at the current volume target."""
-        return self.volume_target.Get() / self.base_integral
-
-    def gap(self):
-        """The contact gap g of the current state (a CF; negative: penetration)."""
-        return self.expander.gap(self._position(self.u), self._height())
-
-    def contact_pressure(self):
-        """The contact pressure of the current state (a CF, per unit reference area)."""
-        return self.expander.pressure(self._position(self.u), self._height())
-
-    def strain_energy(self):
-        return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
-                             self.mesh)
-
-    def potential(self):
-        """The energy of a step at frozen growth (``growing`` = 0) at the current state,
-
-            Phi(u) = int Jg Psi dV + eta / (2 dt) int |u - u_n|^2 dV
-                     - load_scale int t . u dA,
-
-        the viscous term with a step dt > 0 (and ``viscous``), the dead load with a
-        ``traction``: the residual of such a step is its derivative in u (the growth rows
-        hold theta at theta_n). Not for a volume constraint or an expander."""
-        require(not self.volume_region, "volume", self.volume_region,
-                "None: a volume constraint's multiplier has no potential here")
-        energy = self.strain_energy()
-        dt = self.dt.Get()
-        if self.u_old is not None and dt > 0:
-            change = self.u - self.u_old
-            energy += self.viscosity.Get() / (2 * dt) * ngs.Integrate(
-                ngs.InnerProduct(change, change), self.mesh)
-        if self.traction:
-            energy -= self.load_scale.Get() * ngs.Integrate(
-                ngs.InnerProduct(self.traction_field, self.u), self.mesh,
-                definedon=self.mesh.Boundaries(self.traction))
-        return energy
-
-    def accept_step(self):
-        """Make the converged growth the start of the next step (theta_n <- theta_n+1), and
-        with a viscous regularisation the displacement too (u_n <- u_n+1)."""
-        self.theta_old.vec.data = self.theta.vec
-        if self.u_old is not None:
-            self.u_old.vec.data = self.u.vec

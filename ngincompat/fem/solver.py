@@ -38,7 +38,7 @@ log = logging.getLogger(__name__)
 class NewtonProblem(Protocol):
     """What :class:`NewtonSolver` uses of a problem, as
     :class:`~ngincompat.fem.problem.GrowthMechanics` and
-    :class:`~ngincompat.fem.problem.CoupledGrowth`
+    :class:`~ngincompat.fem.coupled.CoupledProblem`
     provide it (:func:`solve_growth` and :func:`solve_coupled` use more of each).
 
     Attributes
@@ -481,11 +481,11 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Pr
 def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_start=0.0,
                   schedule=None, on_step=None, progress: Progress = SILENT, stage="growth",
                   unit="", energy=None):
-    """March a :class:`~ngincompat.fem.problem.CoupledGrowth` problem in time with adaptive steps.
+    """March a :class:`~ngincompat.fem.coupled.CoupledProblem` in time with adaptive steps.
 
     Parameters
     ----------
-    problem : CoupledGrowth
+    problem : CoupledProblem
     t_end, dt, t_start : float
         End time, first time step and start time (the scene's time unit).
     schedule : callable, optional
@@ -497,7 +497,7 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
         Where steps and cuts are reported, under the name ``stage`` with time ``unit``.
     energy : callable, optional
         The energy of the current state whose derivative the residual is (as for
-        :class:`NewtonSolver`), e.g. ``problem.potential`` at frozen growth.
+        :class:`NewtonSolver`), e.g. ``problem.energy`` at frozen growth.
 
     Returns
     -------

@@ -4,9 +4,9 @@
   in adaptive load steps (:func:`~ngincompat.fem.solver.solve_growth`), or solved at ``t_end`` at
   once from a given start state (the state before a load or a support was removed);
 * :class:`CoupledStage`: mechanically coupled growth marched in time
-  (:func:`~ngincompat.fem.solver.solve_coupled`), with growth on or frozen and the enclosed volume
-  driven linearly between two targets (inflation, hold), checkpointed after every step when
-  given a checkpoint file;
+  (:func:`~ngincompat.fem.solver.solve_coupled`), with growth on or frozen, the enclosed volume
+  and a dead traction driven linearly between two values (inflation, hold, deflation),
+  checkpointed after every step when given a checkpoint file;
 * :class:`FallbackStage`: one stage, and where it fails another from the same start;
 * :class:`ContactControlStage`: after an expander's inflation, the expander's volume corrected
   until the volume under the skin is the target;
@@ -105,7 +105,7 @@ class PrescribedGrowthStage:
 
 @dataclass(eq=False)
 class CoupledStage:
-    """Coupled growth (:class:`~ngincompat.fem.problem.CoupledGrowth`) from ``t_start`` to
+    """Coupled growth (:class:`~ngincompat.fem.coupled.CoupledProblem`) from ``t_start`` to
     ``t_end`` in steps of ``dt`` (halved where Newton needs it).
 
     Attributes
@@ -114,13 +114,15 @@ class CoupledStage:
         Growth evolves (implicit Euler with the step as dt); False freezes it (dt = 0), as
         during a quasi-static inflation.
     volume : tuple of float, optional
-        Target of the constrained volume at ``t_start`` and ``t_end``, linear in between;
-        None as the first: the target the problem has when the stage starts.
+        Target of the volume that the problem's term ``holder`` holds (a
+        :class:`~ngincompat.fem.terms.VolumeConstraint` or an
+        :class:`~ngincompat.fem.contact.ExpanderContact`) at ``t_start`` and ``t_end``,
+        linear in between; None as the first: the target the term has when the stage starts.
     checkpoint : Path, optional
         File that receives the state after every converged step (atomically).
     traction : tuple of float, optional
-        Scale of the problem's dead traction (``load_scale``) at ``t_start`` and ``t_end``,
-        linear in between.
+        Scale of the dead traction ``dead_load`` (a :class:`~ngincompat.fem.terms.DeadTraction`
+        of the problem) at ``t_start`` and ``t_end``, linear in between.
     start : callable, optional
         ``start()`` as the stage begins, before its first load (e.g. a load handed over
         from one kind to another).
@@ -138,7 +140,9 @@ class CoupledStage:
     t_start: float = 0.0
     grow: bool = True
     volume: tuple[float | None, float] | None = None
+    holder: object = None
     traction: tuple[float, float] | None = None
+    dead_load: object = None
     start: Callable[[], object] | None = None
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
@@ -146,22 +150,27 @@ class CoupledStage:
     unit: str = ""
     _loaded: float = field(default=float("inf"), init=False, repr=False)
 
+    def __post_init__(self):
+        require(self.volume is None or self.holder is not None, "holder", self.holder,
+                "the term that holds the volume, for a stage that drives a volume")
+        require(self.traction is None or self.dead_load is not None, "dead_load",
+                self.dead_load, "the dead traction, for a stage that drives a traction")
+
     def load(self, t: float) -> None:
         """Set the loads of time ``t``: the volume target, the dead traction's scale and, if
-        frozen, dt = 0. Moving
-        forward from the last converged time (not back to it after a failed step), the state
-        is lifted with an expander
-        (:meth:`~ngincompat.fem.problem.CoupledGrowth.set_volume_target`)."""
+        frozen, dt = 0. Moving forward from the last converged time (not back to it after a
+        failed step), the state is lifted with an expander
+        (:meth:`~ngincompat.fem.contact.ExpanderContact.set_target`)."""
         if not self.grow:
             self.problem.dt.Set(0.0)
         span = self.t_end - self.t_start
         s = 1.0 if span <= 0 else (t - self.t_start) / span
         if self.volume is not None:
             v0, v1 = self.volume
-            self.problem.set_volume_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
+            self.holder.set_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
         if self.traction is not None:
-            self.problem.load_scale.Set(self.traction[0] + (self.traction[1]
-                                                             - self.traction[0]) * s)
+            s0, s1 = self.traction
+            self.dead_load.scale.Set(s0 + (s1 - s0) * s)
         self._loaded = t
 
     def save(self, t: float) -> None:
@@ -178,7 +187,7 @@ class CoupledStage:
         if self.start is not None:
             self.start()
         if self.volume is not None and self.volume[0] is None:
-            self.volume = (self.problem.volume_target.Get(), self.volume[1])
+            self.volume = (self.holder.target.Get(), self.volume[1])
         self.load(self.t_start)
         self.save(self.t_start)
         return solve_coupled(self.problem, self.t_end, self.dt, self.options,
@@ -214,10 +223,10 @@ class FallbackStage:
 
 @dataclass(eq=False)
 class ContactControlStage:
-    """Volume control of an expander in contact (:class:`~ngincompat.fem.problem.CoupledGrowth`
-    with an expander, growth frozen), from an equilibrium (the end of the inflation): the
-    expander's own volume V_e is corrected until the volume V under the skin is ``target``
-    to ``rtol``.
+    """Volume control of an expander in contact (the term ``contact``, an
+    :class:`~ngincompat.fem.contact.ExpanderContact` of the problem, growth frozen), from an
+    equilibrium (the end of the inflation): the expander's own volume V_e is corrected until
+    the volume V under the skin is ``target`` to ``rtol``.
 
     Each round that finds V out of tolerance takes a secant step on V(V_e) = target (the
     first one V_e target / V: the volume under the skin is nearly proportional to the
@@ -234,6 +243,7 @@ class ContactControlStage:
 
     name: str
     problem: object
+    contact: object
     target: float
     rtol: float = 1e-4
     max_rounds: int = 20
@@ -241,13 +251,13 @@ class ContactControlStage:
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
 
     def run(self, progress: Progress) -> SolverHistory:
-        problem = self.problem
-        problem.dt.Set(0.0)
-        solver = NewtonSolver(problem, self.options)
+        contact = self.contact
+        self.problem.dt.Set(0.0)
+        solver = NewtonSolver(self.problem, self.options)
         history = SolverHistory()
         previous = None
         for k in range(self.max_rounds + 1):
-            expander, volume = problem.volume_target.Get(), problem.volume()
+            expander, volume = contact.target.Get(), contact.volume()
             progress.line(f"{self.name}: round {k}, volume {volume:.7g} (target "
                           f"{self.target:g}, expander {expander:.7g})")
             if abs(volume - self.target) <= self.rtol * self.target:
@@ -270,11 +280,11 @@ class ContactControlStage:
     def _resize(self, solver, history, k, expander, change):
         """Round ``k``: the expander's volume from ``expander`` by ``change``, halved (from
         the round's start) until Newton converges, at most ``max_cuts`` times."""
-        problem = self.problem
+        problem, contact = self.problem, self.contact
         saved = problem.state.vec.CreateVector()
         saved.data = problem.state.vec
         for _ in range(self.max_cuts + 1):
-            problem.set_volume_target(expander + change, lift=True)
+            contact.set_target(expander + change, lift=True)
             record = StepRecord(t=float(k), dt=change, converged=False)
             with config.task_manager():
                 record.converged = solver.minimise(record)
@@ -283,7 +293,7 @@ class ContactControlStage:
                 history.t_reached = float(k)
                 return
             problem.state.vec.data = saved
-            problem.set_volume_target(expander)
+            contact.set_target(expander)
             change /= 2
         raise ConvergenceError(f"round {k}: {record.reason}, also after {self.max_cuts} "
                                "halvings of the resize", history=history,
@@ -292,12 +302,14 @@ class ContactControlStage:
 
 @dataclass(eq=False)
 class UnloadingStage:
-    """A dead load removed at frozen growth: ``problem.load_scale`` falls linearly from 1 to
-    0 over the pseudo time ``duration``, in steps (the first ``duration`` / 8, at most / 4,
-    halved where Newton needs it) of the viscous regularisation (eta = ``viscosity``) of a
-    :class:`~ngincompat.fem.problem.CoupledGrowth` (``viscous``), so that Newton's system stays
-    positive definite while the body finds its new shape. Each step's residual is the
-    derivative of its energy (:meth:`~ngincompat.fem.problem.CoupledGrowth.potential`), which
+    """A dead load removed at frozen growth: the scale of the problem's
+    :class:`~ngincompat.fem.terms.DeadTraction` ``dead_load`` falls linearly from 1 to 0 over
+    the pseudo time ``duration``, in steps (the first ``duration`` / 8, at most / 4, halved
+    where Newton needs it) of the problem's
+    :class:`~ngincompat.fem.terms.ViscousRegularisation` ``viscous`` (eta = ``viscosity``), so
+    that Newton's system stays positive definite while the body finds its new shape. Each
+    step's residual is the derivative of its energy
+    (:meth:`~ngincompat.fem.coupled.CoupledProblem.energy`), which
     the line search tests besides the residual: on the default folding bilayer 119 Newton
     iterations against 254 with the residual alone, whose norm the early iterations of a
     step raise tenfold. Removing the supports of a grown body at once is a jump of their
@@ -309,38 +321,40 @@ class UnloadingStage:
 
     name: str
     problem: object
+    viscous: object
+    dead_load: object
     viscosity: float
     duration: float
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(
         max_iter=12, line_search=True, min_step=1e-6))
 
     def run(self, progress: Progress) -> SolverHistory:
-        problem = self.problem
+        problem, scale = self.problem, self.dead_load.scale
         problem.growing.Set(0.0)
-        problem.viscosity.Set(self.viscosity)
-        problem.u_old.vec.data = problem.u.vec
+        self.viscous.restart(self.viscosity)
         T = self.duration
         options = replace(self.options, max_step=T / 4, min_step=self.options.min_step * T)
         try:
             return solve_coupled(problem, T, T / 8, options,
-                                 schedule=lambda t: problem.load_scale.Set(1.0 - t / T),
-                                 progress=progress, stage=self.name, energy=problem.potential)
+                                 schedule=lambda t: scale.Set(1.0 - t / T),
+                                 progress=progress, stage=self.name, energy=problem.energy)
         finally:
             problem.growing.Set(1.0)
 
 
 @dataclass(eq=False)
 class RelaxationStage:
-    """The equilibrium at frozen growth of a viscous :class:`~ngincompat.fem.problem.CoupledGrowth`
-    (``viscous``), reached by a gradient flow in pseudo time and then solved without the
-    viscosity.
+    """The equilibrium at frozen growth of a :class:`~ngincompat.fem.coupled.CoupledProblem`
+    with a :class:`~ngincompat.fem.terms.ViscousRegularisation` ``viscous``, reached by a
+    gradient flow in pseudo time and then solved without the viscosity.
 
     Each pseudo-time step tau holds the growth (``problem.growing`` = 0) and makes the
     residual of
 
         Phi(u) = Pi(u) + eta / (2 tau) int |u - u_n|^2 dV,     eta = ``viscosity``,
 
-    (:meth:`~ngincompat.fem.problem.CoupledGrowth.potential`, no load) vanish. While
+    (:meth:`~ngincompat.fem.coupled.CoupledProblem.energy`; Pi its value at frozen growth,
+    :meth:`~ngincompat.fem.coupled.CoupledProblem.frozen_energy`) vanish. While
     K + eta / tau M is positive definite (K the elastic tangent, M the mass matrix of
     :mod:`ngincompat.fem.buckling`) that stationary point is the minimiser of Phi, so
     Pi(u_n+1) + eta / (2 tau) |u_n+1 - u_n|^2 <= Pi(u_n): the energy falls. Along an
@@ -379,6 +393,7 @@ class RelaxationStage:
 
     name: str
     problem: object
+    viscous: object
     viscosity: float
     dt: float
     switch: float = 0.1
@@ -399,12 +414,11 @@ class RelaxationStage:
         solver = NewtonSolver(problem, replace(self.options, rtol=self.flow_rtol))
         history = SolverHistory()
         problem.growing.Set(0.0)
-        problem.viscosity.Set(self.viscosity)
-        problem.u_old.vec.data = problem.u.vec
+        self.viscous.restart(self.viscosity)
         saved = problem.state.vec.CreateVector()
         saved.data = problem.state.vec
         self.initial_residual = self._residual(solver)
-        energy, t, tau = problem.strain_energy(), 0.0, self.dt
+        energy, t, tau = problem.frozen_energy(), 0.0, self.dt
         attempt = self.initial_residual
         progress.line(f"{self.name}: residual without viscosity {self.initial_residual:.3g}")
         try:
@@ -413,8 +427,8 @@ class RelaxationStage:
                     problem.dt.Set(tau)
                     record = StepRecord(t=t + tau, dt=tau, converged=False)
                     if solver.minimise(record):
-                        record.energy = problem.strain_energy()
-                        record.converged = (problem.potential()     # Phi(u_n+1)
+                        record.energy = problem.frozen_energy()
+                        record.converged = (problem.energy()     # Phi(u_n+1)
                                             <= energy + 1e-12 * abs(energy))
                         if not record.converged:
                             record.reason = "the step raised the energy (a saddle)"
@@ -467,7 +481,7 @@ class RelaxationStage:
         self.problem.dt.Set(0.0)
         record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
         solver = NewtonSolver(self.problem, replace(self.options, line_search=True),
-                              energy=self.problem.strain_energy)
+                              energy=self.problem.frozen_energy)
         if solver.minimise(record):
             values, _ = buckling.smallest_eigenpairs(self.problem, count=self.eigenpairs)
             self.eigenvalue = float(values[0])
@@ -487,11 +501,9 @@ class RelaxationStage:
 
 
 def save_checkpoint(problem, path: Path, t: float) -> None:
-    """Write the state of a coupled problem (unknowns, previous growth, volume target)
-    atomically."""
-    arrays = {"t": t, "state": problem.state.vec.FV().NumPy(),
-              "theta_old": problem.theta_old.vec.FV().NumPy(),
-              "volume_target": problem.volume_target.Get()}
+    """Write the state of a coupled problem (its unknowns and what its terms keep: the
+    previous growth, a volume target) atomically."""
+    arrays = {"t": t, "state": problem.state.vec.FV().NumPy(), **problem.saved()}
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as f:
             np.savez(f, **arrays)
@@ -512,7 +524,5 @@ def restore_checkpoint(problem, path: Path) -> float | None:
         raise ParameterError(f"{path} does not fit this mesh and order: cannot resume (run "
                              "with the settings of the interrupted run, or without resume)")
     problem.state.vec.FV().NumPy()[:] = data["state"]
-    problem.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
-    if "volume_target" in data:             # older checkpoints: the hold sets it
-        problem.volume_target.Set(float(data["volume_target"]))
+    problem.restore(data)
     return float(data["t"])

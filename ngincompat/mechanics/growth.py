@@ -10,7 +10,7 @@ A growth *kind* that is built from theta (and, where it needs one, a
 :class:`~ngincompat.mechanics.fields.DirectionField`) subclasses :class:`GrowthKind` and names
 itself in
 the class attribute ``kind``; defining the class registers it, so :func:`make_growth`, the
-``custom`` scene and :class:`~ngincompat.fem.problem.CoupledGrowth` find it by that name. A new
+``custom`` scene and :class:`~ngincompat.fem.terms.GrowthEnergy` find it by that name. A new
 kind is one class::
 
     @dataclass(frozen=True, eq=False)

@@ -12,8 +12,8 @@ Growth is fiber growth, eq. (23), Fg = I + (theta - 1) f0 (x) f0, with
   interface, or none) and stretch-driven growth, eq. (45) with gamma = 0:
   d theta_a / dt = G_axn <lambda_e - lambda_crit>, lambda = |F f0|, lambda_e = lambda / theta_a,
 
-both in one :class:`~ngincompat.fem.problem.CoupledGrowth` (implicit Euler at the integration points
-with the consistent tangent), the cortex through a constant-rate law. Both layers are
+both in one :class:`~ngincompat.fem.coupled.CoupledProblem` (implicit Euler at the integration
+points with the consistent tangent), the cortex through a constant-rate law. Both layers are
 neo-Hookean (eq. 36) with lambda / mu = ``lam_ratio`` (100 by default: nearly incompressible,
 as the bifurcation oracle :mod:`ngincompat.references.bifurcation` assumes) and mu_cortex /
 mu_subcortex =
@@ -39,7 +39,7 @@ faces of the slab (plane strain). Stages:
    ``cortex_thickness`` at most (a perturbation of the displacement, not of the body: the
    flat state is unstable there, so it grows by itself), and growth goes on to ``t_end`` in
    adaptive steps with a viscous regularisation, eta / (2 dt) int |u - u_n|^2 dV
-   (:class:`~ngincompat.fem.problem.CoupledGrowth`, ``viscous``), eta = ``viscosity`` x
+   (:class:`~ngincompat.fem.terms.ViscousRegularisation`), eta = ``viscosity`` x
    ``mu_white``. An unstable mode (eigenvalue omega < 0) then grows at the rate |omega| / eta;
    implicit Euler follows that growth, and the step's tangent K + eta / dt M stays positive
    definite, only for dt < eta / |omega| (a longer step converges back to the flat state: seen
@@ -74,7 +74,7 @@ faces of the slab (plane strain). Stages:
    removed supports carried, measures it. Plane strain is kept (u2 = 0 on both slab
    faces): it is the two-dimensional model of the paper's one-element slab, not a support
    (the faces carry no resultant in X1 or X3). The supports' reactions are first put back
-   as a dead traction (:meth:`~ngincompat.fem.problem.CoupledGrowth.hold_by_traction`), which
+   as a dead traction (:meth:`~ngincompat.fem.terms.DeadTraction.hold`), which
    ``unloading`` (:class:`~ngincompat.fem.stages.UnloadingStage`) ramps to zero with the
    viscous regularisation on; the relaxation then finds the released equilibrium. The
    remaining stress is the incompatibility's.
@@ -113,10 +113,12 @@ from geometries import bilayer
 from ngincompat import sampling
 from ngincompat.errors import require
 from ngincompat.fem import buckling, postprocess
-from ngincompat.fem.problem import CoupledGrowth, pin_reactions
+from ngincompat.fem.coupled import CoupledProblem
+from ngincompat.fem.problem import pin_reactions
 from ngincompat.fem.shape import circle_curvature
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import CoupledStage, RelaxationStage, UnloadingStage
+from ngincompat.fem.terms import DeadTraction, GrowthEnergy, RigidPins, ViscousRegularisation
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import FiberGrowth
@@ -341,19 +343,24 @@ class FoldingCase:
                                           "subcortex": axons}, "f0")
         self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
                                       "subcortex": scene.axon_law()})
-        self.problem = self.coupled(GROWING)
-        self.released = None
+        self.problem, self.growth, self.viscous, _ = self.coupled(GROWING)
+        self.released = self.released_growth = None
         self.reactions = float("nan")
         self.mode = None
         self.pairs = None
 
     def coupled(self, symmetry, traction=None):
         """The viscous coupled bilayer with the symmetry planes ``symmetry`` (and a dead
-        traction on the boundaries ``traction``)."""
+        traction on the boundaries ``traction``), its rigid motions pinned: the problem and
+        its growth, viscous and traction (or None) terms."""
         scene = self.scene
-        return CoupledGrowth(self.mesh, "fiber", self.f0, self.law, self.material,
-                             order=scene.order, growth_order=scene.growth_order,
-                             symmetry=symmetry, viscous=True, traction=traction)
+        growth = GrowthEnergy("fiber", self.f0, self.law, self.material,
+                              growth_order=scene.growth_order)
+        viscous = ViscousRegularisation()
+        load = DeadTraction(traction) if traction else None
+        terms = [growth, viscous, *([load] if load else []), RigidPins()]
+        problem = CoupledProblem(self.mesh, terms, order=scene.order, symmetry=symmetry)
+        return problem, growth, viscous, load
 
     def _along_top(self, cf, n):
         """X1 and the values of ``cf`` at ``n`` points along the middle of the top surface."""
@@ -437,13 +444,13 @@ class FoldingCase:
         return False
 
     def perturb(self):
-        """Add the onset's buckling mode to the displacement (and to the last converged one the
-        viscous term measures from), scaled to ``imperfection`` x ``cortex_thickness`` on
-        the top surface."""
+        """Add the onset's buckling mode to the displacement, scaled to ``imperfection`` x
+        ``cortex_thickness`` on the top surface, and start the viscous regularisation
+        (:attr:`eta`) from there."""
         _, w = self.top_profile(self.mode)
         scale = self.scene.imperfection * self.scene.cortex_thickness / np.max(np.abs(w))
         self.problem.u.vec.data += scale * self.mode.vec
-        self.problem.u_old.vec.data = self.problem.u.vec
+        self.viscous.restart(self.eta)
 
     def approach_end(self):
         """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the onset of
@@ -503,26 +510,27 @@ class FoldingCase:
                             t_start=self.series["perfect"]["t"][-1], options=options,
                             observe=self._observe_buckling, unit="days")
 
-    def relaxation(self, name, problem):
-        """The gradient flow to the equilibrium at frozen growth of ``problem``, in
-        pseudo-time steps from the viscous march's largest."""
+    def relaxation(self, name, problem, viscous):
+        """The gradient flow to the equilibrium at frozen growth of ``problem`` (its viscous
+        term ``viscous``), in pseudo-time steps from the viscous march's largest."""
         options = newton(line_search=False, min_step=1e-6)
-        return RelaxationStage(name, problem, self.eta, self.viscous_step(), options=options,
+        return RelaxationStage(name, problem, viscous, self.eta, self.viscous_step(),
+                               options=options,
                                unit="days", eigenpairs=EIGENPAIRS, flow_rtol=FLOW_RTOL)
 
     def release(self):
         """The stages of the release from the current state, growth frozen: the bilayer
         without the supports (:data:`RELEASED`) held by their reactions as a dead traction,
         which ``unloading`` removes, then the relaxation to the released equilibrium."""
-        self.released = self.coupled(RELEASED, traction="|".join(sorted(set(GROWING) -
-                                                                        set(RELEASED))))
+        self.released, self.released_growth, viscous, load = self.coupled(
+            RELEASED, traction="|".join(sorted(set(GROWING) - set(RELEASED))))
         self.released.state.vec.data = self.problem.state.vec
-        self.released.theta_old.vec.data = self.problem.theta.vec
-        self.reactions = self.released.hold_by_traction()
+        self.released_growth.theta_old.vec.data = self.growth.theta.vec
+        self.reactions = load.hold()
         unloading = newton(line_search=True, min_step=1e-6, rtol=FLOW_RTOL)
-        return [UnloadingStage("unloading", self.released, self.eta, self.viscous_step(),
-                               options=unloading),
-                self.relaxation("release", self.released)]
+        return [UnloadingStage("unloading", self.released, viscous, load, self.eta,
+                               self.viscous_step(), options=unloading),
+                self.relaxation("release", self.released, viscous)]
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
@@ -535,8 +543,8 @@ class FoldingCase:
             return
         if self.mode is not None:
             self.perturb()
-            self.problem.viscosity.Set(self.eta)
-            solve_stages([self.buckling_stage(), self.relaxation("equilibrium", self.problem)],
+            solve_stages([self.buckling_stage(),
+                          self.relaxation("equilibrium", self.problem, self.viscous)],
                          progress, solution, after=self._note)
             if not solution.converged:
                 self._explain_crease(solution)
@@ -586,11 +594,12 @@ class FoldingCase:
         stretches = self.series["perfect"]["stretch"] + self.series["buckling"]["stretch"]
         if stretches:
             results.metrics["top_stretch_min"] = min(stretches)
-        flds = {"u": self.problem.u, "theta": self.problem.theta,
-                **self._stresses(self.problem, "", results.metrics)}
+        flds = {"u": self.problem.u, "theta": self.growth.theta,
+                **self._stresses(self.growth, self.problem.u, "", results.metrics)}
         if self.released is not None and solution.converged:
             flds["u_released"] = self.released.u
-            flds.update(self._stresses(self.released, "_released", results.metrics))
+            flds.update(self._stresses(self.released_growth, self.released.u, "_released",
+                                       results.metrics))
             results.metrics["top_curvature_released"] = self.top_curvature(self.released.u)
         if self.mode is not None:
             flds["buckling_mode"] = self.mode
@@ -611,7 +620,7 @@ class FoldingCase:
     def incompatibility(self):
         """theta_a, G (eq. 10, projected path), b on the plane normal to e2 (eq. 11), |b| and
         Curl Fg : Curl Fg of the current growth."""
-        theta = self.problem.theta
+        theta = self.growth.theta
         G, curl_Fg, _ = inc.incompatibility_projected(FiberGrowth(theta, self.f0).Fg,
                                                       self.mesh, self.scene.g_order)
         b = inc.burgers_vector(G, ngs.CF((0, 1, 0)))
@@ -619,13 +628,14 @@ class FoldingCase:
                 "G": G, "b": b, "|b|": ngs.Norm(b),
                 "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
 
-    def _stresses(self, problem, suffix, metrics):
-        """The Cauchy stress of ``problem`` and its largest principal value (fields
+    def _stresses(self, growth, u, suffix, metrics):
+        """The Cauchy stress of the growth term ``growth`` at the displacement ``u`` and its
+        largest principal value (fields
         ``sigma``, ``sigma_max`` + ``suffix``); into ``metrics`` that value's maximum over
         the integration points and vertices (``max_principal_stress`` + ``suffix``) and the
         reference depth below the top surface where it is reached (``peak_tension_depth``
         + ``suffix``)."""
-        sigma = postprocess.stresses(problem.energy_density, problem.u)["sigma"]
+        sigma = postprocess.stresses(growth.energy_density, u)["sigma"]
         largest = postprocess.largest_principal_value(sigma)
         points = element_points(self.mesh, 4)
         values = np.asarray(largest(points)).ravel()

@@ -51,7 +51,8 @@ from geometries.skin_patch import SIDE, THICKNESS
 from ngincompat import config, sampling
 from ngincompat.errors import require
 from ngincompat.fem import contact, postprocess
-from ngincompat.fem.problem import CoupledGrowth, GrowthMechanics
+from ngincompat.fem.coupled import CoupledProblem
+from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import (
     ContactControlStage,
@@ -60,6 +61,7 @@ from ngincompat.fem.stages import (
     PrescribedGrowthStage,
     restore_checkpoint,
 )
+from ngincompat.fem.terms import DeadTraction, GrowthEnergy, VolumeConstraint
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields
@@ -240,32 +242,41 @@ class SkinCase:
         scene, mesh = self.scene, self.mesh
         self.material = NeoHookean.from_nu(scene.mu, scene.nu)
         self.N0 = fields.constant("e3")
-        self.problem = CoupledGrowth(mesh, "area", self.N0, scene.law(), self.material,
-                                     order=scene.order, growth_order=scene.growth_order,
-                                     volume="footprint", expander=scene.expander_body(),
-                                     traction="footprint" if scene.expander == "contact"
-                                     else None, **CLAMP)
+        self.growth = GrowthEnergy("area", self.N0, scene.law(), self.material,
+                                   growth_order=scene.growth_order)
+        # the contact model's expander: the dome under the footprint, whose load a dead
+        # traction on the footprint takes over as it is emptied; the pressure model's, the
+        # volume under the footprint held by a pressure
+        self.in_contact = scene.expander == "contact"
+        if self.in_contact:
+            self.holder = contact.ExpanderContact(scene.expander_body(), "footprint")
+            self.traction = DeadTraction("footprint")
+            terms = [self.growth, self.traction, self.holder]
+        else:
+            self.holder, self.traction = VolumeConstraint("footprint"), None
+            terms = [self.growth, self.holder]
+        self.problem = CoupledProblem(mesh, terms, order=scene.order, **CLAMP)
         self.ramp = ngs.Parameter(0.0)
         self.relaxed = {}
 
     def stages(self, workdir, t_hold):
         """The load history from the hold time ``t_hold`` on (None: from the start)."""
-        scene, problem = self.scene, self.problem
+        scene, problem, holder = self.scene, self.problem, self.holder
         checkpoint = None if workdir is None else Path(workdir) / CHECKPOINT
         stages = []
         if t_hold is None:
             stages.append(CoupledStage("inflation", problem, t_end=1.0,
                                        dt=1.0 / scene.inflation_steps, grow=False,
-                                       volume=(0.0, scene.volume)))
-            if problem.expander is not None:
-                stages.append(ContactControlStage("contact", problem, scene.volume))
+                                       volume=(0.0, scene.volume), holder=holder))
+            if self.in_contact:
+                stages.append(ContactControlStage("contact", problem, holder, scene.volume))
         # the contact model's expander keeps the size that gave the volume
-        held = None if problem.expander is not None else (scene.volume, scene.volume)
+        held = None if self.in_contact else (scene.volume, scene.volume)
         # A hold step changes the tangent little: reusing it while Newton contracts took the
         # square's hold from 66 s to 31 s (43 iterations on 9 tangents, not 22 on 22); the
         # inflation got slower with it (29 tangents for 63 iterations) and keeps fresh ones.
         stages.append(CoupledStage("hold", problem, t_end=scene.hold_days, dt=scene.dt,
-                                   t_start=t_hold or 0.0, volume=held,
+                                   t_start=t_hold or 0.0, volume=held, holder=holder,
                                    options=NewtonOptions(max_iter=20, max_step=scene.dt,
                                                          reuse_tangent=True),
                                    checkpoint=checkpoint, unit="days"))
@@ -280,20 +291,21 @@ class SkinCase:
         # at 0.93 of the load), the deflation starts again from the end of the hold and lowers
         # the dome.
         deflation = dict(t_end=1.0, dt=DEFLATION_STEP, grow=False, observe=self._deflated)
-        lowered = CoupledStage("deflation", problem, volume=(None, 0.0), **deflation,
+        lowered = CoupledStage("deflation", problem, volume=(None, 0.0), holder=holder,
+                               **deflation,
                                options=NewtonOptions(max_iter=DEFLATION_MAX_ITER,
                                                      max_step=DEFLATION_STEP,
                                                      reuse_tangent=True))
-        if problem.expander is None:
+        if not self.in_contact:
             stages.append(lowered)
         else:
             stages.append(FallbackStage(
-                CoupledStage("deflation", problem, traction=(1.0, 0.0),
-                             start=problem.expander_to_traction, **deflation,
+                CoupledStage("deflation", problem, traction=(1.0, 0.0), dead_load=self.traction,
+                             start=self.expander_to_traction, **deflation,
                              options=NewtonOptions(max_iter=12, max_step=DEFLATION_STEP,
                                                    reuse_tangent=True)),
                 lowered, reset=self._back_to_end_of_hold))
-        ramped = AreaGrowth(1 + (problem.theta - 1) * self.ramp, self.N0)
+        ramped = AreaGrowth(1 + (self.growth.theta - 1) * self.ramp, self.N0)
         for stage, bcs in (("clamped", CLAMP), ("released", {})):
             relaxed = GrowthMechanics(self.mesh, ramped, self.material, order=scene.order,
                                       **bcs)
@@ -318,21 +330,33 @@ class SkinCase:
             solution.error += (f" (the last converged state of the hold is in {CHECKPOINT}; "
                                "run again with --set resume=true)")
 
+    def expander_to_traction(self):
+        """Hand the expander's load over to the dead traction (the expander being emptied):
+        the force the expander exerts on the footprint in the current state becomes the
+        traction (scale 1, :meth:`~ngincompat.fem.terms.DeadTraction.hold`) and the
+        expander is lowered to height 0, under the footprint (which stays in X3 >= 0), so
+        the state remains an equilibrium. Returns the norm of that force."""
+        require(self.in_contact, "expander", self.scene.expander,
+                "contact (a dome whose load a dead traction takes over)")
+        self.holder.target.Set(0.0)
+        return self.traction.hold()
+
     def _note(self, stage):
-        if stage.name == ("inflation" if self.problem.expander is None else "contact"):
+        if stage.name == ("contact" if self.in_contact else "inflation"):
             self._note_inflated()
         elif stage.name == "hold":
             self.noted.update(self._loads("end_of_hold"))
             self.end_of_hold = (self.problem.state.vec.CreateVector(),
-                                self.problem.volume_target.Get())
+                                self.holder.target.Get())
             self.end_of_hold[0].data = self.problem.state.vec
             self.load_end_of_hold = self._holding_load()
 
     def _back_to_end_of_hold(self):
         """The state, the expander and no dead traction of the end of the hold."""
         self.problem.state.vec.data = self.end_of_hold[0]
-        self.problem.volume_target.Set(self.end_of_hold[1])
-        self.problem.load_scale.Set(0.0)
+        self.holder.target.Set(self.end_of_hold[1])
+        if self.traction is not None:
+            self.traction.scale.Set(0.0)
 
     def _deflated(self, t) -> bool:
         """Whether the deflation has gone far enough: the load that holds the skin up has
@@ -342,29 +366,24 @@ class SkinCase:
     def _holding_load(self):
         """What holds the skin up in the current state: the pressure, or the contact force
         (the integral of the contact pressure over the footprint)."""
-        problem = self.problem
-        if problem.expander is None:
-            return problem.pressure()
-        if problem.load_scale.Get() > 0:    # the expander handed over to a dead traction
-            return problem.load_scale.Get() * self.load_end_of_hold
-        return ngs.Integrate(problem.contact_pressure(), self.mesh, ngs.BND,
+        if not self.in_contact:
+            return self.holder.pressure()
+        scale = self.traction.scale.Get()
+        if scale > 0:                       # the expander handed over to a dead traction
+            return scale * self.load_end_of_hold
+        return ngs.Integrate(self.holder.contact_pressure(), self.mesh, ngs.BND,
                              definedon=self.mesh.Boundaries("footprint"))
 
     def _note_inflated(self):
-        volume = self.problem.volume()
+        volume = self.holder.volume()
         self.noted.update(volume_inflated=volume,
                           volume_error_rel=abs(volume - self.scene.volume) / self.scene.volume,
                           **self._loads("inflated"))
 
     def _loads(self, when):
-        """What holds the volume at ``when``: the pressure, or the expander and its contact."""
-        problem = self.problem
-        if problem.expander is None:
-            return {f"pressure_{when}": problem.pressure()}
-        measured = contact.measure(self.mesh, "footprint", problem.expander,
-                                   problem.expander_height(), problem.gap(),
-                                   problem.contact_pressure())
-        return {f"{k}_{when}": v for k, v in measured.items()}
+        """What holds the volume at ``when``: the pressure, or the expander and its contact
+        (the measures of the problem's terms)."""
+        return {f"{k}_{when}": v for k, v in self.problem.measures().items()}
 
     def interrupted(self, solution: Solution) -> Results:
         results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
@@ -381,7 +400,7 @@ class SkinCase:
             return results          # the hold did not end: its checkpoint is the result
         if self.end_of_hold is not None:    # the deflation moved on from the held state
             self._back_to_end_of_hold()
-        scene, mesh, theta = self.scene, self.mesh, self.problem.theta
+        scene, mesh, theta = self.scene, self.mesh, self.growth.theta
         metrics, timings = results.metrics, results.timings
         footprint = mesh.Boundaries("footprint")
         area = ngs.Integrate(1, mesh, ngs.BND, definedon=footprint)
@@ -397,8 +416,8 @@ class SkinCase:
             b = inc.burgers_vector(G, self.N0.cf)
             metrics["burgers_max"] = sampling.maximum(ngs.Norm(b), mesh)
         flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_inflated": self.problem.u}
-        if self.problem.expander is not None:
-            flds.update(gap=self.problem.gap(), contact_pressure=self.problem.contact_pressure())
+        if self.in_contact:
+            flds.update(gap=self.holder.gap(), contact_pressure=self.holder.contact_pressure())
         for stage, relaxed in self.relaxed.items():
             if f"deflation_{stage}" not in solution.histories:
                 continue
@@ -410,8 +429,8 @@ class SkinCase:
                 flds[f"sigma_max_{stage}"], mesh)
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
         metrics.update(_where(mesh, theta, ngs.Norm(b)))
-        if self.problem.expander is not None and "sigma_min_released" in flds:
-            metrics.update(_compression(mesh, self.problem, flds["sigma_min_released"]))
+        if self.in_contact and "sigma_min_released" in flds:
+            metrics.update(_compression(mesh, self.holder, flds["sigma_min_released"]))
         if "curvature" in scene.output_set():
             # growth computed on the mesh: the Regge path, on the continuous interpolant of Fg
             # that G is computed from (theta itself may jump between elements)
@@ -448,12 +467,13 @@ def _map(mesh, flds, n=81):
     return {"mid_u": u, "mid_v": u, **{f"mid_{k}": v for k, v in sampled.items()}}
 
 
-def _compression(mesh, problem, sigma_min, spacing=0.1):
+def _compression(mesh, term, sigma_min, spacing=0.1):
     """The smallest principal Cauchy stress of the released patch over the former contact
-    zone, the points of the lower surface (on a grid of ``spacing``) that the expander
-    pressed at the end of the hold: its smallest value and its mean there."""
-    _, values = contact.sample(mesh, problem.expander,
-                               {"p": problem.contact_pressure(), "s": sigma_min}, spacing)
+    zone, the points of the lower surface (on a grid of ``spacing``) that the expander of
+    the contact ``term`` pressed at the end of the hold: its smallest value and its mean
+    there."""
+    _, values = contact.sample(mesh, term.expander,
+                               {"p": term.contact_pressure(), "s": sigma_min}, spacing)
     touched = values["s"][values["p"] > 0]
     if touched.size == 0:
         return {}
