@@ -52,7 +52,7 @@ import ngsolve as ngs
 import numpy as np
 
 from ngincompat.errors import require
-from ngincompat.fem.terms import Term, enclosed_volume_density
+from ngincompat.fem.terms import VolumeHolder
 
 
 def _ifpos(c, a, b):
@@ -190,7 +190,7 @@ def measure(mesh, boundary, expander, height, gap, pressure):
             "contact_pressure_mean": force / area if area > 0 else 0.0}
 
 
-class ExpanderContact(Term):
+class ExpanderContact(VolumeHolder):
     """The expander under the ``boundary`` (initially in the plane X3 = 0), in penalty
     contact with it: the energy int kappa R(-g) dA over the boundary (see the module's
     notes), with the dome's height H set by its own volume H int phi dA, the Parameter
@@ -207,8 +207,8 @@ class ExpanderContact(Term):
     """
 
     def __init__(self, expander: Expander, boundary: str):
-        self.expander, self.boundary = expander, boundary
-        self.target = ngs.Parameter(0.0)
+        super().__init__(boundary)
+        self.expander = expander
 
     def attach(self, problem, unknowns):
         self.mesh, self.u = problem.mesh, problem.u
@@ -243,11 +243,6 @@ class ExpanderContact(Term):
             step.Set(ngs.CoefficientFunction((0, 0, change / self.base_integral * phi)))
             self.u.vec.data += step.vec
 
-    def volume(self):
-        """The volume enclosed under the boundary in the current state."""
-        return ngs.Integrate(enclosed_volume_density(self.u), self.mesh, ngs.BND,
-                             definedon=self.mesh.Boundaries(self.boundary))
-
     def gap(self):
         """The contact gap g of the current state (a CF; negative: penetration)."""
         return self.expander.gap(_position(self.u), self.height())
@@ -267,14 +262,6 @@ class ExpanderContact(Term):
         """The expander and the contact (:func:`measure`)."""
         return measure(self.mesh, self.boundary, self.expander, self.expander_height(),
                        self.gap(), self.contact_pressure())
-
-    def saved(self):
-        return {"volume_target": self.target.Get()}
-
-    def restore(self, data):
-        if "volume_target" in data:             # older checkpoints: the hold sets it
-            self.target.Set(float(data["volume_target"]))
-
 
 def _position(u):
     """The current position x = X + u."""

@@ -10,16 +10,17 @@ part that is not a derivative: its implicit Euler residual (eq. 48) is the growt
 row, so only at frozen growth (dt = 0 or ``growing`` = 0) is the residual the derivative of
 Phi in u.
 
-============================  =============================================================
-:class:`GrowthEnergy`         int Jg Psi(F Fg(theta)^-1) dV, theta by a growth law (eq. 48)
+==============================  =============================================================
+:class:`GrowthEnergy`           int Jg Psi(F Fg(theta)^-1) dV, theta by a growth law (eq. 48)
 :class:`ViscousRegularisation`  eta / (2 dt) int |u - u_n|^2 dV
-:class:`DeadTraction`         -s int t . u dA on some boundaries
-:class:`VolumeConstraint`     p (V(u) - V*), the volume under a boundary held by a pressure
-:class:`RigidPins`            no energy: pins the rigid-body motions of a free body
-============================  =============================================================
+:class:`DeadTraction`           -s int t . u dA on some boundaries
+:class:`VolumeConstraint`       p (V(u) - V*): the volume under a boundary held by a pressure
+:class:`RigidPins`              no energy: pins the rigid-body motions of a free body
+==============================  =============================================================
 
-and :class:`~ngincompat.fem.contact.ExpanderContact`, the penalty contact with an expander.
-A term is one class with the methods of :class:`Term`; nothing else needs to know it.
+and :class:`~ngincompat.fem.contact.ExpanderContact`, the penalty contact with an expander
+(like :class:`VolumeConstraint` a :class:`VolumeHolder`, whose target stages drive). A term
+is one class with the methods of :class:`Term`; nothing else needs to know it.
 """
 
 from collections.abc import Sequence
@@ -285,7 +286,30 @@ def enclosed_volume_density(u):
     return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
 
 
-class VolumeConstraint(Term):
+class VolumeHolder(Term):
+    """What the terms that hold the volume under a ``boundary`` (initially in the plane
+    X3 = 0) share: the Parameter ``target`` that stages drive (``set_target``), the volume
+    they measure and the target a checkpoint keeps. A subclass sets ``mesh`` and ``u`` as
+    it is attached."""
+
+    def __init__(self, boundary: str):
+        self.boundary = boundary
+        self.target = ngs.Parameter(0.0)
+
+    def volume(self):
+        """The volume enclosed under the boundary in the current state."""
+        return ngs.Integrate(enclosed_volume_density(self.u), self.mesh, ngs.BND,
+                             definedon=self.mesh.Boundaries(self.boundary))
+
+    def saved(self):
+        return {"volume_target": self.target.Get()}
+
+    def restore(self, data):
+        if "volume_target" in data:             # older checkpoints: the hold sets it
+            self.target.Set(float(data["volume_target"]))
+
+
+class VolumeConstraint(VolumeHolder):
     """The volume V under the ``boundary`` (initially in the plane X3 = 0, e.g. an
     expander's footprint; :func:`enclosed_volume_density`) held at the Parameter ``target``
     V* by a pressure p, one more unknown: the energy p (V(u) - V*), a saddle point in (u, p),
@@ -297,11 +321,7 @@ class VolumeConstraint(Term):
     through the surface gradient ``Grad(u).Trace()`` (NGSolve 6.2.2608): of
     dV/du . v = v3 det + x3 d(det)/du . v it has the first part only, the pressure's vertical
     work, so the residual is the derivative of the energy along vertical displacements and
-    the pressure, not along in-plane ones (``tests/test_coupled.py`` pins this)."""
-
-    def __init__(self, boundary: str):
-        self.boundary = boundary
-        self.target = ngs.Parameter(0.0)
+    the pressure, not along in-plane ones (``tests/test_terms.py`` pins this)."""
 
     def spaces(self, problem):
         return (ngs.NumberSpace(problem.mesh),)
@@ -320,11 +340,6 @@ class VolumeConstraint(Term):
         """Set the volume target (``lift`` as for an expander's, here without effect)."""
         self.target.Set(volume)
 
-    def volume(self):
-        """The volume enclosed under the boundary in the current state."""
-        return ngs.Integrate(enclosed_volume_density(self.u), self.mesh, ngs.BND,
-                             definedon=self.mesh.Boundaries(self.boundary))
-
     def pressure(self):
         """The pressure that holds the volume (the multiplier, with the sign of a pressure
         pushing on the boundary)."""
@@ -335,13 +350,6 @@ class VolumeConstraint(Term):
 
     def measures(self):
         return {"pressure": self.pressure()}
-
-    def saved(self):
-        return {"volume_target": self.target.Get()}
-
-    def restore(self, data):
-        if "volume_target" in data:             # older checkpoints: the hold sets it
-            self.target.Set(float(data["volume_target"]))
 
 
 class RigidPins(Term):
