@@ -101,6 +101,11 @@ largest principal Cauchy stress. The fields are sampled on the mid-plane X2 = de
 components) for the figure of Fig. 7 a-c, the fields drawn on the deformed shape (``PANELS``:
 a panel whose fields a run has, e.g. after the release, is drawn), and along the vertical
 through the middle (profile "depth").
+
+Why one module: the scene's parameters, the stages of its case (approach, perfect branch,
+buckling, equilibrium, unloading, release) and its measures all turn on the same bilayer and
+its bifurcation onset, and a split would pass that state between modules; a sixth of the
+lines are this description.
 """
 
 import functools
