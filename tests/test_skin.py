@@ -102,9 +102,9 @@ def test_interrupted_hold_keeps_its_state_and_resumes(tmp_path, monkeypatch):
 def test_clamped_and_released_states_are_found_from_the_deflated_one(expanded_case):
     """The expander emptied quasi-statically, then taken out, with the clamp or without: each
     equilibrium found at once from the deflated state. The clamped skin stays bulged above its
-    base, in a state of lower energy than the one that applying the grown field in load steps
-    from u = 0 reaches (on this mesh that path buckles the skin downward, through the base); the
-    released skin is self-equilibrated and stable."""
+    base, in the state that applying the grown field in load steps from u = 0 reaches too (an
+    independent path to the same equilibrium); the released skin is self-equilibrated and
+    stable."""
     results, case = expanded_case
     # the volume lowered until the pressure no longer holds it, short of an empty expander;
     # what is measured of the inflated skin is the state at the end of the hold
@@ -121,8 +121,8 @@ def test_clamped_and_released_states_are_found_from_the_deflated_one(expanded_ca
                               order=case.scene.order, **CLAMP)
     case.ramp.Set(0.0)
     assert PrescribedGrowthStage("stepped", stepped, case.ramp).run(SILENT).converged
-    assert stepped.u(centre)[2] < 0
-    assert clamped.strain_energy() < stepped.strain_energy()
+    assert stepped.u(centre)[2] == pytest.approx(clamped.u(centre)[2], rel=1e-6)
+    assert stepped.strain_energy() == pytest.approx(clamped.strain_energy(), rel=1e-8)
 
     # released: the pins hold nothing of the forces removed at once (the residual of the free
     # patch in the deflated state) and no direction lowers the energy

@@ -286,6 +286,19 @@ def enclosed_volume_density(u):
     return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
 
 
+def enclosed_volume_variation(u, v):
+    """d/du of :func:`enclosed_volume_density` along v, written out:
+    v3 det(Fs) + x3 (dFs_11 Fs_22 + Fs_11 dFs_22 - dFs_12 Fs_21 - Fs_12 dFs_21) with
+    Fs = I + Grad(u) and dFs = Grad(v) on the boundary (their tangential parts)."""
+    Fs = ngs.Id(3) + ngs.Grad(u).Trace()
+    dFs = ngs.Grad(v).Trace()
+    x3 = ngs.z + u[2]
+    det = Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0]
+    ddet = (dFs[0, 0] * Fs[1, 1] + Fs[0, 0] * dFs[1, 1]
+            - dFs[0, 1] * Fs[1, 0] - Fs[0, 1] * dFs[1, 0])
+    return v[2] * det + x3 * ddet
+
+
 class VolumeHolder(Term):
     """What the terms that hold the volume under a ``boundary`` (initially in the plane
     X3 = 0) share: the Parameter ``target`` that stages drive (``set_target``), the volume
@@ -313,15 +326,13 @@ class VolumeConstraint(VolumeHolder):
     """The volume V under the ``boundary`` (initially in the plane X3 = 0, e.g. an
     expander's footprint; :func:`enclosed_volume_density`) held at the Parameter ``target``
     V* by a pressure p, one more unknown: the energy p (V(u) - V*), a saddle point in (u, p),
-    whose residual is
+whose residual is
 
-        int p dV/du . v dA + (V(u) - V*) q.
+        int p dV/du . v dA + (V(u) - V*) q,
 
-    The first integral is formed by NGSolve's ``Diff(u, v)``, which does not differentiate
-    through the surface gradient ``Grad(u).Trace()`` (NGSolve 6.2.2608): of
-    dV/du . v = v3 det + x3 d(det)/du . v it has the first part only, the pressure's vertical
-    work, so the residual is the derivative of the energy along vertical displacements and
-    the pressure, not along in-plane ones (``tests/test_terms.py`` pins this)."""
+    with dV/du . v written out (:func:`enclosed_volume_variation`): NGSolve's ``Diff(u, v)``
+    does not differentiate through the surface gradient ``Grad(u).Trace()`` (6.2.2608), and
+    would leave out the in-plane part x3 d(det)/du . v."""
 
     def spaces(self, problem):
         return (ngs.NumberSpace(problem.mesh),)
@@ -333,7 +344,7 @@ class VolumeConstraint(VolumeHolder):
         u, v = problem.displacement.trial, problem.displacement.test
         dV = enclosed_volume_density(u)
         area = ngs.Integrate(1, self.mesh, ngs.BND, definedon=self.mesh.Boundaries(self.boundary))
-        return ((p * dV).Diff(u, v) * ngs.ds(self.boundary)
+        return (p * enclosed_volume_variation(u, v) * ngs.ds(self.boundary)
                 + (dV - self.target / area) * q * ngs.ds(self.boundary))
 
     def set_target(self, volume, lift=False):
