@@ -77,6 +77,19 @@ def test_failed_step_is_cut_and_last_converged_state_is_kept():
     assert worst < 1e-8
 
 
+def test_an_infinite_residual_at_the_start_is_no_convergence():
+    """A growth so steep that the first residual overflows (theta = 1 + 1e300 X1 t) never
+    counts as converged: the tolerance max(rtol r0, atol) is infinite there, and inf <= inf
+    must not pass. The steps are cut to min_step and the solver raises, at t = 0."""
+    problem, time = cube_problem(a=1e300, order=1)
+    with pytest.raises(ConvergenceError) as err:
+        solve_growth(problem, time, NewtonOptions(min_step=0.25))
+    steps = err.value.history.steps
+    assert steps and not any(s.converged for s in steps)
+    assert all("not finite" in s.reason for s in steps)
+    assert err.value.t_converged == 0.0 and time.Get() == 0.0
+
+
 def test_reused_tangents_reach_the_same_state_with_fewer_assemblies():
     solutions = {}
     for reuse in (False, True):

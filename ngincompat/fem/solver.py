@@ -393,7 +393,7 @@ class NewtonSolver:
         r0 = r.Norm()
         record.residuals.append(r0)
         E = self.energy(u) if self.has_energy else _merit(r0)
-        if not math.isfinite(E):
+        if not (math.isfinite(E) and math.isfinite(r0)):   # inf <= rtol * inf would pass
             record.reason = "energy or residual is not finite at the start of the step"
             return False
         fresh = True
