@@ -2,6 +2,7 @@
 measured, written only when asked."""
 
 import json
+import math
 
 import pytest
 
@@ -52,8 +53,9 @@ def test_a_stage_that_stops_ends_the_walk_and_keeps_its_history(outcome, status)
 
 
 class FakeCase:
-    def __init__(self, stages):
+    def __init__(self, stages, extra=None):
         self.stages = stages
+        self.extra = extra or {}
 
     def solve(self, solution, progress, workdir):
         pipeline.solve_stages(self.stages, progress, solution)
@@ -68,20 +70,21 @@ class FakeCase:
 
     def measure(self, solution, progress):
         results = self._results(solution, solution.status)
-        results.metrics = {"strain_energy": 1.5}
+        results.metrics = {"strain_energy": 1.5, **self.extra}
         return results
 
 
 class FakeScene:
     name = "fake"
 
-    def __init__(self, *outcomes):
+    def __init__(self, *outcomes, extra=None):
         self.log = []
         self.outcomes = outcomes
+        self.extra = extra
 
     def build(self):
         return FakeCase([FakeStage(f"stage{i}", self.log, outcome)
-                         for i, outcome in enumerate(self.outcomes)])
+                         for i, outcome in enumerate(self.outcomes)], self.extra)
 
     def resumes(self, out):
         return False
@@ -103,6 +106,18 @@ def test_a_stage_that_does_not_converge_is_measured_written_and_raised(tmp_path)
     written = json.loads((tmp_path / "run" / "results.json").read_text())
     assert written["status"] == NOT_CONVERGED and written["metrics"] == results.metrics
     assert written["error"].startswith("stage1: step below min_step")
+
+
+@pytest.mark.parametrize("value", [math.inf, -math.inf, math.nan])
+def test_a_metric_that_is_not_finite_fails_a_converged_run(tmp_path, value):
+    """Every stage converged, but a metric overflowed: not "done" (exit 3), the metric null in
+    results.json and named in the error."""
+    with pytest.raises(ConvergenceError) as err:
+        pipeline.run(FakeScene("converge", extra={"burgers_max": value}), tmp_path / "run")
+    assert err.value.results.status == NOT_CONVERGED
+    written = json.loads((tmp_path / "run" / "results.json").read_text())
+    assert written["status"] == NOT_CONVERGED and written["metrics"]["burgers_max"] is None
+    assert "burgers_max" in written["error"] and written["metrics"]["strain_energy"] == 1.5
 
 
 @pytest.mark.parametrize("outcome", ["interrupt", "keyboard"])

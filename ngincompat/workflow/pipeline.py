@@ -17,6 +17,7 @@ interrupted, and records which.
 from __future__ import annotations
 
 import contextlib
+import math
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -109,6 +110,17 @@ def solve_stages(stages, progress: Progress = SILENT, solution: Solution | None 
     return solution
 
 
+def _refuse_non_finite(solution, results):
+    """A run that reports a metric that is not a finite number has not computed what it
+    reports: it is "not converged" (exit 3), its results written with that metric null."""
+    bad = [k for k, v in results.metrics.items() if v is None or not math.isfinite(v)]
+    if bad and solution.status == DONE:
+        solution.status = results.status = NOT_CONVERGED
+        solution.error = results.error = (
+            f"metrics not finite: {', '.join(bad)} (the input drives the model beyond what "
+            "double precision holds)")
+
+
 def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT,
         label: str | None = None) -> Results:
     """Build, solve and measure ``scene``; write its folder ``out`` if given.
@@ -156,6 +168,7 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
                 results = case.interrupted(solution)
             else:
                 results = case.measure(solution, progress)
+                _refuse_non_finite(solution, results)
             results.timings = {**timings, **solution.timings, **results.timings}
             if out is not None:
                 with progress.phase("writing results"):
