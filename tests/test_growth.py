@@ -261,6 +261,10 @@ def test_non_positive_theta_is_an_error_that_names_where(unit_cube_hex):
     assert time.Get() == 0.0  # the caller's time is restored
     with pytest.raises(ParameterError, match="positive"):
         check_positive(ngs.log(ngs.x), unit_cube_hex)
+    # a dip below zero between the quarter times (theta < 0 for 7/48 < t < 11/48) is found,
+    # at the first check time in it, 19/128: theta = 1 - 2 sin(3 pi / 16)
+    with pytest.raises(ParameterError, match=r"theta = -0.1111 at .*, t = 0.148438:"):
+        check_positive(1 + 2 * ngs.sin(8 * ngs.pi * time), unit_cube_hex, time)
 
 
 def test_bilayer_axon_orientations(unit_cube_hex):
