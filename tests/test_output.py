@@ -1,5 +1,12 @@
 """The output folder: checked before anything is computed, never mixing two runs."""
 
+import json
+import logging
+import os
+import socket
+import subprocess
+import sys
+
 import pytest
 
 from ngincompat.errors import ParameterError
@@ -31,7 +38,8 @@ def test_a_folder_with_another_run_is_refused_unless_overwrite(tmp_path):
     with pytest.raises(ParameterError, match="holds another run.*--overwrite"):
         output.prepare(tmp_path)
     # overwrite removes what the old run wrote, and nothing else
-    output.prepare(tmp_path, overwrite=True)
+    with output.folder(tmp_path, overwrite=True):
+        assert {p.name for p in tmp_path.iterdir()} == {"notes.txt", output.LOCK}
     assert {p.name for p in tmp_path.iterdir()} == {"notes.txt"}
 
 
@@ -79,3 +87,55 @@ def test_vtk_fields_are_interpolated_once_and_gridfunctions_kept():
     point = mesh(0.3, 0.6, 0.7)
     assert out["s"](point) == pytest.approx(0.3 * 0.6 * 0.7, rel=1e-10)
     assert out["v"](point) == pytest.approx((0.3, 0.36, 1.0), rel=1e-10)
+
+
+def _lock(folder, pid):
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / output.LOCK).write_text(json.dumps(
+        {"pid": pid, "host": socket.gethostname(), "started": "2026-01-01 00:00:00"}))
+
+
+def test_a_folder_in_use_by_a_live_run_is_refused(tmp_path):
+    """Two runs into one folder: the second is refused before it computes, naming the first;
+    the first's lock stays."""
+    holder = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        _lock(tmp_path, holder.pid)
+        with pytest.raises(ParameterError, match=f"in use by another run \\(process "
+                                                 f"{holder.pid} on "):
+            CubeScene(order=1, maxh=1.0).run(tmp_path)
+        assert json.loads((tmp_path / output.LOCK).read_text())["pid"] == holder.pid
+        assert not (tmp_path / "results.json").exists()
+    finally:
+        holder.kill()
+        holder.wait()
+
+
+def test_the_lock_of_a_dead_run_is_taken_over_and_released_after_the_run(tmp_path, caplog):
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True)
+    _lock(tmp_path, int(dead.stdout))
+    with caplog.at_level(logging.WARNING, logger="ngincompat.workflow.output"):
+        results = CubeScene(order=1, maxh=1.0, outputs="none").run(tmp_path)
+    assert "no longer lives" in caplog.text
+    assert results.status == "done" and not (tmp_path / output.LOCK).exists()
+
+
+def test_the_lock_is_released_when_a_run_fails(tmp_path, monkeypatch):
+    from ngincompat.scenes import prescribed
+
+    def fails(*args, **kwargs):
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(prescribed.PrescribedCase, "measure", fails)
+    with pytest.raises(RuntimeError):
+        CubeScene(order=1, maxh=1.0).run(tmp_path)
+    assert not (tmp_path / output.LOCK).exists()
+
+
+def test_a_process_cannot_take_its_own_folder_twice(tmp_path):
+    with output.folder(tmp_path):
+        assert json.loads((tmp_path / output.LOCK).read_text())["pid"] == os.getpid()
+        with pytest.raises(ParameterError, match="in use by this process's own run"):
+            output.prepare(tmp_path)
+    assert not (tmp_path / output.LOCK).exists()

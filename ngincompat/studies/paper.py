@@ -88,8 +88,14 @@ def run_all(out=None, progress=SILENT, overwrite=False, quick=False):
 
     A case that does not converge is a row with its status; the others still run.
     ``quick`` runs every case on coarse settings (:data:`QUICK`)."""
-    if out is not None:
-        out = output.prepare(out, overwrite=overwrite)
+    if out is None:
+        return _run_all(None, progress, overwrite, quick)
+    with output.folder(out, overwrite=overwrite) as out:
+        return _run_all(out, progress, overwrite, quick)
+
+
+def _run_all(out, progress, overwrite, quick):
+    """:func:`run_all` in a folder already prepared (or none)."""
     rows, results = [], {}
     runs = cases(quick)
     for label, scene in runs:

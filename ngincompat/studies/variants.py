@@ -25,8 +25,14 @@ def run_variants(scenes, out=None, key="variant", metrics=(), progress=SILENT,
     Returns the rows (``key``: the name, status, ndof, seconds and the ``metrics``, None
     where a run has no value) and the results by name.
     """
-    if out is not None:
-        out = output.prepare(out, overwrite=overwrite)
+    if out is None:
+        return _run_variants(scenes, None, key, metrics, progress, overwrite, label)
+    with output.folder(out, overwrite=overwrite) as out:
+        return _run_variants(scenes, out, key, metrics, progress, overwrite, label)
+
+
+def _run_variants(scenes, out, key, metrics, progress, overwrite, label):
+    """:func:`run_variants` in a folder already prepared (or none)."""
     rows, results = [], {}
     for name, scene in scenes.items():
         start = time.perf_counter()

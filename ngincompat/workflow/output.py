@@ -1,8 +1,9 @@
 """A run's folder: checked before any computation, written from a :class:`Results` only.
 
-:func:`prepare` runs first: the folder must be a folder (or creatable), writable, and not hold
-another run unless ``overwrite`` is given, which removes the files the old run wrote (listed
-in its results.json or summary.json) and nothing else. :func:`write` writes results.json, the
+:func:`prepare` runs first: the folder must be a folder (or creatable), writable, not in use
+by another run (:data:`LOCK`, held until :func:`release`), and not hold another run unless
+``overwrite`` is given, which removes the files the old run wrote (listed in its results.json
+or summary.json) and nothing else. :func:`write` writes results.json, the
 VTK fields, the figures and the growth field as data, each atomically, so an interrupted run
 never leaves a half-written file; :func:`read` reads results.json back into a
 :class:`Results` (without the NGSolve fields).
@@ -10,7 +11,12 @@ never leaves a half-written file; :func:`read` reads results.json back into a
 
 from __future__ import annotations
 
+import contextlib
+import json
+import logging
 import os
+import socket
+import sys
 import time
 from pathlib import Path
 
@@ -24,8 +30,14 @@ from ngincompat.workflow import io, plots
 from ngincompat.workflow.inputs import save_growth, save_mesh
 from ngincompat.workflow.results import Results
 
+log = logging.getLogger(__name__)
+
 #: Files that mark a folder as holding a run (a scene's, or a summary of several).
 MARKERS = ("results.json", "summary.json")
+#: The file by which a run holds its folder while it computes: its process, host, start and
+#: command line. A second run into the folder is refused while the holder lives; the file of a
+#: process that died (killed, a crashed machine) is removed with a warning.
+LOCK = ".ngincompat.lock"
 
 
 def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
@@ -57,14 +69,90 @@ def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
         raise ParameterError(f"--out {out} cannot be created: {err.strerror}") from None
     if not os.access(out, os.W_OK | os.X_OK):
         raise ParameterError(f"--out {out} is not writable")
-    marker = next((out / m for m in MARKERS if (out / m).is_file()), None)
-    if marker is None or resume:
-        return out
-    if not overwrite:
-        raise ParameterError(f"--out {out} holds another run ({marker.name}): choose another "
-                             "folder, or pass --overwrite to replace it")
-    _remove_run(out)
+    _acquire(out)
+    try:
+        marker = next((out / m for m in MARKERS if (out / m).is_file()), None)
+        if marker is None or resume:
+            return out
+        if not overwrite:
+            raise ParameterError(f"--out {out} holds another run ({marker.name}): choose "
+                                 "another folder, or pass --overwrite to replace it")
+        _remove_run(out)
+    except BaseException:
+        release(out)
+        raise
     return out
+
+
+@contextlib.contextmanager
+def folder(out, overwrite: bool = False, resume: bool = False):
+    """:func:`prepare` the folder for the block (yielding its path) and :func:`release` it
+    after."""
+    out = prepare(out, overwrite=overwrite, resume=resume)
+    try:
+        yield out
+    finally:
+        release(out)
+
+
+def release(out) -> None:
+    """Let go of the folder :func:`prepare` took (nothing if this process does not hold it)."""
+    path = Path(out) / LOCK
+    holder = _holder(path)
+    if holder.get("pid") == os.getpid() and holder.get("host") == socket.gethostname():
+        path.unlink(missing_ok=True)
+
+
+def _acquire(out: Path) -> None:
+    """Take the folder's :data:`LOCK`, or raise naming the live run that holds it."""
+    path = out / LOCK
+    record = {"pid": os.getpid(), "host": socket.gethostname(),
+              "started": time.strftime("%Y-%m-%d %H:%M:%S"), "argv": sys.argv}
+    for _ in range(3):
+        try:
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+        except FileExistsError:
+            holder = _holder(path)
+            if holder.get("pid") == os.getpid() and holder.get("host") == record["host"]:
+                raise ParameterError(f"--out {out} is in use by this process's own run: "
+                                     "choose another folder") from None
+            if _alive(holder):
+                raise ParameterError(
+                    f"--out {out} is in use by another run (process {holder.get('pid')} on "
+                    f"{holder.get('host')}, since {holder.get('started')}): wait for it, or "
+                    "choose another folder") from None
+            log.warning("%s: removing the lock of a run that no longer lives (process %s, "
+                        "since %s)", out, holder.get("pid"), holder.get("started"))
+            path.unlink(missing_ok=True)
+            continue
+        with os.fdopen(fd, "w") as f:
+            json.dump(record, f)
+        return
+    raise ParameterError(f"--out {out}: its lock {LOCK} could not be taken (another run "
+                         "keeps starting there)")
+
+
+def _holder(path: Path) -> dict:
+    """The record in a lock file ({} for none, or one being written)."""
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError):
+        return {}
+
+
+def _alive(holder: dict) -> bool:
+    """Does the process that wrote ``holder`` live? One on another host is taken to live; a
+    record without a process (being written this instant) too."""
+    pid = holder.get("pid")
+    if not isinstance(pid, int) or holder.get("host") != socket.gethostname():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
 
 
 def _remove_run(out: Path) -> None:

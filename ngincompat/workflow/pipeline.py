@@ -151,9 +151,17 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
         Ctrl-C: results.json marked "interrupted" (solver history, no metrics) was written;
         the exception's ``results`` holds it.
     """
-    if out is not None:
-        out = parallel.on_root(output.prepare, out, overwrite=overwrite,
-                               resume=scene.resumes(out))
+    if out is None:
+        return _run(scene, None, progress, label)
+    out = parallel.on_root(output.prepare, out, overwrite=overwrite, resume=scene.resumes(out))
+    try:
+        return _run(scene, out, progress, label)
+    finally:
+        parallel.on_root(output.release, out)
+
+
+def _run(scene, out, progress, label):
+    """:func:`run` in a folder already prepared (or none)."""
     with progress.case(label or scene.name):
         timings: dict[str, float] = {}
         with progress.phase("meshing"), timed(timings, "mesh"):

@@ -300,7 +300,13 @@ def run_sweep(sweep, out, *, workers=None, threads=None, scheduler=None, resume=
         if value is not None and not (isinstance(value, int) and value >= low):
             raise ParameterError(f"{name} = {value!r} is out of range: allowed an integer "
                                  f">= {low}")
-    out = output.prepare(out).resolve()
+    with output.folder(out) as folder:
+        return _sweep_in(sweep, folder.resolve(), workers, threads, scheduler, resume,
+                         max_cases, progress)
+
+
+def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progress):
+    """:func:`run_sweep` in its folder, prepared and held."""
     record = sweep.record()
     _check_record(out, record, resume)
     cases = sweep.cases()
