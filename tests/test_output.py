@@ -24,6 +24,15 @@ def test_a_file_as_output_folder_is_refused(tmp_path):
     assert target.read_text() == "mine"
 
 
+@pytest.mark.parametrize("empty", ["", "  "])
+def test_an_empty_output_folder_name_is_refused(tmp_path, monkeypatch, empty):
+    """--out '' once wrote into the current folder."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ParameterError, match="^--out '' is empty"):
+        output.prepare(empty)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_folder_that_cannot_be_created_is_refused():
     """/proc takes no new folders, whoever asks (the tests may run as root, who may write
     into any ordinary folder)."""

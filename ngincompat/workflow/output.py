@@ -58,6 +58,8 @@ def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
         ``out`` is a file or lies under one, cannot be created or written, or holds another
         run and neither ``overwrite`` nor ``resume`` is given.
     """
+    if not str(out).strip():
+        raise ParameterError("--out '' is empty: give a folder")
     out = Path(out)
     for parent in [out, *out.parents]:
         if parent.exists() and not parent.is_dir():
