@@ -47,7 +47,7 @@ def _outputs(text):
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
     energy; the scene's optional outputs (:data:`ngincompat.parameters.OUTPUTS`) are passed
-    on, checked by :class:`~ngincompat.parameters.Outputs`."""
+    on as :class:`~ngincompat.parameters.Outputs`."""
     items = {item.strip() for item in text.split(",") if item.strip()}
     unknown = items - set(OUTPUT_NAMES)
     if unknown or not items:

@@ -21,8 +21,6 @@ where an order needs more (:func:`ensure_heap`).
 import contextlib
 import os
 
-import ngsolve as ngs
-
 from ngincompat.errors import require
 
 VERSION = "0.1.0"
@@ -85,23 +83,33 @@ def ensure_heap(nbytes):
     global _heap_in_force
     need = max(int(nbytes), _floor())
     if need > _heap_in_force:
-        ngs.SetHeapSize(need)
+        import ngsolve
+
+        ngsolve.SetHeapSize(need)
         _heap_in_force = need
 
 
 @contextlib.contextmanager
 def task_manager():
-    """NGSolve's task manager on :func:`threads` threads, with the heap of :func:`ensure_heap`."""
+    """NGSolve's task manager on :func:`threads` threads, with the heap of :func:`ensure_heap`;
+    NGSolve's own thread count comes back after the outermost one."""
     global _depth
+    import ngsolve
+    from pyngcore import GetNumThreads
+
     ensure_heap(0)
     if _depth == 0:      # the thread count cannot change inside a running task manager
-        ngs.SetNumThreads(threads())
+        with ngsolve.TaskManager():             # NGSolve's count, read where it is defined
+            before = GetNumThreads()
+        ngsolve.SetNumThreads(threads())
     _depth += 1
     try:
-        with ngs.TaskManager():
+        with ngsolve.TaskManager():
             yield
     finally:
         _depth -= 1
+        if _depth == 0:
+            ngsolve.SetNumThreads(before)
 
 
 @contextlib.contextmanager

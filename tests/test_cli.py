@@ -11,7 +11,6 @@ from ngincompat.fem.solver import NewtonSolver
 CUBE = ["run", "cube", "--order", "1", "--maxh", "1"]
 
 
-
 def test_not_converged_exits_3_with_the_last_converged_state_written(tmp_path, monkeypatch,
                                                                      capsys):
     def never(self, record):

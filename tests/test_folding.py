@@ -109,7 +109,6 @@ def test_wavelength_of_sampled_data():
     assert np.isnan(buckling.wavelength(x, 1 + x))
 
 
-
 def coupled_block(mesh, order=2):
     """A nearly incompressible coupled body in a smooth state, its growth held: the growth
     theta = 1.2 + 0.2 X1 along e1 taken up by u1 = int (theta - 1) dX1, plus a bend. (A

@@ -70,6 +70,22 @@ def test_closed_forms_match_generic_exact_path(growth, unit_cube_hex):
     assert inc.relative_l2_error(G, reference, unit_cube_hex) < 1e-13
 
 
+@pytest.mark.parametrize("kind", ["isotropic", "area", "fiber"])
+def test_closed_form_curls_match_generic_exact_path(kind, unit_cube_hex):
+    """Curl Fg of eq. (15), (19) and (24) against eq. (7) with symbolic derivatives."""
+    direction = fields.constant((0.3, -0.5, 1.0))
+    grad = inc.grad_scalar(THETA)
+    growth, reference = {
+        "isotropic": (IsotropicGrowth(THETA), inc.curl_isotropic_closed_form(THETA, grad)),
+        "area": (AreaGrowth(THETA, direction),
+                 inc.curl_area_closed_form(THETA, grad, direction.cf)),
+        "fiber": (FiberGrowth(THETA, direction),
+                  inc.curl_fiber_closed_form(THETA, grad, direction.cf)),
+    }[kind]
+    assert l2_norm(reference, unit_cube_hex) > 1e-2
+    assert inc.relative_l2_error(inc.curl_exact(growth.Fg), reference, unit_cube_hex) < 1e-13
+
+
 def test_isotropic_burgers_vectors_lie_in_their_plane(unit_cube_hex):
     """Eq. (16)-(17): G is skew, so n . G^T n = 0 for every normal, and b is orthogonal to
     grad theta on every plane (b = (1/(3 theta^(4/3))) grad theta x n up to sign)."""

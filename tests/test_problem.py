@@ -38,6 +38,7 @@ def test_uniform_growth_is_stress_free_and_affine(elements):
     G = inc.incompatibility_tensor(Fg, inc.curl_exact(Fg))
     assert ngs.Integrate(ngs.InnerProduct(G, G), mesh) ** 0.5 < 1e-14
 
+
 MATERIAL = NeoHookean.paper_idealized()
 
 

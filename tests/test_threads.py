@@ -38,6 +38,24 @@ def test_importing_the_package_leaves_ngsolve_as_it_was():
     assert int(out.stdout.split()[-1]) == os.cpu_count()   # NGSolve's own default
 
 
+def test_after_the_package_ran_ngsolve_has_its_own_thread_count_back():
+    code = ("import ngsolve\nfrom pyngcore import GetNumThreads\n"
+            "from ngincompat import config\n"
+            "with config.task_manager():\n    inside = GetNumThreads()\n"
+            "with ngsolve.TaskManager(): print(inside, GetNumThreads())")
+    env = {k: v for k, v in os.environ.items() if k != "NGS_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                         check=True)
+    assert [int(n) for n in out.stdout.split()] == [1, os.cpu_count()]
+
+
+def test_importing_the_package_does_not_load_ngsolve():
+    code = "import sys, ngincompat\nprint('ngsolve' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.split() == ["False"]
+
+
 def test_configure_validates_and_only_raises_the_heap():
     with pytest.raises(ParameterError, match="^threads = 0"):
         ngincompat.configure(threads=0)

@@ -224,7 +224,7 @@ class ExpanderContact(VolumeHolder):
         return self.target / self.base_integral
 
     def expander_height(self):
-        """The expander's height H at the current target."""
+        """The expander's height H at the current target (:meth:`height`'s value)."""
         return self.target.Get() / self.base_integral
 
     def set_target(self, volume, lift=False):
@@ -262,6 +262,7 @@ class ExpanderContact(VolumeHolder):
         """The expander and the contact (:func:`measure`)."""
         return measure(self.mesh, self.boundary, self.expander, self.expander_height(),
                        self.gap(), self.contact_pressure())
+
 
 def _position(u):
     """The current position x = X + u."""

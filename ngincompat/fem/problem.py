@@ -41,6 +41,7 @@ from ngincompat.mechanics.materials import Material, MixedMaterial
 
 log = logging.getLogger(__name__)
 
+
 def ensure_heap(order):
     """Raise NGSolve's local heap so the element matrices of ``order`` fit.
 

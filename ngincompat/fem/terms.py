@@ -326,7 +326,7 @@ class VolumeConstraint(VolumeHolder):
     """The volume V under the ``boundary`` (initially in the plane X3 = 0, e.g. an
     expander's footprint; :func:`enclosed_volume_density`) held at the Parameter ``target``
     V* by a pressure p, one more unknown: the energy p (V(u) - V*), a saddle point in (u, p),
-whose residual is
+    whose residual is
 
         int p dV/du . v dA + (V(u) - V*) q,
 

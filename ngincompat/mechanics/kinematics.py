@@ -19,16 +19,6 @@ def elastic_part(F, Fg):
     return F * ngs.Inv(Fg)
 
 
-def right_cauchy_green(F):
-    """C = F^T F (eq. 5)."""
-    return F.trans * F
-
-
-def left_cauchy_green(F):
-    """B = F F^T (eq. 5)."""
-    return F * F.trans
-
-
 def jacobian(F):
     """J = det F (eq. 2)."""
     return ngs.Det(F)

@@ -650,7 +650,6 @@ class FoldingCase:
             self.scene.height - np.asarray(ngs.z(points)).ravel()[peak])
         return {f"sigma{suffix}": sigma, f"sigma_max{suffix}": largest}
 
-
     def burgers_metrics(self, b_norm):
         """The largest |b|, its depth below the top and its X1."""
         value, where = sampling.argmax(b_norm, self.mesh)

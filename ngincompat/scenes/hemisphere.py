@@ -64,7 +64,7 @@ class HemisphereScene(prescribed.PrescribedScene):
 
     def __post_init__(self):
         super().__post_init__()
-        require(0 < self.centre_maxh <= self.maxh, "centre_maxh", self.centre_maxh,
+        require(self.centre_maxh <= self.maxh, "centre_maxh", self.centre_maxh,
                 f"in (0, maxh = {self.maxh}]")
 
     def build(self):

@@ -238,7 +238,6 @@ def _curvature(case, fields):
     return metrics
 
 
-
 def _mechanics(case, problem, fields):
     """Stress fields and metrics of the solved body; adds the fields, returns the metrics."""
     stress = postprocess.stresses(problem.energy_density, problem.u)

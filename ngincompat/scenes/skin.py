@@ -88,6 +88,7 @@ CONTACT_QUANTITIES = {"expander_height": "length", "contact_area": "area",
 CONTACT_METRICS = tuple(f"{k}_{when}" for when in ("inflated", "end_of_hold")
                         for k in CONTACT_QUANTITIES)
 
+
 @dataclass(frozen=True)
 class SkinExpansionScene(Elastic, Scene):
     """Tissue expansion of a 10 x 10 x 0.3 cm skin patch (section 3.6)."""

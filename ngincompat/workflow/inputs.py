@@ -79,6 +79,7 @@ _INTERIOR_POINTS = {
 # meshes
 # ---------------------------------------------------------------------------------------------
 
+
 def load_mesh(path, curve_order=None):
     """Read a volume mesh file: Netgen's own, or one of the formats meshio reads.
 

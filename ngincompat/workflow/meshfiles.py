@@ -70,6 +70,7 @@ def point(p):
     """Coordinates for a message: ``(x, y, z)``."""
     return "(" + ", ".join(f"{float(c):.6g}" for c in p) + ")"
 
+
 #: Corners of each first-order cell type of meshio that is read.
 _CORNERS = {"tetra": 4, "pyramid": 5, "wedge": 6, "hexahedron": 8, "triangle": 3, "quad": 4}
 

@@ -22,7 +22,6 @@ from ngincompat.workflow import io
 
 #: The ending of a run, as written to results.json.
 DONE, NOT_CONVERGED, INTERRUPTED = "done", "not converged", "interrupted"
-STATUSES = (DONE, NOT_CONVERGED, INTERRUPTED)
 
 
 @dataclass

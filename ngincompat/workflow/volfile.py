@@ -262,7 +262,6 @@ def _probe_geometry(path, geometry_part):
     _GEOMETRIES_READ.add(digest)
 
 
-
 def _checked_vol_mesh(path, ngmesh):
     """The ngsolve.Mesh of a .vol file whose nodes are all corners of volume elements."""
     mesh = ngs.Mesh(ngmesh)

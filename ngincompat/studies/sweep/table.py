@@ -23,6 +23,8 @@ NAME = "sweep"
 PARQUET = f"{NAME}.parquet"
 RECORD = f"{NAME}.json"
 FIXED_COLUMNS = ("case", "status", "seconds", "error")
+
+
 def column_units(scene_class, columns):
     """Column -> unit of a sweep of ``scene_class``: parameters with a unit, every metric,
     and the seconds."""
