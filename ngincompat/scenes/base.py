@@ -26,6 +26,7 @@ from ngincompat.parameters import (
     to_json,
 )
 from ngincompat.progress import SILENT, Progress
+from ngincompat.scenes import trust
 from ngincompat.workflow import io, pipeline
 from ngincompat.workflow.results import MeshInfo, Results
 
@@ -54,6 +55,9 @@ class Scene:
     metric_quantities: ClassVar[dict[str, str]] = {}
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
+    #: Accuracy indicators over the scene's metrics, each with its threshold
+    #: (:class:`~ngincompat.scenes.trust.Indicator`).
+    indicators: ClassVar[tuple] = ()
     #: Whether the scene distributes its mesh when launched on several MPI ranks
     #: (:mod:`ngincompat.parallel`); the others refuse to run under MPI.
     distributed: ClassVar[bool] = False
@@ -91,6 +95,15 @@ class Scene:
                 f"1: the {self.name} scene does not run distributed (launch it without "
                 "mpiexec)")
         return pipeline.run(self, out, overwrite=overwrite, progress=progress, label=label)
+
+    def trust(self, results) -> list[str]:
+        """Warnings from the scene's settings and results beyond its :attr:`indicators` (none
+        by default); see :mod:`ngincompat.scenes.trust`."""
+        return []
+
+    def warnings(self, results) -> list[str]:
+        """Every warning on ``results`` (:func:`ngincompat.scenes.trust.warnings`)."""
+        return trust.warnings(self, results)
 
     def title(self) -> str:
         """The scene's name with its variant, for figure titles: "disc (fibers=radial)"."""

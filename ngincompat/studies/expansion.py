@@ -17,15 +17,17 @@ from ngincompat.scenes.skin import SkinExpansionScene
 from ngincompat.studies.variants import COMMON, run_variants, write_summary
 from ngincompat.workflow import tables
 
-COLUMNS = ("footprint", *COMMON, "volume_inflated", "pressure_inflated",
+#: The metrics of the summary, after the footprint and the columns every driver has.
+METRICS = ("volume_inflated", "pressure_inflated",
            "expander_height_inflated", "contact_area_inflated", "penetration_max_inflated",
            "contact_pressure_max_inflated", "contact_pressure_mean_inflated", "theta_max",
            "theta_mean_footprint", "theta_apex", "burgers_max", "burgers_apex",
            "burgers_max_radius", "max_principal_stress_clamped",
            "max_principal_stress_released")
+COLUMNS = ("footprint", *COMMON, *METRICS)
 #: The columns that one expander model does not fill.
-UNUSED = {"pressure": COLUMNS[6:11], "contact": COLUMNS[5:6]}
-UNITS = {"seconds": "s", **{k: SkinExpansionScene.metric_unit(k) for k in COLUMNS[4:]}}
+UNUSED = {"pressure": METRICS[2:7], "contact": METRICS[1:2]}
+UNITS = {"seconds": "s", **{k: SkinExpansionScene.metric_unit(k) for k in METRICS}}
 
 
 def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, **settings):
@@ -38,7 +40,8 @@ def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, *
               for f in footprints}
     model = next(iter(scenes.values())).expander if scenes else SkinExpansionScene.expander
     columns = [c for c in COLUMNS if c not in UNUSED[model]]
-    rows, _ = run_variants(scenes, out, key="footprint", metrics=columns[4:],
+    rows, _ = run_variants(scenes, out, key="footprint",
+                           metrics=[m for m in METRICS if m not in UNUSED[model]],
                            progress=progress, overwrite=overwrite, label="skin")
     if out is not None:
         write_summary(out, rows, columns, UNITS)

@@ -22,12 +22,13 @@ from ngincompat.workflow import plots, tables
 #: The axon fields of Fig. 7, left to right.
 AXON_FIELDS = fields.AXONS
 
-COLUMNS = ("axons", *COMMON, "onset_growth", "onset_wavelength", "fold_amplitude",
-           "burgers_max", "burgers_max_depth", "max_principal_stress_released",
-           "top_curvature_released")
+#: The metrics of the summary, after the axon field and the columns every driver has.
+METRICS = ("onset_growth", "onset_wavelength", "fold_amplitude", "burgers_max",
+           "burgers_max_depth", "max_principal_stress_released", "top_curvature_released")
+COLUMNS = ("axons", *COMMON, *METRICS)
 #: The columns that only a released run fills: in the summary when a row has them.
-RELEASED = COLUMNS[-2:]
-UNITS = {"seconds": "s", **{k: FoldingScene.metric_unit(k) for k in COLUMNS[4:]}}
+RELEASED = METRICS[-2:]
+UNITS = {"seconds": "s", **{k: FoldingScene.metric_unit(k) for k in METRICS}}
 
 
 def run_all(out=None, axons=AXON_FIELDS, progress=SILENT, overwrite=False, **settings):
@@ -39,7 +40,7 @@ def run_all(out=None, axons=AXON_FIELDS, progress=SILENT, overwrite=False, **set
     command line); they are checked for every axon field before anything runs.
     """
     scenes = {a: FoldingScene.from_settings({**settings, "axons": a}) for a in axons}
-    rows, results = run_variants(scenes, out, key="axons", metrics=COLUMNS[4:],
+    rows, results = run_variants(scenes, out, key="axons", metrics=METRICS,
                                  progress=progress, overwrite=overwrite, label="folding")
     if out is not None:
         files = []

@@ -59,10 +59,12 @@ def cases(quick=False):
 PHASES = ("mesh", "growth", "incompatibility", "postprocess", "output")
 
 #: Columns of the summary table and their units.
-COLUMNS = ("case", "status", "ndof", "newton", "load_steps", "newton_per_step", "seconds",
-           "strain_energy", "burgers_max", "max_principal_stress", *CHECKS,
+COLUMNS = ("case", "status", "warnings", "ndof", "newton", "load_steps", "newton_per_step",
+           "seconds", "strain_energy", "burgers_max", "max_principal_stress", *CHECKS,
            *(f"t_{p}" for p in PHASES))
-UNITS = {"seconds": "s", **{k: CubeScene.metric_unit(k) for k in COLUMNS[7:-len(PHASES)]},
+UNITS = {"seconds": "s",
+         **{k: CubeScene.metric_unit(k)
+            for k in COLUMNS[COLUMNS.index("strain_energy"):-len(PHASES)]},
          **{f"t_{p}": "s" for p in PHASES}}
 
 
@@ -72,7 +74,8 @@ def row(label, results, seconds):
     history = results.solver.get("growth")
     converged = [s for s in history.steps if s.converged] if history else []
     return {
-        "case": label, "status": results.status, "ndof": results.mesh.ndof,
+        "case": label, "status": results.status, "warnings": len(results.warnings),
+        "ndof": results.mesh.ndof,
         "newton": results.newton_iterations, "load_steps": len(converged),
         "newton_per_step": max((s.iterations for s in converged), default=0),
         "seconds": round(seconds, 2), "strain_energy": m.get("strain_energy"),

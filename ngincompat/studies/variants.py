@@ -14,7 +14,7 @@ from ngincompat.progress import SILENT
 from ngincompat.workflow import output, tables
 
 #: The columns every summary starts with after the variant's name.
-COMMON = ("status", "ndof", "seconds")
+COMMON = ("status", "warnings", "ndof", "seconds")
 
 
 def run_variants(scenes, out=None, key="variant", metrics=(), progress=SILENT,
@@ -42,7 +42,8 @@ def _run_variants(scenes, out, key, metrics, progress, overwrite, label):
         except ConvergenceError as err:
             r = err.results
         results[name] = r
-        rows.append({key: name, "status": r.status, "ndof": r.mesh.ndof,
+        rows.append({key: name, "status": r.status, "warnings": len(r.warnings),
+                     "ndof": r.mesh.ndof,
                      "seconds": round(time.perf_counter() - start, 1),
                      **{k: r.metrics.get(k) for k in metrics}})
     return rows, results

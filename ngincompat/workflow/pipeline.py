@@ -17,6 +17,7 @@ interrupted, and records which.
 from __future__ import annotations
 
 import contextlib
+import logging
 import math
 import time as _time
 from dataclasses import dataclass, field
@@ -29,6 +30,8 @@ from ngincompat.fem.solver import SolverHistory
 from ngincompat.progress import SILENT, Progress
 from ngincompat.workflow import output
 from ngincompat.workflow.results import DONE, INTERRUPTED, NOT_CONVERGED, Results
+
+log = logging.getLogger(__name__)
 
 
 @contextlib.contextmanager
@@ -110,6 +113,15 @@ def solve_stages(stages, progress: Progress = SILENT, solution: Solution | None 
     return solution
 
 
+def _warn(scene, results):
+    """The scene's warnings on its results (:meth:`Scene.warnings`; none for a scene without
+    indicators), each also logged."""
+    check = getattr(scene, "warnings", None)
+    results.warnings = list(check(results)) if check else []
+    for line in results.warnings:
+        log.warning("%s: %s", scene.name, line)
+
+
 def _refuse_non_finite(solution, results):
     """A run that reports a metric that is not a finite number has not computed what it
     reports: it is "not converged" (exit 3), its results written with that metric null."""
@@ -177,6 +189,7 @@ def _run(scene, out, progress, label):
             else:
                 results = case.measure(solution, progress)
                 _refuse_non_finite(solution, results)
+                _warn(scene, results)
             results.timings = {**timings, **solution.timings, **results.timings}
             if out is not None:
                 with progress.phase("writing results"):

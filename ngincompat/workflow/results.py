@@ -125,6 +125,9 @@ class Results:
     verdicts : list of str
         Findings in words, made by the scene from its metrics (e.g. whether the growth is
         compatible), shown after the metrics.
+    warnings : list of str
+        Why a result may not be trusted, one line per accuracy indicator past its threshold
+        (:mod:`ngincompat.scenes.trust`); empty for a run that passed them all.
     versions : dict
         Package versions.
     argv : list
@@ -153,6 +156,7 @@ class Results:
     profiles: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
     figures: list[Figure] = field(default_factory=list)
     verdicts: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
     versions: dict[str, str] = field(default_factory=dict)
     argv: list[str] = field(default_factory=list)
     files: list[str] = field(default_factory=list)
@@ -187,7 +191,8 @@ class Results:
                 f"total {total:.2f} s")
 
     def metric_lines(self) -> list[str]:
-        """One line per metric: name, value and unit; then the scene's verdicts."""
+        """One line per metric: name, value and unit; then the scene's verdicts (the
+        warnings are logged as the run ends)."""
         lines = [f"  {key:32s} {value:<12.6g} {self.metric_units.get(key, '')}".rstrip()
                  for key, value in self.metrics.items()]
         lines += [f"  {v}" for v in self.verdicts]
@@ -206,6 +211,7 @@ class Results:
             "timings": self.timings, "metrics": self.metrics,
             "metric_units": self.metric_units, "profiles": self.profiles,
             "figures": [asdict(f) for f in self.figures], "verdicts": self.verdicts,
+            "warnings": self.warnings,
             "versions": self.versions,
             "argv": self.argv, "files": self.files,
         })
@@ -228,6 +234,7 @@ class Results:
                       for name, p in data.get("profiles", {}).items()},
             figures=[Figure(**f) for f in data.get("figures", [])],
             verdicts=list(data.get("verdicts", [])),
+            warnings=list(data.get("warnings", [])),
             versions=dict(data.get("versions", {})), argv=list(data.get("argv", [])),
             files=list(data.get("files", [])))
 

@@ -1,0 +1,67 @@
+"""The trust gate: each scene's accuracy indicators and their thresholds, warnings in the
+results of a run past one, none for a run within them."""
+
+import json
+import math
+
+import pytest
+
+from ngincompat.cli import main
+from ngincompat.fem.solver import SolverHistory, StepRecord
+from ngincompat.scenes import CubeScene
+from ngincompat.scenes.trust import NEWTON_PER_STEP, Indicator, solver_effort
+
+
+def test_an_indicator_warns_only_past_its_limit():
+    ind = Indicator("Je_deviation_max", 0.1, "refine")
+    assert ind.check({"Je_deviation_max": 0.1}) is None
+    assert ind.check({}) is None and ind.check({"Je_deviation_max": math.nan}) is None
+    assert ind.check({"Je_deviation_max": 0.98}) == "Je_deviation_max = 0.98 > 0.1: refine"
+
+
+class _Run:
+    def __init__(self, iterations):
+        steps = [StepRecord(t=1.0, dt=1.0, converged=True, iterations=n) for n in iterations]
+        self.solver = {"growth": SolverHistory(steps=steps)}
+
+
+def test_the_solver_effort_warns_on_many_newton_iterations_per_step():
+    assert solver_effort(_Run([NEWTON_PER_STEP] * 3)) is None
+    assert solver_effort(_Run([])) is None
+    warning = solver_effort(_Run([NEWTON_PER_STEP + 1, NEWTON_PER_STEP + 2]))
+    assert warning.startswith(f"Newton iterations per step = {NEWTON_PER_STEP + 1.5:.3g} > ")
+
+
+def test_a_run_within_its_indicators_has_no_warning():
+    results = CubeScene(order=2, maxh=0.5, outputs="none").run()
+    assert results.status == "done" and results.warnings == []
+
+
+def test_the_mixed_formulation_on_low_order_tetrahedra_warns_near_incompressibility(tmp_path):
+    """Measured: order 2 on tetrahedra at nu = 0.49 gives twice the hexahedra's stress."""
+    scene = CubeScene(order=2, maxh=0.5, elements="tet", formulation="mixed", nu=0.49,
+                      outputs="none")
+    results = scene.run(tmp_path)
+    assert len(results.warnings) == 1 and "inf-sup" in results.warnings[0]
+    assert json.loads((tmp_path / "results.json").read_text())["warnings"] == results.warnings
+    assert CubeScene(order=4, elements="tet", formulation="mixed", nu=0.49).trust(results) == []
+
+
+@pytest.mark.parametrize("nu, warns", [(0.45, False), (0.499, True), (0.49999, True)])
+def test_the_displacement_formulation_warns_of_locking(nu, warns):
+    scene = CubeScene(nu=nu)
+    assert bool(scene.trust(None)) == warns
+    assert not CubeScene(nu=nu, formulation="mixed").trust(None)
+
+
+def test_the_coarse_atrophy_run_warns_and_still_writes_its_results(tmp_path, caplog):
+    """The gray shell one element thick: |Je / theta - 1| 0.98 and a residual of 3.5e-5 (the
+    defaults: 1.2e-2 and 7e-10). Exit 0, the results written, both indicators named."""
+    out = tmp_path / "run"
+    code = main(["run", "atrophy", "--out", str(out), "--maxh", "2", "--set", "t_end=10",
+                 "--set", "dt=1", "--set", "snapshots=2", "-q"])
+    written = json.loads((out / "results.json").read_text())
+    assert code == 0 and written["status"] == "done"
+    assert [w.split(" = ")[0] for w in written["warnings"]] == ["Je_deviation_max",
+                                                               "equilibrium_residual_rel"]
+    assert "Je_deviation_max = 0.98" in caplog.text
