@@ -17,6 +17,7 @@ This is the only module that parses arguments; everything it calls takes plain v
 
 import argparse
 import logging
+import os
 import sys
 
 from ngincompat import parallel
@@ -62,10 +63,21 @@ def _cmd_list(args):
         print(f"{name:10s} {cls.summary}")
         if args.verbose:
             for key, p in cls.declarations().items():
-                unit = f" [{cls.unit_of(p.unit)}]" if p.unit else ""
-                default = p.to_json(p.default)
-                print(f"    {key:10s} = {default!r:24s} {p.help}{unit}; {p.allowed()}")
+                print("    " + parameter_line(cls, key, p))
+                print(f"        {p.help}")
     return 0
+
+
+def parameter_line(cls, key, p):
+    """``key (type, default value unit): allowed values`` of the parameter ``p`` of the
+    scene ``cls``, for ``list -v``."""
+    default = p.to_json(p.default)
+    if isinstance(default, list):
+        default = ",".join(f"{v:g}" if isinstance(v, float) else str(v) for v in default)
+    elif isinstance(default, bool):
+        default = str(default).lower()
+    unit = f" {cls.unit_of(p.unit)}" if p.unit else ""
+    return f"{key} ({p.kind.name}, default {default}{unit}): allowed {p.allowed()}"
 
 
 def _cmd_run(args):
@@ -293,20 +305,56 @@ def _add_variants(sub, command, help, scene, option, what, choices, func):
     p.set_defaults(func=func)
 
 
+#: The scenes ``run`` takes, for its help (the registry itself,
+#: :data:`ngincompat.scenes.SCENES`, imports NGSolve and every scene; a test keeps the two
+#: equal).
+SCENE_NAMES = ("cube", "hemisphere", "disc", "cylinder", "skin", "folding", "custom", "atrophy")
+#: The files every scene writes besides results.json when neither --outputs nor
+#: ``--set outputs=...`` says otherwise (the scenes' default ``outputs``; a test keeps them
+#: equal).
+DEFAULT_FILES = "vtk,figures"
+
+
+def version_text():
+    """``ngincompat X.Y.Z`` and the NGSolve it runs on (``--version``)."""
+    from ngincompat.config import VERSION
+    try:
+        import ngsolve
+        ngsolve_version = ngsolve.__version__
+    except ImportError:
+        ngsolve_version = "not installed"
+    return f"ngincompat {VERSION} (NGSolve {ngsolve_version}, Python {sys.version.split()[0]})"
+
+
+class _Version(argparse.Action):
+    """``--version``: prints :func:`version_text` and exits 0 (NGSolve imported only then)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="print the versions of ngincompat and NGSolve and exit"):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(version_text())
+        parser.exit()
+
+
 def build_parser():
     from geometries import FOOTPRINTS
     parser = argparse.ArgumentParser(
         prog="ngincompat",
         description="Growth of soft tissue and the geometric incompatibility it leaves.")
+    parser.add_argument("--version", action=_Version)
     parser.add_argument("-v", "--verbose", action="store_true", help="log solver progress")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("list", help="list the scenes (with -v: their parameters)")
-    p.add_argument("-v", "--verbose", action="store_true")
+    p.add_argument("-v", "--verbose", action="store_true",
+                   help="every parameter with its type, default, unit and allowed values")
     p.set_defaults(func=_cmd_list)
 
     p = sub.add_parser("run", help="run a scene and write its results to a folder")
-    p.add_argument("scene")
+    p.add_argument("scene", help="the scene: " + ", ".join(SCENE_NAMES)
+                   + " ('ngincompat list' describes them)")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="set a scene parameter (repeatable); see 'ngincompat list -v'")
@@ -314,7 +362,9 @@ def build_parser():
     p.add_argument("--maxh", type=float, help="mesh size")
     p.add_argument("--outputs", metavar="LIST",
                    help="what to compute and write: comma list of " + ", ".join(OUTPUT_NAMES)
-                   + " (default: all); 'incompatibility' alone builds no mechanics problem")
+                   + f" (default: incompatibility,mechanics,{DEFAULT_FILES}, or what --set "
+                   "mechanics=... and --set outputs=... say); 'incompatibility' alone builds "
+                   "no mechanics problem")
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run already in --out (its files are removed first)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
@@ -363,6 +413,11 @@ def main(argv=None):
         print("ngincompat: interrupted; finished results are kept, an unfinished run is "
               "marked \"interrupted\" in its results.json", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # the reader of the output stopped (`ngincompat list -v | head`): what it read is all
+        # it wanted; stdout goes to /dev/null so that Python's flush at exit stays quiet
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
 
 
 if __name__ == "__main__":

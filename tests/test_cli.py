@@ -92,3 +92,55 @@ def test_outputs_name_every_optional_output_of_a_scene():
     assert _outputs("incompatibility,curvature,growth") == {
         "mechanics": False, "outputs": "growth,curvature"}
     assert _outputs("mechanics") == {"mechanics": True, "outputs": "none"}
+
+
+def test_version_names_ngincompat_and_ngsolve(capsys):
+    import ngsolve
+
+    from ngincompat.config import VERSION
+    assert main(["--version"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"ngincompat {VERSION} ")
+    assert f"NGSolve {ngsolve.__version__}" in out
+
+
+def _run_help(capsys):
+    with pytest.raises(SystemExit) as exit:
+        from ngincompat.cli import build_parser
+        build_parser().parse_args(["run", "--help"])
+    assert exit.value.code == 0
+    return " ".join(capsys.readouterr().out.split())       # argparse wraps the lines
+
+
+def test_run_help_names_every_scene(capsys):
+    from ngincompat.scenes import SCENES
+    text = _run_help(capsys)
+    scene_help = text.split("scene the scene: ", 1)[1]
+    assert all(name in scene_help for name in SCENES), scene_help
+
+
+def test_run_help_gives_the_true_default_of_outputs(capsys):
+    """--outputs left out computes mechanics and writes the scenes' default files."""
+    from ngincompat.cli import DEFAULT_FILES, SCENE_NAMES
+    from ngincompat.parameters import Outputs
+    from ngincompat.scenes import SCENES
+    assert SCENE_NAMES == tuple(SCENES)
+    for cls in SCENES.values():
+        declared = cls.declarations()
+        assert declared["mechanics"].default is True
+        assert declared["outputs"].default == Outputs(DEFAULT_FILES)
+    text = _run_help(capsys)
+    assert "(default: all)" not in text
+    assert "default: incompatibility,mechanics,vtk,figures" in text
+
+
+def test_list_verbose_shows_type_default_unit_and_range(capsys):
+    assert main(["list", "-v"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    cube = lines[:lines.index(next(line for line in lines if line.startswith("hemisphere")))]
+    maxh = next(line for line in cube if line.startswith("    maxh "))
+    assert maxh.startswith("    maxh (float, default 0.25 mm): allowed ") and "> 0" in maxh
+    assert "    order (int, default 4): allowed an integer in [1, 10]" in cube
+    nu = next(line for line in cube if line.startswith("    nu "))
+    assert nu.startswith("    nu (float, default 0.4): allowed ") and "0.5" in nu
+    assert cube[cube.index(maxh) + 1] == "        mesh size"
