@@ -41,6 +41,22 @@ def test_results_round_trip_through_json(cube):
     assert back.figures[0].file == "profile.png"
 
 
+def test_results_record_their_provenance(cube):
+    data = json.loads(json.dumps(cube.to_dict()))
+    assert {"date", "host", "threads", "command"} <= set(data["provenance"])
+    assert set(data["versions"]) >= {"ngincompat", "ngsolve", "netgen", "numpy", "scipy",
+                                     "python"}
+
+
+def test_results_of_older_runs_without_provenance_load(cube):
+    data = json.loads(json.dumps(cube.to_dict()))
+    del data["provenance"]
+    del data["versions"]["scipy"]
+    back = Results.from_dict(data)
+    assert back.provenance == {} and back.metrics == cube.metrics
+    assert back.versions["ngsolve"] == cube.versions["ngsolve"]
+
+
 def test_non_finite_numbers_are_written_as_null_and_read_as_nan(cube):
     data = cube.to_dict()
     data["metrics"]["strain_energy"] = None

@@ -121,7 +121,8 @@ class Scene:
                         maxh=self.maxh)
         return Results(scene=self.name, params=self.settings(), units=dict(self.units),
                        metric_units={m: self.metric_unit(m) for m in self.metrics}, mesh=info,
-                       versions=io.versions(), argv=list(sys.argv), domain=mesh, **kwargs)
+                       versions=io.versions(), argv=list(sys.argv),
+                       provenance=io.run_record(), domain=mesh, **kwargs)
 
     @classmethod
     def declarations(cls):

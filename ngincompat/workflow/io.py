@@ -5,31 +5,95 @@ the final name (``os.replace`` is atomic on POSIX), so an interrupted run never 
 half-written result behind.
 """
 
+import datetime
+import functools
 import json
 import math
 import os
 import platform
+import shlex
+import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from ngincompat import config
 from ngincompat.atomic import atomic_path
 from ngincompat.config import VERSION
+
+#: The folder that holds the package ``ngincompat``: a git checkout's top level when the
+#: package runs from one (an editable install, PYTHONPATH), site-packages otherwise.
+SOURCE_ROOT = Path(__file__).resolve().parents[2]
 
 
 def versions():
     """Versions of the packages a result depends on."""
     import netgen
     import ngsolve
+    import scipy
 
     return {
         "ngincompat": VERSION,
         "ngsolve": ngsolve.__version__,
         "netgen": getattr(netgen, "__version__", ngsolve.__version__),
         "numpy": np.__version__,
+        "scipy": scipy.__version__,
         "python": platform.python_version(),
     }
+
+
+def _git(*args, cwd):
+    """The output of ``git args`` in ``cwd`` (stripped), or None if git fails or is absent.
+    GIT_DIR and GIT_WORK_TREE of the caller's environment are not passed on: the question is
+    about the checkout at ``cwd``."""
+    env = {k: v for k, v in os.environ.items() if k not in ("GIT_DIR", "GIT_WORK_TREE")}
+    try:
+        done = subprocess.run(["git", *args], cwd=cwd, env=env, capture_output=True,
+                              text=True, timeout=20, check=True)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return done.stdout.strip()
+
+
+@functools.lru_cache(maxsize=None)
+def git_state(root=SOURCE_ROOT):
+    """``{"commit": sha, "dirty": bool}`` of the git checkout whose top level is ``root``,
+    or None when ``root`` is not one (an installed package: a git repository around
+    site-packages is not the package's) or git is not installed.
+
+    ``dirty``: tracked files differ from the commit (untracked files are left out: output
+    folders and notes do not change what ran). Asked once per process."""
+    root = Path(root).resolve()
+    top = _git("rev-parse", "--show-toplevel", cwd=root)
+    if top is None or Path(top).resolve() != root:
+        return None
+    commit = _git("rev-parse", "HEAD", cwd=root)
+    status = _git("status", "--porcelain", "--untracked-files=no", cwd=root)
+    if not commit or status is None:
+        return None
+    return {"commit": commit, "dirty": bool(status)}
+
+
+def run_record():
+    """Where, when and how a result was produced: the date (ISO 8601, UTC), the host and
+    platform, the NGSolve settings in force (:func:`ngincompat.config.settings`: threads,
+    heap), the full command line (the interpreter's, ``sys.orig_argv``, as one shell line)
+    and its working folder, the Python executable, and ``git`` (:func:`git_state`) when the
+    package runs from a checkout."""
+    record = {
+        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "host": platform.node(),
+        "platform": platform.platform(),
+        **config.settings(),
+        "command": shlex.join(getattr(sys, "orig_argv", sys.argv)),
+        "cwd": os.getcwd(),
+        "executable": sys.executable,
+    }
+    git = git_state()
+    if git is not None:
+        record["git"] = git
+    return record
 
 
 def jsonable(value):
@@ -128,5 +192,6 @@ def write_vtk_parallel(stem, mesh, fields, subdivision=1):
 
 
 def provenance():
-    """What produced a result: package versions and the command line."""
-    return {"versions": versions(), "argv": sys.argv}
+    """What produced a result: package versions, the command line and the
+    :func:`run_record` (date, host, threads, git commit)."""
+    return {"versions": versions(), "argv": list(sys.argv), "provenance": run_record()}

@@ -132,6 +132,9 @@ class Results:
         Package versions.
     argv : list
         The command line of the process.
+    provenance : dict
+        Date, host, threads, the full command line and the git commit
+        (:func:`ngincompat.workflow.io.run_record`); empty in results.json of older runs.
     files : list
         Files written for this run, relative to its folder.
     fields : dict
@@ -159,6 +162,7 @@ class Results:
     warnings: list[str] = field(default_factory=list)
     versions: dict[str, str] = field(default_factory=dict)
     argv: list[str] = field(default_factory=list)
+    provenance: dict[str, Any] = field(default_factory=dict)
     files: list[str] = field(default_factory=list)
     fields: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
     domain: Any = field(default=None, repr=False, compare=False)
@@ -213,7 +217,7 @@ class Results:
             "figures": [asdict(f) for f in self.figures], "verdicts": self.verdicts,
             "warnings": self.warnings,
             "versions": self.versions,
-            "argv": self.argv, "files": self.files,
+            "argv": self.argv, "provenance": self.provenance, "files": self.files,
         })
 
     @classmethod
@@ -236,6 +240,7 @@ class Results:
             verdicts=list(data.get("verdicts", [])),
             warnings=list(data.get("warnings", [])),
             versions=dict(data.get("versions", {})), argv=list(data.get("argv", [])),
+            provenance=dict(data.get("provenance", {})),
             files=list(data.get("files", [])))
 
 
