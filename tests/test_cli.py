@@ -144,3 +144,28 @@ def test_list_verbose_shows_type_default_unit_and_range(capsys):
     nu = next(line for line in cube if line.startswith("    nu "))
     assert nu.startswith("    nu (float, default 0.4): allowed ") and "0.5" in nu
     assert cube[cube.index(maxh) + 1] == "        mesh size"
+
+
+#: The extras' packages (pyproject.toml's [test], [mpi], [brain], [dask], [parquet], [fast],
+#: [notebooks]): the main job (`ngincompat paper`) must run on the core dependencies alone.
+OPTIONAL = ("dask", "distributed", "mpi4py", "nilearn", "nibabel", "pyarrow", "sklearn",
+            "basix", "jupytext", "nbclient", "nbformat", "ipykernel", "hypothesis", "pytest",
+            "importlinter")
+
+
+def test_the_main_jobs_imports_need_no_extra():
+    """Importing the command line, the paper's driver and every scene loads no package of an
+    extra (a light install, `pip install -e .`, runs the main job)."""
+    import subprocess
+    import sys
+    code = ("import sys, ngincompat.cli, ngincompat.studies.paper, ngincompat.scenes; "
+            "ngincompat.cli.build_parser(); "
+            f"print(sorted({{m.split('.')[0] for m in sys.modules}} & set({OPTIONAL!r})))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.strip() == "[]", done.stdout
+    # the check itself sees an import of an extra
+    code = code.replace("ngincompat.scenes;", "ngincompat.scenes, pytest;")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.strip() == "['pytest']"

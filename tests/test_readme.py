@@ -156,6 +156,27 @@ def test_make_runs_the_two_commands_of_the_readme():
     assert "ngincompat paper" in commands[0] and "pytest" in commands[1]
 
 
+def test_the_main_job_installs_no_extra_and_runs_again():
+    """``make demo`` installs the core dependencies alone (the main job needs no extra; the
+    test extra brings Dask, MPI, pyarrow, nilearn, ...) and replaces an earlier demo's
+    results instead of refusing its folder; ``make test`` installs the test extra."""
+    recipes = dict(re.findall(r"^(demo|test):\n\t(.+)$", (ROOT / "Makefile").read_text(),
+                              flags=re.M))
+    demo, test = (shlex.split(recipes[name]) for name in ("demo", "test"))
+    assert demo[demo.index("install") + 1:][:2] == ["-e", "."]
+    assert "--overwrite" in demo[demo.index("paper"):]
+    assert test[test.index("install") + 1:][:2] == ["-e", ".[test]"]
+
+
+def test_the_readmes_output_folders_are_ignored_by_git():
+    """Every folder the README's commands write into (its first part) is in .gitignore."""
+    ignored = set((ROOT / ".gitignore").read_text().split())
+    tops = {Path(argv[argv.index("--out") + 1]).parts[0] for argv in COMMANDS
+            if "--out" in argv}
+    assert {"results", "runs", "sweeps"} <= tops
+    assert {f"{top}/" for top in tops} <= ignored, tops
+
+
 def test_the_readme_shows_commands_of_every_kind():
     kinds = {argv[0] for argv in COMMANDS}
     assert {"list", "run", "paper", "expansion", "folding", "bench", "sweep"} <= kinds
