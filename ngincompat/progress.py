@@ -7,6 +7,11 @@ reported as they happen in both cases. ``Progress(quiet=True)`` reports nothing.
 
 Library code reports through a :class:`Progress` it is handed (never ``print``); the command
 line makes one on standard error.
+
+A marching stage reads "[folding] unloading (stage 5 of 6): t = 0.345/2.76 day (3 Newton
+iterations)": the stage's place in the case's :meth:`Progress.plan` (when the plan has more
+than one stage), times to four significant digits, and the unit of the marching parameter
+(none for the load fraction of prescribed growth, which runs from 0 to 1).
 """
 
 from __future__ import annotations
@@ -38,6 +43,7 @@ class Progress:
         self._stream = stream
         self._bars = bars
         self.case_name = ""
+        self._plan: list[str] = []
 
     @property
     def stream(self) -> TextIO:
@@ -65,13 +71,26 @@ class Progress:
     def case(self, name: str):
         """Everything reported inside belongs to the case ``name``."""
         outer, self.case_name = self.case_name, name
+        outer_plan, self._plan = self._plan, []
         start = time.perf_counter()
         self.line("started")
         try:
             yield self
         finally:
             self.line(f"finished in {time.perf_counter() - start:.1f} s")
-            self.case_name = outer
+            self.case_name, self._plan = outer, outer_plan
+
+    def plan(self, stages) -> None:
+        """The names of the current case's stages, in order, so that each is reported as
+        "stage i of n" (a case may plan again when it learns that it skips some)."""
+        self._plan = list(stages)
+
+    def stage_label(self, stage: str) -> str:
+        """``stage`` with its place in the plan, "unloading (stage 5 of 6)"; the bare name
+        when it is not planned or is the only stage."""
+        if stage in self._plan and len(self._plan) > 1:
+            return f"{stage} (stage {self._plan.index(stage) + 1} of {len(self._plan)})"
+        return stage
 
     @contextlib.contextmanager
     def phase(self, name: str):
@@ -90,14 +109,16 @@ class StageProgress:
     def __init__(self, progress: Progress, stage: str, t_start: float, t_end: float,
                  unit: str):
         self.progress, self.stage, self.unit = progress, stage, unit
+        self.label = progress.stage_label(stage)
         self.t_end = t_end
         self._bar = None
         if not progress.quiet and progress.bars:
             case = f"{progress.case_name}: " if progress.case_name else ""
-            self._bar = tqdm(total=t_end - t_start, desc=f"{case}{stage}", file=progress.stream,
-                             bar_format="{l_bar}{bar}| {postfix}", leave=False)
+            self._bar = tqdm(total=t_end - t_start, desc=f"{case}{self.label}",
+                             file=progress.stream, bar_format="{l_bar}{bar}| {postfix}",
+                             leave=False)
         else:
-            progress.line(f"{stage}: from {t_start:g} to {t_end:g}{self._unit}")
+            progress.line(f"{self.label}: from {t_start:.4g} to {t_end:.4g}{self._unit}")
 
     @property
     def _unit(self) -> str:
@@ -107,16 +128,16 @@ class StageProgress:
         """A converged step to ``t`` of size ``dt`` in ``iterations`` Newton iterations."""
         if self._bar is not None:
             self._bar.update(dt)
-            self._bar.set_postfix_str(f"t={t:.4g}/{self.t_end:g}{self._unit}, "
+            self._bar.set_postfix_str(f"t={t:.4g}/{self.t_end:.4g}{self._unit}, "
                                       f"{iterations} Newton")
         else:
-            self.progress.line(f"{self.stage}: t = {t:.4g}/{self.t_end:g}{self._unit} "
+            self.progress.line(f"{self.label}: t = {t:.4g}/{self.t_end:.4g}{self._unit} "
                                f"({iterations} Newton iterations)")
 
     def cut(self, t: float, dt: float, reason: str) -> None:
         """The step from ``t`` of size ``dt`` failed and is retried at half the size."""
-        self.progress.line(f"{self.stage}: step from t = {t:.4g} by {dt:.3g} failed "
-                           f"({reason}); retrying with {dt / 2:.3g}")
+        self.progress.line(f"{self.label}: step from t = {t:.4g}{self._unit} by {dt:.3g} "
+                           f"failed ({reason}); retrying with {dt / 2:.3g}")
 
     def close(self) -> None:
         if self._bar is not None:

@@ -1,6 +1,7 @@
 """The command line: exit codes, one-line errors, folders that never mix two runs."""
 
 import json
+import re
 
 import pytest
 from conftest import SKIN_COARSE
@@ -77,12 +78,16 @@ def test_run_prints_its_summary_with_units(tmp_path, capsys):
 
 def test_skin_runs_through_the_command_line(tmp_path, capsys):
     """A run with several stages prints its summary (it ended in a KeyError before)."""
-    code = main(["run", "skin", "--set", "footprint=square", "--out", str(tmp_path), "-q",
+    code = main(["run", "skin", "--set", "footprint=square", "--out", str(tmp_path),
                  *SKIN_COARSE, "--set", "outputs=none"])
-    out = capsys.readouterr().out
+    out, err = capsys.readouterr()
     assert code == 0, out
     assert "skin: done" in out and "inflation" in out and "hold" in out
     assert "volume_inflated" in out and "expander_height_inflated" in out   # the default
+    # the progress: the hold marches in the scene's time unit, each stage with its place
+    assert re.search(r"^\[skin\] hold \(stage 3 of 6\): t = 0\.5/0\.5 day \(\d+ Newton",
+                     err, flags=re.M), err
+    assert re.search(r"^\[skin\] inflation \(stage 1 of 6\): t = 1/1 \(", err, flags=re.M)
 
 
 def test_outputs_name_every_optional_output_of_a_scene():

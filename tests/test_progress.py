@@ -43,3 +43,38 @@ def test_a_cut_step_is_reported_when_it_happens(monkeypatch):
     assert cut and "retrying with 0.5" in lines[cut[0]]
     # reported before the steps that follow it
     assert any("growth: t = 0.5/1" in line for line in lines[cut[0]:])
+
+
+def _lines(stream):
+    return stream.getvalue().splitlines()
+
+
+def test_a_marching_stage_names_its_place_unit_and_sensible_digits():
+    stream = io.StringIO()
+    progress = Progress(stream=stream, bars=False)
+    with progress.case("folding"):
+        progress.plan(["approach", "perfect", "buckling", "equilibrium", "unloading",
+                       "release"])
+        report = progress.march("unloading", 0.0, 2.7598812, "day")
+        report.step(0.34499999, 0.345, 3)
+        report.cut(0.34499999, 0.1234567, "energy not finite")
+        progress.march("perfect", 0.0, 75.0, "day").step(61.25, 1.25, 2)
+    lines = _lines(stream)
+    assert lines[1] == "[folding] unloading (stage 5 of 6): from 0 to 2.76 day"
+    assert lines[2] == "[folding] unloading (stage 5 of 6): t = 0.345/2.76 day (3 Newton " \
+                       "iterations)"
+    assert lines[3] == "[folding] unloading (stage 5 of 6): step from t = 0.345 day by 0.123 " \
+                       "failed (energy not finite); retrying with 0.0617"
+    assert lines[5] == "[folding] perfect (stage 2 of 6): t = 61.25/75 day (2 Newton iterations)"
+
+
+def test_stages_outside_the_plan_or_alone_carry_no_number():
+    stream = io.StringIO()
+    progress = Progress(stream=stream, bars=False)
+    with progress.case("cube"):
+        progress.plan(["growth"])
+        progress.march("growth", 0.0, 1.0).step(0.5, 0.5, 4)
+    with progress.case("skin"):         # a new case starts without the last one's plan
+        progress.march("hold", 0.0, 10.0, "day").step(5.0, 5.0, 4)
+    assert "[cube] growth: t = 0.5/1 (4 Newton iterations)" in _lines(stream)
+    assert "[skin] hold: t = 5/10 day (4 Newton iterations)" in _lines(stream)

@@ -81,7 +81,7 @@ class PrescribedGrowthStage:
 
     def _from_start(self, progress: Progress) -> SolverHistory:
         """Newton at ``t_end`` from ``start``; on failure the problem's state is restored."""
-        u = self.problem.u
+        label, u = progress.stage_label(self.name), self.problem.u
         before = u.vec.CreateVector()
         before.data = u.vec
         u.Set(self.start)
@@ -94,11 +94,11 @@ class PrescribedGrowthStage:
         history = SolverHistory(steps=[record], converged=record.converged,
                                 t_reached=self.t_end if record.converged else self.t_start)
         if record.converged:
-            progress.line(f"{self.name}: equilibrium from the start state in "
+            progress.line(f"{label}: equilibrium from the start state in "
                           f"{record.iterations} Newton iterations")
         else:
             u.vec.data = before
-            progress.line(f"{self.name}: from the start state {record.reason}; applying the "
+            progress.line(f"{label}: from the start state {record.reason}; applying the "
                           "growth in load steps instead")
         return history
 
@@ -210,10 +210,11 @@ class FallbackStage:
         return self.first.name
 
     def run(self, progress: Progress) -> SolverHistory:
+        label = progress.stage_label(self.name)
         try:
             return self.first.run(progress)
         except ConvergenceError as err:
-            progress.line(f"{self.name}: {err}; starting again on the other path")
+            progress.line(f"{label}: {err}; starting again on the other path")
             self.reset()
             history = self.second.run(progress)
             if err.history is not None:
@@ -251,14 +252,14 @@ class ContactControlStage:
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
 
     def run(self, progress: Progress) -> SolverHistory:
-        contact = self.contact
+        contact, label = self.contact, progress.stage_label(self.name)
         self.problem.dt.Set(0.0)
         solver = NewtonSolver(self.problem, self.options)
         history = SolverHistory()
         previous = None
         for k in range(self.max_rounds + 1):
             expander, volume = contact.target.Get(), contact.volume()
-            progress.line(f"{self.name}: round {k}, volume {volume:.7g} (target "
+            progress.line(f"{label}: round {k}, volume {volume:.7g} (target "
                           f"{self.target:g}, expander {expander:.7g})")
             if abs(volume - self.target) <= self.rtol * self.target:
                 history.converged = True
@@ -271,7 +272,7 @@ class ContactControlStage:
                 slope = secant if 0.2 * slope < secant < 5 * slope else slope
             previous = expander, volume
             self._resize(solver, history, k + 1, expander, (self.target - volume) / slope)
-            progress.line(f"{self.name}: round {k + 1} in {history.steps[-1].iterations} "
+            progress.line(f"{label}: round {k + 1} in {history.steps[-1].iterations} "
                           "Newton iterations")
         raise ConvergenceError(f"the volume is not within {self.rtol:g} of {self.target:g} "
                                f"after {self.max_rounds} rounds", history=history,
@@ -327,6 +328,8 @@ class UnloadingStage:
     duration: float
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(
         max_iter=12, line_search=True, min_step=1e-6))
+    #: Unit of the pseudo time, for the progress report.
+    unit: str = ""
 
     def run(self, progress: Progress) -> SolverHistory:
         problem, scale = self.problem, self.dead_load.scale
@@ -337,7 +340,8 @@ class UnloadingStage:
         try:
             return solve_coupled(problem, T, T / 8, options,
                                  schedule=lambda t: scale.Set(1.0 - t / T),
-                                 progress=progress, stage=self.name, energy=problem.energy)
+                                 progress=progress, stage=self.name, unit=self.unit,
+                                 energy=problem.energy)
         finally:
             problem.growing.Set(1.0)
 
@@ -410,7 +414,7 @@ class RelaxationStage:
         require(0 < self.flow_rtol < 1, "flow_rtol", self.flow_rtol, "in (0, 1)")
 
     def run(self, progress: Progress) -> SolverHistory:
-        problem = self.problem
+        problem, label = self.problem, progress.stage_label(self.name)
         solver = NewtonSolver(problem, replace(self.options, rtol=self.flow_rtol))
         history = SolverHistory()
         problem.growing.Set(0.0)
@@ -420,7 +424,7 @@ class RelaxationStage:
         self.initial_residual = self._residual(solver)
         energy, t, tau = problem.frozen_energy(), 0.0, self.dt
         attempt = self.initial_residual
-        progress.line(f"{self.name}: residual without viscosity {self.initial_residual:.3g}")
+        progress.line(f"{label}: residual without viscosity {self.initial_residual:.3g}")
         try:
             with config.task_manager():
                 for _ in range(self.max_steps):
@@ -435,7 +439,7 @@ class RelaxationStage:
                     history.steps.append(record)
                     if not record.converged:
                         problem.state.vec.data = saved
-                        progress.line(f"{self.name}: step {tau:.3g} failed ({record.reason})"
+                        progress.line(f"{label}: step {tau:.3g} failed ({record.reason})"
                                       f"; retrying with {tau / 2:.3g}")
                         tau /= 2
                         if tau < self.options.min_step:
@@ -445,7 +449,7 @@ class RelaxationStage:
                     problem.accept_step()
                     saved.data = problem.state.vec
                     residual = self._residual(solver)
-                    progress.line(f"{self.name}: pseudo time {t:.4g}{self._unit} "
+                    progress.line(f"{label}: pseudo time {t:.4g}{self._unit} "
                                   f"({record.iterations} Newton iterations), energy "
                                   f"{energy:.10g}, residual without viscosity {residual:.3g}")
                     history.t_reached = t
@@ -478,6 +482,7 @@ class RelaxationStage:
     def _equilibrium(self, history, saved, progress) -> bool:
         """Newton without viscosity from the current state; unless it converges to a
         stable equilibrium the state is restored and False returned."""
+        label = progress.stage_label(self.name)
         self.problem.dt.Set(0.0)
         record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
         solver = NewtonSolver(self.problem, replace(self.options, line_search=True),
@@ -489,7 +494,7 @@ class RelaxationStage:
             if not record.converged:
                 record.reason = f"unstable: smallest eigenvalue {self.eigenvalue:.3g}"
         history.steps.append(record)
-        progress.line(f"{self.name}: without viscosity "
+        progress.line(f"{label}: without viscosity "
                       + (f"{record.iterations} Newton iterations, residual "
                          f"{record.residuals[-1]:.3g}, smallest eigenvalue "
                          f"{self.eigenvalue:.3g}" if record.converged else

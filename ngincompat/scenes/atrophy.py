@@ -356,8 +356,10 @@ class AtrophyCase:
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self
+        stages = self.stages()
+        progress.plan(stage.name for stage in stages)
         with config.task_manager():
-            solve_stages(self.stages(), progress, solution)
+            solve_stages(stages, progress, solution)
 
     def interrupted(self, solution: Solution) -> Results:
         results = self.scene.record(self.mesh, status=solution.status, error=solution.error,

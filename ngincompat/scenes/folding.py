@@ -486,13 +486,14 @@ class FoldingCase:
         perfect = CoupledStage("perfect", self.problem, t_end=scene.t_end,
                                dt=min(scene.dt, scene.onset_dt) if near else scene.dt,
                                t_start=near, options=options, observe=self._observe_perfect,
-                               unit="days")
+                               unit=scene.units["time"])
         if not near:
             return [perfect]
         return [CoupledStage("approach", self.problem, t_end=near, dt=scene.dt,
                              options=replace(options, max_step=max(scene.approach_dt,
                                                                    scene.onset_dt)),
-                             observe=self._observe_perfect, unit="days"), perfect]
+                             observe=self._observe_perfect, unit=scene.units["time"]),
+                perfect]
 
     @property
     def eta(self):
@@ -513,7 +514,7 @@ class FoldingCase:
         options = newton(max_step=step, line_search=False, min_step=1e-6)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
                             t_start=self.series["perfect"]["t"][-1], options=options,
-                            observe=self._observe_buckling, unit="days")
+                            observe=self._observe_buckling, unit=self.scene.units["time"])
 
     def relaxation(self, name, problem, viscous):
         """The gradient flow to the equilibrium at frozen growth of ``problem`` (its viscous
@@ -521,7 +522,8 @@ class FoldingCase:
         options = newton(line_search=False, min_step=1e-6)
         return RelaxationStage(name, problem, viscous, self.eta, self.viscous_step(),
                                options=options,
-                               unit="days", eigenpairs=EIGENPAIRS, flow_rtol=FLOW_RTOL)
+                               unit=self.scene.units["time"], eigenpairs=EIGENPAIRS,
+                               flow_rtol=FLOW_RTOL)
 
     def release(self):
         """The stages of the release from the current state, growth frozen: the bilayer
@@ -534,12 +536,23 @@ class FoldingCase:
         self.reactions = load.hold()
         unloading = newton(line_search=True, min_step=1e-6, rtol=FLOW_RTOL)
         return [UnloadingStage("unloading", self.released, viscous, load, self.eta,
-                               self.viscous_step(), options=unloading),
+                               self.viscous_step(), options=unloading,
+                               unit=self.scene.units["time"]),
                 self.relaxation("release", self.released, viscous)]
+
+    def plan(self, branch, onset=True):
+        """The names of the stages a run goes through after the stages ``branch`` of the
+        perfect branch (``onset``: if that reaches the onset, where the buckling starts)."""
+        names = [stage.name for stage in branch]
+        if onset and self.scene.buckle:
+            names += ["buckling", "equilibrium"]
+        return names + (["unloading", "release"] if self.scene.release else [])
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
-        for stage in self.stages():     # the perfect branch, ended at the onset
+        branch = self.stages()
+        progress.plan(self.plan(branch))
+        for stage in branch:            # the perfect branch, ended at the onset
             if self.mode is None:
                 solve_stages([stage], progress, solution)
             if not solution.converged:
@@ -555,6 +568,8 @@ class FoldingCase:
                 self._explain_crease(solution)
                 return
         if self.scene.release:
+            if self.mode is None:       # no onset: nothing buckled
+                progress.plan(self.plan(branch, onset=False))
             solve_stages(self.release(), progress, solution, after=self._note)
 
     def _explain_crease(self, solution):

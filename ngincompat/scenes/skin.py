@@ -280,7 +280,7 @@ class SkinCase:
                                    t_start=t_hold or 0.0, volume=held, holder=holder,
                                    options=NewtonOptions(max_iter=20, max_step=scene.dt,
                                                          reuse_tangent=True),
-                                   checkpoint=checkpoint, unit="days"))
+                                   checkpoint=checkpoint, unit=scene.units["time"]))
         # The contact model deflates by its dome's force, handed over to a dead traction:
         # lowering the dome took 11-16 Newton iterations per step as the skin left it, and at
         # 50 cc on the default mesh steps of 1/80 (a tenth of the deflation in 10 minutes);
@@ -320,12 +320,14 @@ class SkinCase:
         if self.scene.resume and workdir is not None:
             t_hold = restore_checkpoint(self.problem, Path(workdir) / CHECKPOINT)
             if t_hold is not None:
-                progress.line(f"resuming the hold at t = {t_hold:g} days")
+                progress.line(f"resuming the hold at t = {t_hold:.4g} "
+                              f"{self.scene.units['time']}")
                 self._note_inflated()
         solution.state = self.problem
+        stages = self.stages(workdir, t_hold)
+        progress.plan(stage.name for stage in stages)
         with config.task_manager():
-            solve_stages(self.stages(workdir, t_hold), progress, solution,
-                         after=self._note)
+            solve_stages(stages, progress, solution, after=self._note)
         if not solution.converged and workdir is not None \
                 and (Path(workdir) / CHECKPOINT).is_file():
             solution.error += (f" (the last converged state of the hold is in {CHECKPOINT}; "
