@@ -16,7 +16,8 @@ A set of parameters (a scene's) is a frozen dataclass. Each field's annotation i
         def __post_init__(self):
             convert_fields(self)          # every field to its type, in its range
 
-The types understood are ``float`` (finite), ``int``, ``bool``, ``str``, ``Literal[...]``
+The types understood are ``float`` (finite, and of magnitude at most :data:`FLOAT_LIMIT`
+on a side its range leaves open), ``int``, ``bool``, ``str``, ``Literal[...]``
 (or ``str`` with ``choices=`` a live registry such as a dict of builders), tuples of floats
 (``tuple[float, float, float]`` of fixed length, ``tuple[float, ...]`` of any), a union of
 words and such a tuple (``Literal["uniform"] | tuple[float, float, float]``) and
@@ -200,6 +201,13 @@ class _Kind:
         return value
 
 
+#: The largest magnitude of a float parameter whose declared range leaves that side open:
+#: no quantity of the models comes near it in its scene's units, and its squares and cubes
+#: (energies, volumes) stay far from overflow, where 1e308 made inf, nan and crashes
+#: downstream. A parameter that needs more declares a bounded range.
+FLOAT_LIMIT = 1e12
+
+
 class _Float(_Kind):
     name = "float"
 
@@ -211,14 +219,21 @@ class _Float(_Kind):
         return float(raw)
 
     def valid(self, value):
-        return math.isfinite(value) and (self.range is None or value in self.range)
+        return (math.isfinite(value) and (self.range is None or value in self.range)
+                and (self.range is not None and self.range.high is not None
+                     or value <= FLOAT_LIMIT)
+                and (self.range is not None and self.range.low is not None
+                     or value >= -FLOAT_LIMIT))
 
     def allowed(self):
         if self.range is None:
-            return "a finite number"
+            return f"in [-{FLOAT_LIMIT:g}, {FLOAT_LIMIT:g}]"
         if self.range.bounded:
             return self.range.words()
-        return f"a finite number {self.range.words()}"
+        r = self.range
+        if r.low is None:
+            return f"in [-{FLOAT_LIMIT:g}, {r.high:g}{')' if r.high_open else ']'}"
+        return f"in {'(' if r.low_open else '['}{r.low:g}, {FLOAT_LIMIT:g}]"
 
 
 class _Int(_Kind):
@@ -313,7 +328,7 @@ class _Floats(_Kind):
     def allowed(self):
         what = (f"{_NUMBER_WORDS.get(self.length, self.length)} numbers" if self.length
                 else "a comma list of numbers")
-        return f"{what} {self.range.words()}" if self.range else what
+        return f"{what} {self.item.allowed()}"
 
     def to_json(self, value):
         return list(value)

@@ -219,4 +219,5 @@ def test_a_tuple_of_any_length():
     kind = _Floats(None, "> 0")
     assert kind.parse("") == () and kind.parse("1, 2.5") == (1.0, 2.5)
     assert kind.valid((1.0, 2.0, 3.0, 4.0)) and not kind.valid((1.0, 0.0))
-    assert kind.allowed() == "a comma list of numbers > 0"
+    assert kind.allowed() == "a comma list of numbers in (0, 1e+12]"
+    assert not kind.valid((1.0, 1e308))

@@ -44,7 +44,7 @@ from typing import Literal
 import ngsolve as ngs
 import numpy as np
 
-from geometries import brain
+from geometries import brain, estimate
 from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
 from ngincompat import config, sampling
 from ngincompat.errors import ParameterError, require
@@ -60,7 +60,15 @@ from ngincompat.mechanics.kinematics import deformation_gradient
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
-from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, param
+from ngincompat.scenes.base import (
+    G_ORDER,
+    MAX_STEPS,
+    MAXH,
+    ORDER,
+    Scene,
+    check_time_steps,
+    param,
+)
 from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.hemisphere import spherical_basis
 from ngincompat.scenes.material import MU, NU
@@ -141,7 +149,7 @@ class AtrophyScene(Scene):
     t_end: float = param(40.0, "duration", "time", range="> 0")
     dt: float = param(0.2, "time step of transport and atrophy", "time", range="> 0")
     snapshots: int = param(4, "equilibria solved at this many equally spaced times",
-                           range=">= 1")
+                           range=f"[1, {MAX_STEPS}]")
     times: tuple[float, ...] = param((), "times of the equilibria and of the frames of "
                                      "fields.pvd instead: comma list in (0, t_end] (t_end is "
                                      "always one)", "time")
@@ -166,6 +174,7 @@ class AtrophyScene(Scene):
                     "uniform, or X,Y,Z inside or on the body "
                     f"((X/{axes[0]:g})^2 + (Y/{axes[1]:g})^2 + (Z/{axes[2]:g})^2 <= 1)")
         require(self.dt <= self.t_end, "dt", self.dt, f"in (0, t_end = {self.t_end:g}]")
+        check_time_steps("t_end", self.t_end, "dt", self.dt)
         require(self.snapshots <= self.n_steps(), "snapshots", self.snapshots,
                 f"an integer in [1, {self.n_steps()}] (the number of time steps)")
         self.snapshot_steps()
@@ -210,6 +219,12 @@ class AtrophyScene(Scene):
         for mu, nu in moduli.values():
             NeoHookean.from_nu(mu, nu)
         return moduli
+
+    def mesh_estimate(self):
+        # a voxel brain has at most the voxels of its image (mni152: maxh in [0.4, 2] cm)
+        if self.geometry != "idealized":
+            return None
+        return estimate.brain_elements(semi_axes=self.axes(), maxh=self.maxh), False
 
     def build(self):
         mesh = self.mesh()

@@ -34,7 +34,26 @@ from ngincompat.workflow.results import MeshInfo, Results
 #: help text) calls the same declaration: ``order: int = ORDER(3)``.
 ORDER = Param("polynomial order of the displacement", range="[1, 10]")
 MAXH = Param("mesh size", "length", range="> 0")
-STEPS = Param("initial number of load steps (adaptive: cut on failure)", range=">= 1")
+#: Upper bounds of counts: more load steps or a higher growth order than this is no longer a
+#: finer computation but a run that does not end (each step is a Newton solve).
+MAX_STEPS = 1000
+STEPS = Param("initial number of load steps (adaptive: cut on failure)", range=f"[1, {MAX_STEPS}]")
+#: The most time steps a scene's duration may take at its time step (atrophy's 40 / 0.2 is
+#: 200): past it a run is a hang, not a finer result.
+MAX_TIME_STEPS = 10_000
+
+
+def check_time_steps(duration_name, duration, step_name, step):
+    """Refuse a time step that takes more than :data:`MAX_TIME_STEPS` over the duration."""
+    require(duration / step <= MAX_TIME_STEPS, step_name, step,
+            f">= {duration_name} / {MAX_TIME_STEPS} = {duration / MAX_TIME_STEPS:g} (at most "
+            f"{MAX_TIME_STEPS} time steps)")
+
+
+MAX_ELEMENTS = Param("refuse before meshing a mesh estimated to have more elements than this "
+                     "(geometries.estimate); raise it for finer meshes", range="[1, 1e9]")
+MAX_DOFS = Param("refuse before meshing a mesh estimated to have more displacement unknowns "
+                 "than this; raise it for finer meshes", range="[1, 1e10]")
 G_ORDER = Param("order of the H1 space that Fg given as data is projected into for Curl Fg "
                 "(analytic growth is differentiated exactly)", range="[1, 12]")
 
@@ -71,11 +90,37 @@ class Scene:
                              "curvature (of the growth metric); or none")
     mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
                                   "incompatibility of the growth field only")
+    max_elements: int = MAX_ELEMENTS(1_000_000)
+    max_dofs: int = MAX_DOFS(10_000_000)
 
     def __post_init__(self):
         # every value to its parameter's type and range; a subclass checks the relations
         # between parameters after calling this
         convert_fields(self)
+        self.check_mesh_size()
+
+    def mesh_estimate(self):
+        """``(elements, hexahedra)``: the estimated number of elements of the mesh
+        :meth:`build` would make (:mod:`geometries.estimate`) and whether they are
+        hexahedra; None when it cannot be told before meshing (a mesh file)."""
+        return None
+
+    def check_mesh_size(self):
+        """Refuse, before meshing, a mesh estimated past ``max_elements`` elements or
+        ``max_dofs`` unknowns (3 per node of the displacement's order: k^3 / 6 nodes per
+        tetrahedron, k^3 per hexahedron), naming ``maxh``."""
+        estimate = self.mesh_estimate()
+        if estimate is None:
+            return
+        elements, hexahedra = estimate
+        dofs = 3 * elements * self.order ** 3 / (1 if hexahedra else 6)
+        for what, value, limit in (("elements", elements, self.max_elements),
+                                   ("unknowns", dofs, self.max_dofs)):
+            key = "max_" + ("elements" if what == "elements" else "dofs")
+            require(value <= limit, "maxh", self.maxh,
+                    f"a coarser mesh (or a smaller body): the {self.name} mesh would have about "
+                    f"{value:.2g} {what} at order {self.order}, more than {key} = {limit} "
+                    f"(raise it with --set {key}=N if the machine has the memory)")
 
     def output_set(self):
         """The optional files this run writes, as a set of names."""

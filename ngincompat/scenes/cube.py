@@ -5,7 +5,7 @@ from typing import Literal
 
 import ngsolve as ngs
 
-from geometries import cube
+from geometries import cube, estimate
 from ngincompat import parallel
 from ngincompat.errors import require
 from ngincompat.incompatibility.operators import lattice_normals
@@ -50,6 +50,11 @@ class CubeScene(prescribed.PrescribedScene):
         require(self.quadrature == "gauss" or self.elements == "tet", "quadrature",
                 self.quadrature, "gauss with elements=hex (symmetric rules are for "
                 "tetrahedra: elements=tet)")
+
+    def mesh_estimate(self):
+        return (estimate.cube_elements(side=self.side, maxh=self.maxh, elements=self.elements,
+                                       quarter=self.model == "quarter"),
+                self.elements == "hex")
 
     def build(self):
         """The mesh and the prescribed-growth case."""

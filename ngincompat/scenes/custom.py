@@ -23,7 +23,7 @@ from typing import Literal
 import ngsolve as ngs
 import numpy as np
 
-from geometries import BUILDERS
+from geometries import BUILDERS, estimate
 from ngincompat.errors import require
 from ngincompat.incompatibility.operators import lattice_normals
 from ngincompat.mechanics import fields
@@ -92,6 +92,13 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
 
     def make_material(self):
         return make_material(self.material, self.mu, self.nu, self.k1, self.k2, self.kappa)
+
+    def mesh_estimate(self):
+        if self.mesh:
+            return None
+        # the cube builder's default elements are hexahedra
+        hexahedra = self.geometry == "cube"
+        return estimate.ESTIMATES[self.geometry](maxh=self.maxh), hexahedra
 
     def build(self):
         mesh = load_mesh(self.mesh) if self.mesh else BUILDERS[self.geometry](maxh=self.maxh)

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from geometries import cylinder
+from geometries import cylinder, estimate
 from ngincompat import sampling
 from ngincompat.fem import postprocess
 from ngincompat.incompatibility import operators as inc
@@ -41,6 +41,10 @@ class CylinderScene(prescribed.PrescribedScene):
     area: float = param(float(np.pi / 4), "cross-section", "length^2", range="> 0")
     length: float = param(1.0, "length", "length", range="> 0")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X2 t", "1/length")
+
+    def mesh_estimate(self):
+        return (estimate.cylinder_elements(area=self.area, length=self.length, maxh=self.maxh),
+                False)
 
     def build(self):
         mesh = cylinder(area=self.area, length=self.length, maxh=self.maxh,

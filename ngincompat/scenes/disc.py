@@ -6,7 +6,7 @@ from typing import Literal
 import ngsolve as ngs
 import numpy as np
 
-from geometries import disc
+from geometries import disc, estimate
 from ngincompat import sampling
 from ngincompat.fem import postprocess
 from ngincompat.incompatibility import operators as inc
@@ -59,6 +59,9 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
 
     def make_material(self):
         return make_material(self.material, self.mu, self.nu, self.k1, self.k2, self.kappa)
+
+    def mesh_estimate(self):
+        return estimate.disc_elements(R0=self.R0, height=self.height, maxh=self.maxh), False
 
     def build(self):
         mesh = disc(R0=self.R0, height=self.height, maxh=self.maxh, curve_order=self.order)

@@ -114,7 +114,7 @@ from dataclasses import dataclass, field, replace
 import ngsolve as ngs
 import numpy as np
 
-from geometries import bilayer
+from geometries import bilayer, estimate
 from ngincompat import sampling
 from ngincompat.errors import require
 from ngincompat.fem import buckling, postprocess
@@ -132,7 +132,7 @@ from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import Progress
 from ngincompat.references.bifurcation import Bilayer, onset
 from ngincompat.sampling import element_points
-from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, param
+from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, check_time_steps, param
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
 
@@ -236,7 +236,7 @@ class FoldingScene(Scene):
                                range="> 0")
     g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
-    growth_order: int = param(1, "order of the (L2) growth field theta", range=">= 0")
+    growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 10]")
     length: float = param(3.0, "length of the bilayer (X1)", "length", range="> 0")
     height: float = param(1.0, "height of the bilayer (X3)", "length", range="> 0")
     depth: float = param(0.05, "thickness of the slab (X2, out of plane)", "length",
@@ -290,6 +290,8 @@ class FoldingScene(Scene):
         require(self.cortex_maxh <= self.cortex_thickness / 2, "cortex_maxh",
                 self.cortex_maxh, f"<= cortex_thickness / 2 = {self.cortex_thickness / 2:g} "
                 "(two quadratic elements across the cortex)")
+        for step in ("dt", "onset_dt", "observe_dt"):
+            check_time_steps("t_end", self.t_end, step, getattr(self, step))
         self.axon_law()
 
     def axon_law(self):
@@ -309,6 +311,12 @@ class FoldingScene(Scene):
         lam = self.lam_ratio
         return Bilayer(self.height, self.cortex_thickness, self.mu_gray, lam * self.mu_gray,
                        self.mu_white, lam * self.mu_white)
+
+    def mesh_estimate(self):
+        return (estimate.bilayer_elements(length=self.length, height=self.height,
+                                          depth=self.depth, cortex=self.cortex_thickness,
+                                          maxh=self.maxh, cortex_maxh=self.cortex_maxh),
+                False)
 
     def build(self):
         mesh = bilayer(length=self.length, height=self.height, depth=self.depth,

@@ -6,7 +6,7 @@ from typing import Literal
 import ngsolve as ngs
 import numpy as np
 
-from geometries import hemisphere
+from geometries import estimate, hemisphere
 from ngincompat import sampling
 from ngincompat.errors import require
 from ngincompat.fem import postprocess
@@ -66,6 +66,11 @@ class HemisphereScene(prescribed.PrescribedScene):
         super().__post_init__()
         require(self.centre_maxh <= self.maxh, "centre_maxh", self.centre_maxh,
                 f"in (0, maxh = {self.maxh}]")
+
+    def mesh_estimate(self):
+        return (estimate.hemisphere_elements(R0=self.R0, maxh=self.maxh,
+                                             centre_maxh=self.centre_maxh,
+                                             quarter=self.model == "quarter"), False)
 
     def build(self):
         quarter = self.model == "quarter"

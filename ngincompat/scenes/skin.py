@@ -46,7 +46,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
-from geometries import FOOTPRINTS, footprint_area, footprint_size, skin_patch
+from geometries import FOOTPRINTS, estimate, footprint_area, footprint_size, skin_patch
 from geometries.skin_patch import SIDE, THICKNESS
 from ngincompat import config, sampling
 from ngincompat.errors import require
@@ -70,7 +70,15 @@ from ngincompat.mechanics.laws import HillLaw
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
-from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, param
+from ngincompat.scenes.base import (
+    G_ORDER,
+    MAX_STEPS,
+    MAXH,
+    ORDER,
+    Scene,
+    check_time_steps,
+    param,
+)
 from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.material import MU, Elastic
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
@@ -125,7 +133,7 @@ class SkinExpansionScene(Elastic, Scene):
     maxh: float = MAXH(1.0)
     g_order: int = G_ORDER(4, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
-    growth_order: int = param(3, "order of the (L2) growth field theta", range=">= 0")
+    growth_order: int = param(3, "order of the (L2) growth field theta", range="[0, 10]")
     footprint: str = param("rectangle", "expander base: " + ", ".join(FOOTPRINTS),
                            choices=FOOTPRINTS)
     footprint_area: float = param(24.5, "area of the expander's base, the same for every "
@@ -140,7 +148,8 @@ class SkinExpansionScene(Elastic, Scene):
                                         "is rounded", "length", range=">= 0")
     volume: float = param(50.0, "expander volume at the end of inflation", "volume",
                           range="> 0")
-    inflation_steps: int = param(10, "initial number of inflation steps", range=">= 1")
+    inflation_steps: int = param(10, "initial number of inflation steps",
+                                 range=f"[1, {MAX_STEPS}]")
     hold_days: float = param(7.0, "duration of the hold", "time", range=">= 0")
     dt: float = param(1.0, "time step of the hold (halved where Newton needs it)", "time",
                       range="> 0")
@@ -159,6 +168,7 @@ class SkinExpansionScene(Elastic, Scene):
         require(self.footprint_area <= largest, "footprint_area", self.footprint_area,
                 f"in (0, {largest:.4g}] for the {self.footprint} (a margin of one thickness "
                 "to the patch's edge)")
+        check_time_steps("hold_days", self.hold_days, "dt", self.dt)
         self.expander_body()
         NeoHookean.from_nu(self.mu, self.nu)
         self.law()
@@ -175,6 +185,9 @@ class SkinExpansionScene(Elastic, Scene):
 
     def resumes(self, out) -> bool:
         return self.resume
+
+    def mesh_estimate(self):
+        return estimate.skin_patch_elements(maxh=self.maxh), False
 
     def build(self):
         """The patch, the coupled problem and the stages of section 3.6."""
