@@ -44,6 +44,17 @@ from ngincompat.errors import ExpressionError
 #: a few roundings); larger ones use ``|a|**n`` with the sign of ``a**n``.
 MAX_PRODUCT_EXPONENT = 64
 
+#: Limits checked before an expression is translated, so that no input can exhaust the
+#: parser, the recursion or the memory (10,000 unary minuses raised MemoryError, a sum of
+#: 3,000 terms RecursionError, a 1e6-character expression ran for minutes): its length in
+#: characters, the depth of its syntax tree and the number of nodes of that tree. A growth
+#: law written by hand stays far below them (the longest in the examples has 40 nodes).
+MAX_LENGTH = 2000
+MAX_DEPTH = 100
+MAX_NODES = 1000
+#: How many characters of an expression an error message quotes.
+QUOTE = 70
+
 _BIG = sys.float_info.max
 #: ``(v + _ROUND) - _ROUND`` is v rounded to the nearest integer for 0 <= v < 2**52.
 _ROUND = 2.0 ** 52
@@ -264,6 +275,31 @@ def _number(value):
         return math.inf
 
 
+def _quote(text):
+    """``text`` as an error message quotes it: its repr, cut to about :data:`QUOTE`
+    characters."""
+    if len(text) <= QUOTE:
+        return repr(text)
+    return f"{text[:QUOTE - 3]!r}... ({len(text)} characters)"
+
+
+def _check_size(tree, text, name):
+    """Refuse a syntax tree deeper than :data:`MAX_DEPTH` or larger than :data:`MAX_NODES`,
+    walking it without recursion (the translation below recurses once per level)."""
+    stack, nodes = [(tree, 1)], 0
+    while stack:
+        node, depth = stack.pop()
+        nodes += 1
+        if depth > MAX_DEPTH:
+            raise ExpressionError(f"{name} = {_quote(text)} is nested more than {MAX_DEPTH} "
+                                  f"levels deep (a sum of n terms nests n levels): "
+                                  f"allowed at most {MAX_DEPTH}")
+        if nodes > MAX_NODES:
+            raise ExpressionError(f"{name} = {_quote(text)} has more than {MAX_NODES} terms "
+                                  f"and operations: allowed at most {MAX_NODES}")
+        stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
+
+
 def parse_expression(text, time=None, name="expression"):
     """Translate ``text`` into a CoefficientFunction of (X, t).
 
@@ -289,10 +325,16 @@ def parse_expression(text, time=None, name="expression"):
     """
     if not isinstance(text, str) or not text.strip():
         raise ExpressionError(f"{name} must be a non-empty expression in X1, X2, X3 and t")
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(f"{name} = {_quote(text)} has {len(text)} characters: allowed "
+                              f"at most {MAX_LENGTH}")
     try:
         tree = ast.parse(text.strip(), mode="eval")
-    except SyntaxError as err:
-        raise ExpressionError(f"{name} = {text!r} is not a valid expression: {err.msg}") from None
+    except (SyntaxError, MemoryError, RecursionError) as err:
+        reason = err.msg if isinstance(err, SyntaxError) else "nested too deeply"
+        raise ExpressionError(f"{name} = {_quote(text)} is not a valid expression: "
+                              f"{reason}") from None
+    _check_size(tree, text, name)
     if time is None:
         time = 1.0
     elif not isinstance(time, ngs.CoefficientFunction):
@@ -309,7 +351,7 @@ def parse_expression(text, time=None, name="expression"):
             if node.id in names:
                 return names[node.id]
             raise ExpressionError(
-                f"{name} = {text!r} uses the unknown name {node.id!r}; "
+                f"{name} = {_quote(text)} uses the unknown name {node.id!r}; "
                 f"allowed names: {', '.join(sorted(names))}")
         if isinstance(node, ast.BinOp) and type(node.op) in (*_NUMPY_BINARY, ast.Pow):
             return _binary(type(node.op), build(node.left), build(node.right))
@@ -321,7 +363,7 @@ def parse_expression(text, time=None, name="expression"):
             arity = _ARITY.get(node.func.id, 1)
             if len(node.args) != arity:
                 raise ExpressionError(
-                    f"{name} = {text!r}: {node.func.id}() takes {arity} argument(s)")
+                    f"{name} = {_quote(text)}: {node.func.id}() takes {arity} argument(s)")
             return FUNCTIONS[node.func.id](*(build(a) for a in node.args))
         if isinstance(node, ast.Call):
             called = node.func.id if isinstance(node.func, ast.Name) else ast.unparse(node.func)
@@ -329,7 +371,7 @@ def parse_expression(text, time=None, name="expression"):
         else:
             what = f"'{ast.unparse(node)}'"
         raise ExpressionError(
-            f"{name} = {text!r} contains {what}, which is not allowed; "
+            f"{name} = {_quote(text)} contains {what}, which is not allowed; "
             f"use numbers, X1, X2, X3, t, R, + - * / ** and {', '.join(sorted(FUNCTIONS))}")
 
     value = build(tree)
