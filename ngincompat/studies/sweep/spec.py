@@ -48,6 +48,10 @@ from ngincompat.scenes import SCENES, get_scene
 
 SWEEP_KEYS = ("scene", "fixed", "vary", "zip", "metrics")
 RANGE_KEYS = ("start", "stop", "num", "step")
+#: The most cases a sweep may have, counted from the file before any list is made (a range
+#: of num = 1e12 tried to allocate 7 TiB, a 1000^3 product took 4.7 GB before failing): each
+#: case is a run of its scene, so 10,000 of them are days of computing already.
+MAX_CASES = 10_000
 
 
 @dataclasses.dataclass(frozen=True)
@@ -258,6 +262,12 @@ def parse_sweep(data, source="sweep"):
     if len(set(lengths.values())) > 1:
         fail("the lists of [zip] must have equal lengths: "
              + ", ".join(f"zip.{key} has {n}" for key, n in lengths.items()))
+    count = max(lengths.values(), default=1)
+    for values in vary.values():
+        count *= len(values)
+    if count > MAX_CASES:
+        fail(f"the sweep has {count:.3g} cases ([zip] rows times the product of [vary]): "
+             f"allowed at most {MAX_CASES}")
 
     metrics = data.get("metrics")
     if metrics is not None:
@@ -318,8 +328,9 @@ def _range(name, spec, fail):
     start, stop = spec["start"], spec["stop"]
     if "num" in spec:
         num = spec["num"]
-        if not (isinstance(num, int) and not isinstance(num, bool) and num >= 1):
-            fail(f"{name}.num = {num!r} must be an integer >= 1")
+        if not (isinstance(num, int) and not isinstance(num, bool) and 1 <= num <= MAX_CASES):
+            fail(f"{name}.num = {num!r} must be an integer in [1, {MAX_CASES}] (the most cases "
+                 "of a sweep)")
         for key in ("start", "stop"):
             if not _is_number(spec[key]):
                 fail(f"{name}.{key} = {spec[key]!r} must be a number")
@@ -332,6 +343,10 @@ def _range(name, spec, fail):
                  "numbers)")
     if step == 0:
         fail(f"{name}.step = 0 must not be zero")
+    count = max(0, (stop - start) // step + 1)
+    if count > MAX_CASES:
+        fail(f"{name}: the range from {start} to {stop} by {step} has {count} values: allowed "
+             f"at most {MAX_CASES} (the most cases of a sweep)")
     values = list(range(start, stop + (1 if step > 0 else -1), step))
     if not values:
         fail(f"{name}: the range from {start} to {stop} by {step} is empty")

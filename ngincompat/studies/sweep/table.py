@@ -22,6 +22,8 @@ from ngincompat.workflow import io, plots, tables
 NAME = "sweep"
 PARQUET = f"{NAME}.parquet"
 RECORD = f"{NAME}.json"
+#: One line per case finished since the table was last written (see the runner).
+JOURNAL = f"{NAME}.journal.jsonl"
 FIXED_COLUMNS = ("case", "status", "seconds", "error")
 
 
