@@ -290,7 +290,7 @@ class FoldingScene(Scene):
         require(self.cortex_maxh <= self.cortex_thickness / 2, "cortex_maxh",
                 self.cortex_maxh, f"<= cortex_thickness / 2 = {self.cortex_thickness / 2:g} "
                 "(two quadratic elements across the cortex)")
-        for step in ("dt", "onset_dt", "observe_dt"):
+        for step in ("dt", "approach_dt", "onset_dt"):     # observe_dt = 0: every step
             check_time_steps("t_end", self.t_end, step, getattr(self, step))
         self.axon_law()
 

@@ -1,0 +1,255 @@
+"""Hostile input that passes the types must not crash, hang or eat memory: every numeric
+parameter of every scene through the command line, the element estimate before meshing,
+expression limits, and sweep plans bounded before anything is allocated."""
+
+import json
+import math
+
+import pytest
+
+from geometries import bilayer, cube, cylinder, disc, estimate, hemisphere, skin_patch
+from ngincompat.cli import main
+from ngincompat.errors import ExpressionError, ParameterError
+from ngincompat.mechanics.expressions import MAX_DEPTH, MAX_LENGTH, parse_expression
+from ngincompat.parameters import _Float, _Floats, _Int
+from ngincompat.scenes import SCENES
+from ngincompat.studies import sweep as sweep_pkg
+from ngincompat.studies.sweep import runner, spec, table
+
+# ----------------------------------------------------------------- the generated corpus
+
+HOSTILE = ("1e308", "inf", "-inf", "nan", "0", "-1", "-1e308", "two", "")
+HOSTILE_INT = ("100000000000000000000",)
+
+
+def _numeric(cls):
+    return [(key, p) for key, p in cls.declarations().items()
+            if isinstance(p.kind, (_Float, _Int, _Floats))]
+
+
+def _texts(p, value):
+    """``value`` as --set text for the parameter: a tuple gets it in every component."""
+    if isinstance(p.kind, _Floats) and value:
+        return ",".join([value] * (p.kind.length or 1))
+    return value
+
+
+CORPUS = [(name, key) for name, cls in SCENES.items() for key, _ in _numeric(cls)]
+
+
+def _legitimate(cls, key, text):
+    """Whether the value is allowed (its declared range and the scene's checks): then it
+    would run, and the corpus skips it."""
+    try:
+        cls.from_settings({key: text})
+    except ParameterError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize("scene, key", CORPUS, ids=[f"{s}-{k}" for s, k in CORPUS])
+def test_every_numeric_parameter_refuses_hostile_values_in_one_line(scene, key, tmp_path,
+                                                                    capsys):
+    cls = SCENES[scene]
+    p = cls.declarations()[key]
+    values = HOSTILE + (HOSTILE_INT if isinstance(p.kind, _Int) else ())
+    refused = 0
+    for value in values:
+        text = _texts(p, value)
+        if _legitimate(cls, key, text):
+            continue
+        out = tmp_path / f"out_{refused}"
+        code = main(["run", scene, "--set", f"{key}={text}", "--out", str(out), "-q"])
+        captured = capsys.readouterr()
+        lines = captured.err.strip().splitlines()
+        assert code == 2, (value, captured.err)
+        assert len(lines) == 1 and (key in lines[0] or "maxh" in lines[0]), (value, lines)
+        assert "Traceback" not in captured.err + captured.out
+        assert not out.exists(), value
+        refused += 1
+    # 1e308, inf, -inf, nan and a wrong type are refused by every numeric parameter
+    assert refused >= 5
+
+
+def test_the_corpus_covers_every_scene_and_the_named_hostile_inputs():
+    assert {s for s, _ in CORPUS} == set(SCENES)
+    for scene, key in [("hemisphere", "R0"), ("disc", "R0"), ("disc", "height"),
+                       ("cylinder", "area"), ("cylinder", "length"), ("folding", "height"),
+                       ("folding", "length"), ("folding", "depth"), ("cube", "side"),
+                       ("cube", "mu"), ("atrophy", "t_end"), ("folding", "axon_rate"),
+                       ("skin", "growth_order"), ("folding", "growth_order"), ("skin", "K"),
+                       ("skin", "volume"), ("folding", "cortex_rate")]:
+        assert (scene, key) in CORPUS
+        for value in ("inf", "1e308"):
+            assert not _legitimate(SCENES[scene], key, value), (scene, key, value)
+
+
+@pytest.mark.parametrize("settings, name", [
+    ({"t_end": "1e12"}, "dt"),                    # atrophy: 5e12 steps of 0.2
+    ({"growth_order": "100000000000000000000"}, "growth_order"),
+])
+def test_durations_and_counts_that_would_never_end_are_refused(settings, name):
+    scene = "atrophy" if "t_end" in settings else "skin"
+    with pytest.raises(ParameterError, match=f"^{name} = "):
+        SCENES[scene].from_settings(settings)
+    with pytest.raises(ParameterError, match="^dt = .*time steps"):
+        SCENES["skin"].from_settings({"hold_days": "1e6"})
+    with pytest.raises(ParameterError, match="^dt = .*time steps"):
+        SCENES["folding"].from_settings({"t_end": "1e6"})
+
+
+# ----------------------------------------------------------------- the element estimate
+
+MESHES = [
+    ("cube tet", lambda: cube(maxh=0.1, elements="tet"),
+     lambda: estimate.cube_elements(maxh=0.1, elements="tet")),
+    ("cube hex", lambda: cube(maxh=0.2), lambda: estimate.cube_elements(maxh=0.2)),
+    ("hemisphere", lambda: hemisphere(maxh=0.3, curve_order=1, centre_maxh=0.01),
+     lambda: estimate.hemisphere_elements(maxh=0.3, centre_maxh=0.01)),
+    ("disc", lambda: disc(maxh=0.15, curve_order=1), lambda: estimate.disc_elements(maxh=0.15)),
+    ("cylinder", lambda: cylinder(maxh=0.15, curve_order=1),
+     lambda: estimate.cylinder_elements(maxh=0.15)),
+    ("skin", lambda: skin_patch(maxh=1.0, curve_order=1),
+     lambda: estimate.skin_patch_elements(maxh=1.0)),
+    ("bilayer", lambda: bilayer(maxh=0.3, cortex_maxh=0.05),
+     lambda: estimate.bilayer_elements(maxh=0.3, cortex_maxh=0.05)),
+]
+
+#: The estimate only has to tell a mesh that fits from one that does not.
+FACTOR = 4
+
+
+@pytest.mark.parametrize("label, build, guess", MESHES, ids=[m[0] for m in MESHES])
+def test_the_element_estimate_is_within_a_factor_4_of_the_mesh(label, build, guess):
+    ne, estimated = build().ne, guess()
+    assert ne / FACTOR <= estimated <= FACTOR * ne, (label, ne, estimated)
+
+
+def test_every_scene_meshed_from_a_geometry_has_an_estimate():
+    for name, cls in SCENES.items():
+        elements, _ = cls().mesh_estimate()
+        assert 1 <= elements <= cls().max_elements, name
+
+
+def test_maxh_0001_on_the_cube_is_refused_before_meshing_naming_maxh_and_the_limit(
+        tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["run", "cube", "--maxh", "0.001", "--out", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("ngincompat: error: maxh = 0.001 ")
+    assert "1e+09 elements" in err and "max_elements = 1000000" in err
+    assert "--set max_elements=N" in err
+    assert not out.exists()
+
+
+def test_the_limit_can_be_raised_and_counts_unknowns_by_order():
+    with pytest.raises(ParameterError, match="^maxh = "):
+        SCENES["cube"].from_settings({"maxh": "0.01"})        # 1e6 hexahedra, order 4
+    SCENES["cube"].from_settings({"maxh": "0.01", "max_elements": "2000000",
+                                  "max_dofs": "1000000000", "order": "1"})
+    with pytest.raises(ParameterError, match="unknowns at order 10"):
+        SCENES["cube"].from_settings({"maxh": "0.02", "order": "10"})
+
+
+def test_a_huge_body_is_refused_by_its_element_count():
+    with pytest.raises(ParameterError, match="^maxh = .*hemisphere mesh would have about"):
+        SCENES["hemisphere"].from_settings({"R0": "1e6", "centre_maxh": "0.05"})
+    assert math.isinf(estimate.disc_elements(R0=1e308, height=1e308, maxh=1e-308))
+
+
+# ----------------------------------------------------------------- expressions
+
+@pytest.mark.parametrize("text, what", [
+    ("-" * 10_000 + "1", "characters"),
+    ("-" * (MAX_LENGTH - 1) + "1", "nested"),
+    ("+".join(["X1"] * 3000), "characters"),
+    ("+".join(["X1"] * (MAX_DEPTH + 5)), "nested"),
+    ("1+" * 500_000 + "1", "characters"),
+    ("(" * 900 + "1" + ")" * 900, "not a valid expression"),
+    ("min(" * 120 + "X1" + ",X2)" * 120, "nested"),
+])
+def test_expression_limits_refuse_in_one_short_line_naming_the_parameter(text, what):
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, name="theta")
+    message = str(info.value)
+    assert message.startswith("theta = ") and what in message
+    assert "\n" not in message and len(message) < 250
+
+
+def test_an_unknown_name_in_a_long_expression_quotes_at_most_80_characters():
+    text = "1 + " + "X1*" * 300 + "foo"
+    with pytest.raises(ExpressionError) as info:
+        parse_expression(text, name="theta")
+    quoted = str(info.value).split(" = ", 1)[1].split("'")[1]
+    assert len(quoted) <= 80
+
+
+def test_a_hostile_theta_is_refused_by_the_custom_scene_through_the_command_line(
+        tmp_path, capsys):
+    out = tmp_path / "out"
+    code = main(["run", "custom", "--set", "theta=" + "-" * 10_000 + "1", "--out", str(out),
+                 "-q"])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1 and len(err) < 300
+    assert not out.exists()
+
+
+# ----------------------------------------------------------------- sweeps
+
+def _sweep(vary):
+    return {"scene": "cube", "fixed": {"maxh": 1.0, "order": 1}, "vary": vary}
+
+
+@pytest.mark.parametrize("vary, what", [
+    ({"nu": {"start": 0.1, "stop": 0.4, "num": 10 ** 12}}, "num"),
+    ({"steps": {"start": 1, "stop": 10 ** 12, "step": 1}}, "values"),
+    ({"mu": [1.0] * 1000, "nu": [0.3] * 1000, "a": [0.1] * 1000}, r"1e\+09 cases"),
+])
+def test_a_sweep_plan_is_bounded_before_anything_is_allocated(vary, what, monkeypatch):
+    def never(*args, **kwargs):
+        raise AssertionError("allocated the plan")
+
+    monkeypatch.setattr(spec.np, "linspace", never)
+    monkeypatch.setattr(spec.itertools, "product", never)
+    with pytest.raises(ParameterError, match=what) as info:
+        spec.parse_sweep(_sweep(vary))
+    assert "\n" not in str(info.value) and str(spec.MAX_CASES) in str(info.value)
+
+
+def test_the_table_costs_the_same_per_finished_case_however_many_cases(tmp_path,
+                                                                       monkeypatch):
+    """Rejected cases go through the same bookkeeping as run ones without running: the
+    table is written a fixed number of times and each case adds one journal line of the
+    same size, whether the sweep has 10 or 200 cases."""
+    writes, appended = [], []
+    real_write = table.write_table
+
+    def counting_write(out, tbl, record):
+        writes.append(len(tbl.rows))
+        return real_write(out, tbl, record)
+
+    real_open = open
+
+    def watching_open(path, mode="r", *args, **kwargs):
+        stream = real_open(path, mode, *args, **kwargs)
+        if str(path).endswith(table.JOURNAL):
+            write = stream.write
+            stream.write = lambda text: appended.append(len(text)) or write(text)
+        return stream
+
+    monkeypatch.setattr(runner, "write_table", counting_write)
+    monkeypatch.setattr(runner, "open", watching_open, raising=False)
+    per_case = {}
+    for n in (10, 200):
+        writes.clear(), appended.clear()
+        sweep = spec.parse_sweep(_sweep({"mu": [-1.0 - k / 1000 for k in range(n)]}))
+        report = sweep_pkg.run_sweep(sweep, tmp_path / f"s{n}", workers=1)
+        assert len(report.table.rows) == n and len(writes) == 2
+        assert len(appended) == n
+        per_case[n] = max(appended)
+        assert not (tmp_path / f"s{n}" / table.JOURNAL).exists()
+        rows = json.loads((tmp_path / f"s{n}" / table.RECORD).read_text())["rows"]
+        assert len(rows) == n
+    # the same line whatever the number of cases (a longer index and value at most); the
+    # whole table of 200 rows, as written before, is 200 times one
+    assert per_case[200] < 1.5 * per_case[10]
