@@ -144,7 +144,7 @@ def test_times_outside_the_run_are_refused(times, message):
 
 
 @pytest.mark.parametrize("setting, match", [
-    ({"d_ext": -1.0}, "d_ext.*>= 0"),
+    ({"d_ext": -1.0}, "d_ext.*in \\[0, "),
     ({"seed": "0,0,-7"}, "seed.*inside or on the body"),
     ({"rate_gray": 4.0, "dt": 0.1}, "rate_gray.*pass theta_min"),
     ({"theta_min": 1.2}, "theta_min.*in \\(0, 1\\)"),
