@@ -9,6 +9,8 @@ Exit codes:
   ``"status": "not converged"`` in results.json;
 * 4: a sweep finished with failed cases (the table has every case, failed ones with their
   error);
+* 5: a file could not be written (a full disk, a folder made read-only): one line; no file is
+  left truncated under its final name;
 * 130: interrupted (Ctrl-C): one line; what was finished is kept, an unfinished run's
   results.json is marked ``"status": "interrupted"``.
 
@@ -16,6 +18,7 @@ This is the only module that parses arguments; everything it calls takes plain v
 """
 
 import argparse
+import errno
 import logging
 import os
 import sys
@@ -25,7 +28,10 @@ from ngincompat.errors import ConvergenceError, Interrupted, ParameterError
 from ngincompat.parameters import OUTPUTS, Outputs
 from ngincompat.progress import Progress
 
-EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_INTERRUPTED = 0, 2, 3, 4, 130
+EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_NOT_WRITTEN = 0, 2, 3, 4, 5
+EXIT_INTERRUPTED = 130
+#: The errors of a write that the machine refused (exit 5); any other OSError is a bug.
+NOT_WRITTEN = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG)
 
 
 def _settings(pairs, option="--set"):
@@ -418,6 +424,12 @@ def main(argv=None):
         # it wanted; stdout goes to /dev/null so that Python's flush at exit stays quiet
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
+    except OSError as err:
+        if err.errno not in NOT_WRITTEN:
+            raise
+        print(f"ngincompat: cannot write: {err.strerror or err}"
+              f"{f' ({err.filename})' if err.filename else ''}", file=sys.stderr)
+        return EXIT_NOT_WRITTEN
 
 
 if __name__ == "__main__":

@@ -148,3 +148,48 @@ def test_a_process_cannot_take_its_own_folder_twice(tmp_path):
         with pytest.raises(ParameterError, match="in use by this process's own run"):
             output.prepare(tmp_path)
     assert not (tmp_path / output.LOCK).exists()
+
+
+class _TruncatingVTK:
+    """NGSolve's VTK writer on a full disk: it writes part of the file and reports nothing."""
+
+    def __init__(self, mesh, coefs, names, filename, subdivision, legacy):
+        self.filename = filename
+
+    def Do(self):
+        path = self.filename + ".vtu"
+        with open(path, "w") as f:
+            f.write('<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid">\n<Piece')
+        return path
+
+
+def test_a_full_disk_leaves_no_truncated_file_under_its_final_name(tmp_path, monkeypatch,
+                                                                   capsys):
+    from ngincompat.cli import EXIT_NOT_WRITTEN, main
+
+    monkeypatch.setattr("ngsolve.VTKOutput", _TruncatingVTK)
+    out = tmp_path / "run"
+    code = main(["run", "cube", "--out", str(out), "--maxh", "1", "--order", "1", "-q"])
+    err = capsys.readouterr().err
+    assert code == EXIT_NOT_WRITTEN
+    assert err.count("\n") == 1 and "fields.vtu was not written completely" in err
+    assert "Traceback" not in err
+    assert sorted(p.name for p in out.iterdir()) == []      # no part file, no lock, no temp
+
+
+def test_a_mesh_file_netgen_left_truncated_is_refused(tmp_path, monkeypatch):
+    from geometries import cube
+    from ngincompat.workflow.inputs import save_mesh
+
+    mesh = cube(maxh=1.0)
+    real = type(mesh.ngmesh).Save
+
+    def truncated(ngmesh, name):
+        real(ngmesh, name)
+        with open(name, "r+b") as f:
+            f.truncate(100)
+
+    monkeypatch.setattr(type(mesh.ngmesh), "Save", truncated)
+    with pytest.raises(OSError, match="mesh.vol was not written completely"):
+        save_mesh(tmp_path / "mesh.vol", mesh)
+    assert list(tmp_path.iterdir()) == []

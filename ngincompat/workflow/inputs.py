@@ -27,6 +27,8 @@ and ramps the growth linearly in the load parameter t in [0, 1],
 so that t = 0 is the ungrown body and t = 1 the stored growth field.
 """
 
+import errno
+import gzip
 import hashlib
 import logging
 import math
@@ -181,11 +183,27 @@ def save_mesh(path, mesh):
         named = tmp.with_name(tmp.name + suffix)
         try:
             mesh.ngmesh.Save(str(named))
+            _check_saved(named, path)
             os.replace(named, tmp)
         finally:
             if named.exists():
                 named.unlink()
     return path
+
+
+def _check_saved(path, final):
+    """Raise an OSError unless Netgen wrote the whole mesh into ``path`` (its writer reports
+    no failed write, e.g. on a full disk): the file holds the mesh's ``endmesh``; the message
+    names ``final``, the file's final name."""
+    try:
+        opener = gzip.open if path.name.endswith(".gz") else open
+        with opener(path, "rb") as f:
+            whole = b"endmesh" in f.read()
+    except (OSError, EOFError):
+        whole = False
+    if not whole:
+        raise OSError(errno.ENOSPC, f"{final.name} was not written completely (is the disk "
+                                    "full?)", str(final))
 
 
 def describe_mesh(mesh):

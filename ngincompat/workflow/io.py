@@ -6,6 +6,7 @@ half-written result behind.
 """
 
 import datetime
+import errno
 import functools
 import json
 import math
@@ -148,8 +149,33 @@ def write_vtk(path, mesh, fields, subdivision=1):
     written = Path(vtk.Do())
     if written.suffix != ".vtu":
         written = written.with_name(written.name + ".vtu")
+    try:
+        complete(written, b"</VTKFile>", path)
+    except OSError:
+        written.unlink(missing_ok=True)
+        raise
     os.replace(written, path)
     return path
+
+
+def complete(path, ending, final=None):
+    """Raise an OSError unless the file ``path`` ends in ``ending`` (white space aside); the
+    message names ``final``, the name the file is written for (default ``path``).
+
+    NGSolve's and Netgen's writers do not report a failed write (a full disk), so a file is
+    checked before it is renamed to its final name: a truncated file is never committed."""
+    path = Path(path)
+    try:
+        with open(path, "rb") as f:
+            size = f.seek(0, os.SEEK_END)
+            f.seek(max(0, size - 256))
+            tail = f.read().rstrip()
+    except FileNotFoundError:
+        tail = b""
+    if not tail.endswith(ending):
+        final = Path(final or path)
+        raise OSError(errno.ENOSPC, f"{final.name} was not written completely (is the disk "
+                                    "full?)", str(final))
 
 
 def write_pvd(path, datasets):
