@@ -193,3 +193,18 @@ def test_a_mesh_file_netgen_left_truncated_is_refused(tmp_path, monkeypatch):
     with pytest.raises(OSError, match="mesh.vol was not written completely"):
         save_mesh(tmp_path / "mesh.vol", mesh)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_overwrite_keeps_a_file_the_run_did_not_write_as_it_is(tmp_path):
+    """A results.json edited to list a foreign file, and a figure the user changed since:
+    --overwrite removes neither (the run recorded what it wrote by its SHA-256)."""
+    CubeScene(order=1, maxh=1.0).run(tmp_path)
+    record = json.loads((tmp_path / "results.json").read_text())
+    assert set(record["file_hashes"]) == set(record["files"]) - {"results.json"}
+    (tmp_path / "thesis.tex").write_text("years of work")
+    record["files"].append("thesis.tex")
+    (tmp_path / "results.json").write_text(json.dumps(record))
+    (tmp_path / "stress.png").write_bytes(b"the user's own figure")
+    with output.folder(tmp_path, overwrite=True):
+        pass
+    assert {p.name for p in tmp_path.iterdir()} == {"thesis.tex", "stress.png"}

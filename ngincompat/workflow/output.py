@@ -3,7 +3,9 @@
 :func:`prepare` runs first: the folder must be a folder (or creatable), writable, not in use
 by another run (:data:`LOCK`, held until :func:`release`), and not hold another run unless
 ``overwrite`` is given, which removes the files the old run wrote (listed in its results.json
-or summary.json) and nothing else. :func:`write` writes results.json, the
+or summary.json; a scene's run records their SHA-256, and a file whose content is no longer
+what the run wrote, or that it did not write, is kept) and nothing else. :func:`write`
+writes results.json, the
 VTK fields, the figures and the growth field as data, each atomically, so an interrupted run
 never leaves a half-written file; :func:`read` reads results.json back into a
 :class:`Results` (without the NGSolve fields).
@@ -12,6 +14,7 @@ never leaves a half-written file; :func:`read` reads results.json back into a
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import logging
 import os
@@ -168,6 +171,7 @@ def _remove_run(out: Path) -> None:
             record = io.read_json(path)
         except (OSError, ValueError):
             record = {}
+        hashes = record.get("file_hashes")
         for entry in record.get("files", []):
             target = (out / entry).resolve()
             if out.resolve() not in target.parents:
@@ -175,9 +179,19 @@ def _remove_run(out: Path) -> None:
             if target.is_dir():
                 _remove_run(target)
                 _remove_if_empty(target)
-            else:
+            elif hashes is None or (target.is_file() and hashes.get(entry) == _sha256(target)):
                 target.unlink(missing_ok=True)
+            elif target.exists():
+                log.warning("%s: kept %s: the run did not write it as it is now", out, entry)
         path.unlink(missing_ok=True)
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
 
 
 def _remove_if_empty(folder: Path) -> None:
@@ -238,7 +252,9 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     results.files = ["results.json", *files, *[f for f in results.files
                                                if f not in files and f != "results.json"]]
     results.timings["output"] = time.perf_counter() - start
-    io.write_json(out / "results.json", results.to_dict())
+    # what the run wrote, by content: --overwrite removes these files only as they were
+    hashes = {f: _sha256(out / f) for f in results.files if (out / f).is_file()}
+    io.write_json(out / "results.json", {**results.to_dict(), "file_hashes": hashes})
     return results
 
 
