@@ -208,3 +208,12 @@ def test_overwrite_keeps_a_file_the_run_did_not_write_as_it_is(tmp_path):
     with output.folder(tmp_path, overwrite=True):
         pass
     assert {p.name for p in tmp_path.iterdir()} == {"thesis.tex", "stress.png"}
+
+
+def test_a_symbolic_link_as_output_folder_is_said(tmp_path, caplog):
+    (tmp_path / "real").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "real")
+    with caplog.at_level(logging.WARNING, logger="ngincompat.workflow.output"):
+        with output.folder(tmp_path / "link"):
+            pass
+    assert f"is a symbolic link: the run is written into {tmp_path / 'real'}" in caplog.text

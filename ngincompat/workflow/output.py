@@ -64,6 +64,9 @@ def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
     if not str(out).strip():
         raise ParameterError("--out '' is empty: give a folder")
     out = Path(out)
+    if out.is_symlink():
+        log.warning("--out %s is a symbolic link: the run is written into %s", out,
+                    out.resolve())
     for parent in [out, *out.parents]:
         if parent.exists() and not parent.is_dir():
             where = "is a file" if parent == out else f"lies under the file {parent}"
