@@ -8,8 +8,7 @@ Per time step, staggered and one-way (the mechanics does not act back on the tra
    seed c0 exp(-|X - Xs|^2 / (2 s^2)) or a uniform c0;
 2. **atrophy**: theta of isotropic growth Fg = theta^(1/3) I (eq. 13) decreases where c is,
    faster in gray than in white matter, towards theta_min (:mod:`ngincompat.mechanics.atrophy`;
-   exact
-   update, so theta never passes theta_min);
+   exact update, so theta never passes theta_min);
 3. **mechanics**: quasi-static, traction-free (rigid-body motions removed), neo-Hookean per
    tissue, nearly incompressible through the mixed formulation, whose constraint acts on
    Je = J / theta (so J -> theta, not 1).
@@ -35,6 +34,10 @@ reimplementations of Weickenmeier, Jucker, Goriely & Kuhl, J. Mech. Phys. Solids
 "maximum volume loss about 30 %"; rate_gray = 0.03 /yr (about 29 % gray loss in 40 years) and
 rate_white = 0.001 /yr ("white matter undergoes almost no shrinkage"); mu = 1 kPa in both
 tissues (stresses then read in units of mu) and nu = 0.49 (nearly incompressible).
+
+Why one module: the transport, the atrophy's update, the equilibria at the snapshots and the
+measures all work on the case's one mesh and its state (c, theta, u) as the time steps go;
+split, that state would be handed between modules at every step.
 """
 
 from dataclasses import dataclass, field
