@@ -24,7 +24,12 @@ import os
 import sys
 
 from ngincompat import parallel
-from ngincompat.errors import ConvergenceError, Interrupted, ParameterError
+from ngincompat.errors import (
+    ConvergenceError,
+    Interrupted,
+    InterruptedBeforeComputing,
+    ParameterError,
+)
 from ngincompat.parameters import OUTPUTS, Outputs
 from ngincompat.progress import Progress
 
@@ -415,6 +420,9 @@ def main(argv=None):
         print(f"ngincompat: not converged: {err} (the last converged state is written)",
               file=sys.stderr)
         return EXIT_NOT_CONVERGED
+    except InterruptedBeforeComputing as err:
+        print(f"ngincompat: {err}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except (Interrupted, KeyboardInterrupt):
         print("ngincompat: interrupted; finished results are kept, an unfinished run is "
               "marked \"interrupted\" in its results.json", file=sys.stderr)

@@ -45,6 +45,11 @@ class Interrupted(NgincompatError):
         self.results = None
 
 
+class InterruptedBeforeComputing(Interrupted):
+    """The user interrupted a run while it built its case (meshing): nothing was computed and
+    nothing written."""
+
+
 def require(condition, name, value, allowed):
     """Raise :class:`ParameterError` unless ``condition`` holds.
 

@@ -41,6 +41,8 @@ MARKERS = ("results.json", "summary.json")
 #: command line. A second run into the folder is refused while the holder lives; the file of a
 #: process that died (killed, a crashed machine) is removed with a warning.
 LOCK = ".ngincompat.lock"
+#: Folders :func:`prepare` created in this process (removed by :func:`release` if empty).
+_created = set()
 
 
 def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
@@ -71,6 +73,8 @@ def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
         if parent.exists() and not parent.is_dir():
             where = "is a file" if parent == out else f"lies under the file {parent}"
             raise ParameterError(f"--out {out} {where}: give a folder")
+    if not out.exists():
+        _created.add(out.absolute())
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
@@ -109,6 +113,10 @@ def release(out) -> None:
     holder = _holder(path)
     if holder.get("pid") == os.getpid() and holder.get("host") == socket.gethostname():
         path.unlink(missing_ok=True)
+    folder = Path(out).absolute()
+    if folder in _created:          # made for a run that wrote nothing: not left behind
+        _created.discard(folder)
+        _remove_if_empty(folder)
 
 
 def _acquire(out: Path) -> None:

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
 from ngincompat import parallel
-from ngincompat.errors import ConvergenceError, Interrupted
+from ngincompat.errors import ConvergenceError, Interrupted, InterruptedBeforeComputing
 from ngincompat.fem.solver import SolverHistory
 from ngincompat.progress import SILENT, Progress
 from ngincompat.workflow import output
@@ -176,8 +176,12 @@ def _run(scene, out, progress, label):
     """:func:`run` in a folder already prepared (or none)."""
     with progress.case(label or scene.name):
         timings: dict[str, float] = {}
-        with progress.phase("meshing"), timed(timings, "mesh"):
-            case = scene.build()
+        try:
+            with progress.phase("meshing"), timed(timings, "mesh"):
+                case = scene.build()
+        except KeyboardInterrupt:
+            raise InterruptedBeforeComputing("interrupted while meshing: nothing was computed, "
+                                             "nothing written") from None
         solution = Solution()
         try:
             case.solve(solution, progress, out)

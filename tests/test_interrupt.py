@@ -1,0 +1,57 @@
+"""Ctrl-C at every phase of a run: exit 130, one line that says what was kept, and files that
+say "interrupted" where a run had begun computing; nothing left where it had not."""
+
+import json
+import os
+import signal
+
+import pytest
+
+from ngincompat.cli import EXIT_INTERRUPTED, main
+from ngincompat.scenes import CubeScene, prescribed
+from ngincompat.workflow import output
+
+ARGS = ["run", "cube", "--maxh", "1", "--order", "2", "-q"]
+
+
+def _interrupt_once(monkeypatch, owner, name):
+    """SIGINT to this process the first time ``owner.name`` is called."""
+    original, sent = getattr(owner, name), []
+
+    def interrupted(*args, **kwargs):
+        if not sent:
+            sent.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(owner, name, interrupted)
+
+
+@pytest.mark.parametrize("owner, name", [(prescribed.PrescribedCase, "measure"),
+                                         (output, "write")],
+                         ids=["incompatibility and stresses", "writing"])
+def test_ctrl_c_after_the_solve_marks_the_run_interrupted(tmp_path, monkeypatch, capsys,
+                                                          owner, name):
+    _interrupt_once(monkeypatch, owner, name)
+    out = tmp_path / "run"
+    assert main([*ARGS, "--out", str(out)]) == EXIT_INTERRUPTED
+    assert json.loads((out / "results.json").read_text())["status"] == "interrupted"
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "interrupted" in err and "Traceback" not in err
+
+
+def test_ctrl_c_while_meshing_says_nothing_was_written_and_leaves_no_folder(tmp_path,
+                                                                          monkeypatch, capsys):
+    _interrupt_once(monkeypatch, CubeScene, "build")
+    out = tmp_path / "run"
+    assert main([*ARGS, "--out", str(out)]) == EXIT_INTERRUPTED
+    assert capsys.readouterr().err == ("ngincompat: interrupted while meshing: nothing was "
+                                       "computed, nothing written\n")
+    assert not out.exists()
+
+
+def test_a_folder_the_user_made_is_kept_when_the_run_writes_nothing(tmp_path, monkeypatch):
+    _interrupt_once(monkeypatch, CubeScene, "build")
+    (tmp_path / "run").mkdir()
+    assert main([*ARGS, "--out", str(tmp_path / "run")]) == EXIT_INTERRUPTED
+    assert (tmp_path / "run").is_dir() and list((tmp_path / "run").iterdir()) == []
