@@ -37,7 +37,12 @@ from ngincompat.fem.quadrature import volume_measure
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.mechanics.growth import GrowthModel
-from ngincompat.mechanics.materials import Material, MixedMaterial
+from ngincompat.mechanics.materials import (
+    Material,
+    MixedMaterial,
+    grown_energy_density,
+    intermediate_fibers,
+)
 
 log = logging.getLogger(__name__)
 
@@ -217,19 +222,13 @@ class GrowthMechanics:
 
     def fibers_intermediate(self):
         """Fiber directions pushed to the intermediate configuration, Fg a0 / |Fg a0| (eq. 39)."""
-        Fg = self.growth.Fg
-        pushed = []
-        for f in self.fibers:
-            v = Fg * f.cf
-            pushed.append(v / ngs.Norm(v))
-        return tuple(pushed)
+        return intermediate_fibers(self.growth.Fg, self.fibers)
 
     def _density(self, F, p=None):
         """Jg Psi(Fe), Fe = F Fg^-1; with a pressure p, the mixed form of the bulk term."""
-        Fe = kinematics.elastic_part(F, self.growth.Fg)
         if p is None:
-            return self.growth.Jg * self.material.energy(Fe, self.fibers_intermediate())
-        rest, g = self.material.bulk_split(Fe)
+            return grown_energy_density(F, self.growth, self.material, self.fibers)
+        rest, g = self.material.bulk_split(kinematics.elastic_part(F, self.growth.Fg))
         return self.growth.Jg * (rest + p * g - p * p / (2 * self.material.lam))
 
     def frozen_tangent(self):

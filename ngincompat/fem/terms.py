@@ -35,7 +35,7 @@ from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.mechanics.growth import GrowthKind, growth_kind
 from ngincompat.mechanics.laws import GrowthLaw, euler_residual
-from ngincompat.mechanics.materials import Material
+from ngincompat.mechanics.materials import Material, grown_energy_density
 
 
 @dataclass(frozen=True)
@@ -166,12 +166,7 @@ class GrowthEnergy(Term):
         (default: the current one), the fibers pushed to the intermediate configuration,
         Fg a0 / |Fg a0| (eq. 39)."""
         growth = self.model(self.theta if theta is None else theta)
-        Fe = kinematics.elastic_part(F, growth.Fg)
-        pushed = []
-        for f in self.fibers:
-            a = growth.Fg * f.cf
-            pushed.append(a / ngs.Norm(a))
-        return growth.Jg * self.material.energy(Fe, tuple(pushed))
+        return grown_energy_density(F, growth, self.material, self.fibers)
 
     def energy(self):
         """The strain energy int Jg Psi dV of the current state."""

@@ -21,6 +21,7 @@ from typing import ClassVar, Protocol, Self, runtime_checkable
 import ngsolve as ngs
 
 from ngincompat.errors import ParameterError, require
+from ngincompat.mechanics import kinematics
 
 CF = ngs.CoefficientFunction
 
@@ -254,6 +255,24 @@ class GOH(MaterialKind):
             Ep = ngs.IfPos(E, E, 0)
             psi = psi + self.k1 / (2 * self.k2) * (ngs.exp(self.k2 * Ep * Ep) - 1)
         return psi
+
+
+def intermediate_fibers(Fg, fibers):
+    """Fiber directions pushed to the intermediate configuration, Fg a0 / |Fg a0| (eq. 39),
+    for the direction fields ``fibers`` (:class:`~ngincompat.mechanics.fields.DirectionField`)."""
+    pushed = []
+    for f in fibers:
+        a = Fg * f.cf
+        pushed.append(a / ngs.Norm(a))
+    return tuple(pushed)
+
+
+def grown_energy_density(F, growth, material, fibers=()):
+    """The strain energy per reference volume of a grown body, Jg Psi(Fe) with Fe = F Fg^-1
+    (eq. 1, 30), the fibers pushed to the intermediate configuration (eq. 39); ``growth`` has
+    ``Fg`` and ``Jg`` (:mod:`ngincompat.mechanics.growth`)."""
+    Fe = kinematics.elastic_part(F, growth.Fg)
+    return growth.Jg * material.energy(Fe, intermediate_fibers(growth.Fg, fibers))
 
 
 def make_material(name: str, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
