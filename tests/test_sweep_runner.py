@@ -86,7 +86,7 @@ def resumed(tmp_path_factory):
 
 def test_a_failing_case_is_a_row_and_the_others_go_on(failing):
     sweep, report = failing
-    assert report.columns == ["case", "status", "nu", "a", "order", "strain_energy",
+    assert report.columns == ["case", "status", "warnings", "nu", "a", "order", "strain_energy",
                               "G_error_L2_rel", "seconds", "error"]
     assert report.computed == 6 and report.reused == 0 and report.pending == 0
     assert [row["case"] for row in report.rows] == list(range(6))
@@ -112,8 +112,8 @@ def test_a_failing_case_is_a_row_and_the_others_go_on(failing):
     assert table.rows[5]["error"] == failed[0]["error"]
     assert [r["strain_energy"] for r in table.rows[:5]] == [r["strain_energy"] for r in done]
     header = (report.out / "sweep.csv").read_text().splitlines()[0]
-    assert header == ("case,status,nu,a [1/mm],order,strain_energy [N mm],G_error_L2_rel [-],"
-                      "seconds [s],error")
+    assert header == ("case,status,warnings,nu,a [1/mm],order,strain_energy [N mm],"
+                      "G_error_L2_rel [-],seconds [s],error")
     # each case folder holds its own results.json, with the parameters of its row
     for case, row in zip(sweep.cases()[:5], table.rows[:5], strict=True):
         results = output.read(report.out / case.name)
@@ -194,7 +194,8 @@ def test_a_case_that_does_not_converge_keeps_its_last_converged_metrics(tmp_path
 
     outcome = run_case({"scene": Diverging(), "folder": str(tmp_path / "case"),
                         "threads": None, "quiet": True})
-    assert outcome == {"status": "not converged", "metrics": {"strain_energy": 1e-8},
+    assert outcome == {"status": "not converged", "warnings": 0,
+                       "metrics": {"strain_energy": 1e-8},
                        "seconds": 0.5,
                        "error": "ConvergenceError: growth: step below min_step at t = 0.5"}
     assert not (tmp_path / "case" / "error.txt").exists()
@@ -208,7 +209,8 @@ def test_failed_cases_make_the_command_line_exit_4(tmp_path, capfd):
     assert main(["sweep", "run", str(path), "--out", str(out), "--workers", "1"]) == 4
     captured = capfd.readouterr()
     assert "2 cases: 1 done, 1 failed" in captured.out
-    assert "| case | status | nu | strain_energy [N mm] | seconds [s] |" in captured.out
+    assert ("| case | status | warnings | nu | strain_energy [N mm] | seconds [s] |"
+            in captured.out)
     assert "case 1: ParameterError: nu = 0.7" in captured.out
     # progress on stderr: the sweep's lines, and the case's stages from its worker
     assert "case_001_" in captured.err and "(nu=0.7): failed (ParameterError" in captured.err

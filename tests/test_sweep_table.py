@@ -35,14 +35,14 @@ def folder(tmp_path):
 def test_the_table_carries_units_and_reads_back(folder):
     table = read_table(folder)
     assert table.scene == "cube" and table.varied == ["order", "a"]
-    assert table.columns == ["case", "status", "order", "a", "strain_energy",
+    assert table.columns == ["case", "status", "warnings", "order", "a", "strain_energy",
                              "max_principal_stress", "seconds", "error"]
     assert table.units == {"a": "1/mm", "strain_energy": "N mm", "max_principal_stress": "MPa",
                            "seconds": "s"}
     assert [r["status"] for r in table.rows] == ["done"] * 5 + ["failed"]
     assert table.rows[5]["strain_energy"] is None
     assert (folder / "sweep.md").read_text().startswith(
-        "| case | status | order | a [1/mm] | strain_energy [N mm] |")
+        "| case | status | warnings | order | a [1/mm] | strain_energy [N mm] |")
     with pytest.raises(ParameterError, match="no sweep.json"):
         read_table(folder / "nothing")
 

@@ -47,11 +47,13 @@ def test_the_mixed_formulation_on_low_order_tetrahedra_warns_near_incompressibil
     assert CubeScene(order=4, elements="tet", formulation="mixed", nu=0.49).trust(results) == []
 
 
-@pytest.mark.parametrize("nu, warns", [(0.45, False), (0.499, True), (0.49999, True)])
-def test_the_displacement_formulation_warns_of_locking(nu, warns):
-    scene = CubeScene(nu=nu)
+@pytest.mark.parametrize("order, nu, warns", [(4, 0.45, False), (4, 0.49, False),
+                                              (4, 0.499, True), (4, 0.49999, True),
+                                              (2, 0.45, False), (2, 0.49, True)])
+def test_the_displacement_formulation_warns_of_locking(order, nu, warns):
+    scene = CubeScene(nu=nu, order=order)
     assert bool(scene.trust(None)) == warns
-    assert not CubeScene(nu=nu, formulation="mixed").trust(None)
+    assert not CubeScene(nu=nu, order=order, formulation="mixed").trust(None)
 
 
 def test_the_coarse_atrophy_run_warns_and_still_writes_its_results(tmp_path, caplog):

@@ -97,8 +97,9 @@ def run_case(task):
 
 def _outcome(results, error=None):
     """The outcome of a case from its :class:`~ngincompat.workflow.results.Results`."""
-    return {"status": results.status, "metrics": results.metrics,
-            "seconds": sum(results.timings.values()), "error": error}
+    return {"status": results.status, "warnings": len(results.warnings),
+            "metrics": results.metrics, "seconds": sum(results.timings.values()),
+            "error": error}
 
 
 def _failed(folder, err, seconds, text):

@@ -24,7 +24,7 @@ PARQUET = f"{NAME}.parquet"
 RECORD = f"{NAME}.json"
 #: One line per case finished since the table was last written (see the runner).
 JOURNAL = f"{NAME}.journal.jsonl"
-FIXED_COLUMNS = ("case", "status", "seconds", "error")
+FIXED_COLUMNS = ("case", "status", "warnings", "seconds", "error")
 
 
 def column_units(scene_class, columns):
@@ -79,8 +79,9 @@ def make_table(sweep, outcomes):
     ----------
     sweep : Sweep
     outcomes : dict
-        Case index -> dict with ``status``, ``varied`` (the case's varied parameters),
-        ``metrics``, ``seconds`` and ``error``.
+        Case index -> dict with ``status``, ``warnings`` (how many the run gave; absent for
+        a case that failed), ``varied`` (the case's varied parameters), ``metrics``,
+        ``seconds`` and ``error``.
 
     Returns
     -------
@@ -92,8 +93,9 @@ def make_table(sweep, outcomes):
         metrics = list(sweep.metrics)
     else:
         metrics = list(dict.fromkeys(m for o in ordered for m in o["metrics"]))
-    columns = ["case", "status", *sweep.varied, *metrics, "seconds", "error"]
-    rows = [{"case": o["case"], "status": o["status"], **o["varied"],
+    columns = ["case", "status", "warnings", *sweep.varied, *metrics, "seconds", "error"]
+    rows = [{"case": o["case"], "status": o["status"], "warnings": o.get("warnings"),
+             **o["varied"],
              **{m: o["metrics"].get(m) for m in metrics},
              "seconds": o["seconds"], "error": o["error"]} for o in ordered]
     return SweepTable(sweep.scene, sweep.varied, columns,
