@@ -38,6 +38,7 @@ command line ("8.5,7.0,6.0", "vtk,figures", "yes") would still need their own pa
 it would be a dependency of the main job for what is about 270 lines of code here.
 """
 
+import abc
 import dataclasses
 import math
 import numbers
@@ -178,7 +179,7 @@ def param(default, help, unit="", *, range=None, choices=None):
 
 # --------------------------------------------------------------------------- types
 
-class _Kind:
+class _Kind(abc.ABC):
     """How the values of one type are read, checked, described and recorded."""
 
     #: How a parse error names the type: "x = 'a' is not a valid <name>".
@@ -187,9 +188,9 @@ class _Kind:
     def __init__(self, range=None):
         self.range = Range(range) if range else None
 
+    @abc.abstractmethod
     def parse(self, raw):
         """The typed value of ``raw`` (ValueError if ``raw`` is not of the type)."""
-        raise NotImplementedError
 
     def valid(self, value):
         return True
