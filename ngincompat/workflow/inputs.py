@@ -27,7 +27,6 @@ and ramps the growth linearly in the load parameter t in [0, 1],
 so that t = 0 is the ungrown body and t = 1 the stored growth field.
 """
 
-import errno
 import gzip
 import hashlib
 import logging
@@ -41,7 +40,7 @@ import numpy as np
 
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import ParameterError, require
-from ngincompat.workflow import meshfiles, volfile
+from ngincompat.workflow import io, meshfiles, volfile
 from ngincompat.workflow.meshfiles import (
     MESHIO_FORMATS,
     file_error,
@@ -202,8 +201,7 @@ def _check_saved(path, final):
     except (OSError, EOFError):
         whole = False
     if not whole:
-        raise OSError(errno.ENOSPC, f"{final.name} was not written completely (is the disk "
-                                    "full?)", str(final))
+        raise io.incomplete(final)
 
 
 def describe_mesh(mesh):

@@ -21,7 +21,6 @@ import numpy as np
 
 from ngincompat import config
 from ngincompat.atomic import atomic_path
-from ngincompat.config import VERSION
 
 #: The folder that holds the package ``ngincompat``: a git checkout's top level when the
 #: package runs from one (an editable install, PYTHONPATH), site-packages otherwise.
@@ -35,7 +34,7 @@ def versions():
     import scipy
 
     return {
-        "ngincompat": VERSION,
+        "ngincompat": config.VERSION,
         "ngsolve": ngsolve.__version__,
         "netgen": getattr(netgen, "__version__", ngsolve.__version__),
         "numpy": np.__version__,
@@ -173,9 +172,15 @@ def complete(path, ending, final=None):
     except FileNotFoundError:
         tail = b""
     if not tail.endswith(ending):
-        final = Path(final or path)
-        raise OSError(errno.ENOSPC, f"{final.name} was not written completely (is the disk "
-                                    "full?)", str(final))
+        raise incomplete(final or path)
+
+
+def incomplete(final):
+    """The error for a file its writer left incomplete (as on a full disk), naming the file
+    by its final name."""
+    final = Path(final)
+    return OSError(errno.ENOSPC, f"{final.name} was not written completely (is the disk "
+                                 "full?)", str(final))
 
 
 def write_pvd(path, datasets):
