@@ -30,7 +30,7 @@ from ngincompat.errors import (
     InterruptedBeforeComputing,
     ParameterError,
 )
-from ngincompat.parameters import OUTPUTS, Outputs
+from ngincompat.parameters import OUTPUTS, PRESETS, Outputs
 from ngincompat.progress import Progress
 
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_NOT_WRITTEN = 0, 2, 3, 4, 5
@@ -76,7 +76,15 @@ def _cmd_list(args):
             for key, p in cls.declarations().items():
                 print("    " + parameter_line(cls, key, p))
                 print(f"        {p.help}")
+            for preset in cls.preset_names():
+                print(f"    --preset {preset}: {preset_line(cls, preset)}")
     return 0
+
+
+def preset_line(cls, preset):
+    """The settings of ``preset`` of the scene ``cls`` as ``key=value`` (for ``list -v``)."""
+    settings = cls.typed_settings(cls.preset_settings(preset))
+    return " ".join(f"{k}={v}" for k, v in settings.items()) or "the defaults above"
 
 
 def parameter_line(cls, key, p):
@@ -101,7 +109,7 @@ def _cmd_run(args):
         settings["maxh"] = args.maxh
     if args.outputs is not None:
         settings.update(_outputs(args.outputs))
-    scene = cls.from_settings(settings)
+    scene = cls.from_settings(settings, preset=args.preset)
     root = parallel.is_root()       # with MPI, rank 0 alone reports
     try:
         results = scene.run(args.out, overwrite=args.overwrite,
@@ -369,6 +377,10 @@ def build_parser():
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="set a scene parameter (repeatable); see 'ngincompat list -v'")
+    p.add_argument("--preset", default="default", metavar="NAME",
+                   help="named settings under the explicit ones: " + ", ".join(PRESETS)
+                   + " (a first look in seconds, the defaults, the paper's resolution); "
+                   "'ngincompat list -v' shows each scene's")
     p.add_argument("--order", type=int, help="polynomial order of the displacement")
     p.add_argument("--maxh", type=float, help="mesh size")
     p.add_argument("--outputs", metavar="LIST",

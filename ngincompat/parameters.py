@@ -59,6 +59,14 @@ _FALSE = ("0", "false", "no", "off")
 _NUMBER_WORDS = {2: "two", 3: "three", 4: "four"}
 
 
+#: The named settings of every scene, from the cheapest to the finest: ``preview`` for a first
+#: look in seconds to a minute, ``default`` (the declared defaults: the cheapest settings within
+#: the scene's stated tolerance) and ``paper`` (the resolution and settings of the paper's
+#: figures). A scene lists the settings of its ``preview`` and ``paper`` in
+#: :attr:`ngincompat.scenes.base.Scene.presets`.
+PRESETS = ("preview", "default", "paper")
+
+
 class Outputs(frozenset):
     """The optional outputs of a run (:data:`OUTPUTS`): a set of names, spelled as a comma
     list ("vtk,figures") or "none" (also "").

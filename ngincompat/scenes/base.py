@@ -18,6 +18,7 @@ from typing import ClassVar
 from ngincompat import parallel
 from ngincompat.errors import ParameterError, require
 from ngincompat.parameters import (
+    PRESETS,
     Outputs,
     Param,
     convert_fields,
@@ -80,6 +81,9 @@ class Scene:
     #: Whether the scene distributes its mesh when launched on several MPI ranks
     #: (:mod:`ngincompat.parallel`); the others refuse to run under MPI.
     distributed: ClassVar[bool] = False
+    #: The settings of each named preset but ``default`` (:data:`PRESETS`): parameter name ->
+    #: value, applied under the explicit settings by :meth:`from_settings`.
+    presets: ClassVar[dict[str, dict]] = {}
 
     order: int = ORDER(4)
     maxh: float = MAXH(0.25)
@@ -164,7 +168,8 @@ class Scene:
         ne, nv = parallel.counts(mesh)
         info = MeshInfo(ne=ne, nv=nv, order=self.order if order is None else order,
                         maxh=self.maxh)
-        return Results(scene=self.name, params=self.settings(), units=dict(self.units),
+        return Results(scene=self.name, params=self.settings(), preset=self.preset(),
+                       units=dict(self.units),
                        metric_units={m: self.metric_unit(m) for m in self.metrics}, mesh=info,
                        versions=io.versions(), argv=list(sys.argv),
                        provenance=io.run_record(), domain=mesh, **kwargs)
@@ -203,9 +208,44 @@ class Scene:
         return typed
 
     @classmethod
-    def from_settings(cls, settings):
-        """Build the scene from a mapping of parameter names to strings or values."""
-        return cls(**cls.typed_settings(settings))
+    def preset_names(cls):
+        """The presets of the scene, cheapest first (``default`` always among them)."""
+        return tuple(n for n in PRESETS if n == "default" or n in cls.presets)
+
+    @classmethod
+    def preset_settings(cls, preset):
+        """The settings of the named preset (``{}`` for ``default``).
+
+        Raises
+        ------
+        ParameterError
+            A preset the scene does not have.
+        """
+        names = cls.preset_names()
+        require(preset in names, "preset", preset,
+                f"one of {', '.join(names)} for scene {cls.name!r}")
+        return dict(cls.presets.get(preset, {}))
+
+    @classmethod
+    def from_settings(cls, settings, preset="default"):
+        """Build the scene from a mapping of parameter names to strings or values, over the
+        settings of ``preset`` (the explicit settings win)."""
+        return cls(**cls.typed_settings({**cls.preset_settings(preset), **settings}))
+
+    def preset(self) -> str:
+        """The preset whose settings this scene has: the finest of ``paper`` and ``preview``
+        whose every setting it shares, else ``default`` when it is at the declared default of
+        every parameter a preset sets, else ``custom``. Other parameters (the growth law, a
+        variant) do not count: ``preview`` with ``fibers=radial`` is still ``preview``."""
+        typed = {name: self.typed_settings(values) for name, values in self.presets.items()}
+        for name in reversed(PRESETS):
+            if name in typed and all(getattr(self, k) == self.declarations()[k].convert(v)
+                                     for k, v in typed[name].items()):
+                return name
+        keys = {k for values in typed.values() for k in values}
+        defaults = self.declarations()
+        return ("default" if all(getattr(self, k) == defaults[k].default for k in keys)
+                else "custom")
 
     @classmethod
     def metric_unit(cls, metric):

@@ -34,6 +34,7 @@ class CubeScene(prescribed.PrescribedScene):
 
     name = "cube"
     summary = "section 3.1: isotropic growth theta = 1 + X1 t / 4 of a 1 mm cube"
+    presets = {"preview": dict(maxh=0.5, order=2, g_order=3)}
     variant = ("model", "formulation")
     distributed = True
 

@@ -30,6 +30,7 @@ class CylinderScene(prescribed.PrescribedScene):
 
     name = "cylinder"
     summary = "section 3.4: fiber growth of a cylinder, relieved by a stress-free rotation"
+    presets = {"preview": dict(maxh=0.5, order=2, g_order=3)}
     metrics = prescribed.PrescribedScene.metrics + (
         "b_eq27_error", "Fe_rotation_deviation", "rotation_rate", "rotation_rate_expected",)
 

@@ -38,6 +38,7 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
 
     name = "disc"
     summary = "section 3.3: area growth of a disc, GOH with radial or circumferential fibers"
+    presets = {"preview": dict(maxh=0.4, order=2, g_order=3)}
     variant = ("fibers", "material")
     metrics = prescribed.PrescribedScene.metrics + (
         "b_eq22_error", "b_out_of_plane", "b_along_grad_theta", "sigma_r_rim_rel",)

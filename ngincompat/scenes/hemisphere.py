@@ -43,6 +43,7 @@ class HemisphereScene(prescribed.PrescribedScene):
 
     name = "hemisphere"
     summary = "section 3.2: radial isotropic growth of a half ball (linear/concave/convex)"
+    presets = {"preview": dict(maxh=0.5, centre_maxh=0.25, order=2, g_order=3)}
     variant = ("profile", "flat_face", "model")
     metrics = prescribed.PrescribedScene.metrics + (
         "b_radial_rel", "b_meridional_off_circumferential", "b_circumferential_off_meridional",

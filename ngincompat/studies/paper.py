@@ -21,14 +21,6 @@ CHECKS = ("G_error_L2_rel", "radial_sigma_rr_error", "radial_sigma_thetatheta_er
           "Fe_rotation_deviation")
 
 
-#: Coarse settings per scene for ``quick``: every case runs in seconds; the numbers are a
-#: smoke test of the whole job, not the paper's.
-QUICK = {"cube": dict(maxh=0.5, order=2, g_order=3),
-         "hemisphere": dict(maxh=0.5, centre_maxh=0.25, order=2, g_order=3),
-         "disc": dict(maxh=0.4, order=2, g_order=3),
-         "cylinder": dict(maxh=0.5, order=2, g_order=3)}
-
-
 #: The hemispheres are solved as quarters (their mirror planes X1 = 0, X2 = 0 held): the same
 #: solution at a third of the unknowns. With the centre refined to 0.04 the quarter's stresses
 #: are closer to the radial solution than the full hemisphere's at 0.05 (largest relative
@@ -38,20 +30,22 @@ HEMISPHERE = dict(model="quarter", centre_maxh=0.04)
 
 
 def cases(quick=False):
-    """(label, scene) of every run; ``quick``: on the coarse settings of :data:`QUICK`."""
-    def coarse(cls):
+    """(label, scene) of every run; ``quick``: on each scene's ``preview`` preset (every case
+    runs in seconds; the numbers are a smoke test of the whole job, not the paper's)."""
+    def coarse(cls, **variant):
         paper = HEMISPHERE if cls is HemisphereScene else {}
-        return {**paper, **QUICK[cls.name]} if quick else paper
+        preview = cls.preset_settings("preview") if quick else {}
+        return cls.from_settings({**paper, **preview, **variant})
     return [
-        ("cube", CubeScene(**coarse(CubeScene))),
-        ("hemisphere-linear", HemisphereScene(profile="linear", **coarse(HemisphereScene))),
-        ("hemisphere-concave", HemisphereScene(profile="concave", **coarse(HemisphereScene))),
-        ("hemisphere-convex", HemisphereScene(profile="convex", **coarse(HemisphereScene))),
-        ("hemisphere-linear-symmetry", HemisphereScene(profile="linear", flat_face="symmetry",
-                                                       **coarse(HemisphereScene))),
-        ("disc-radial", DiscScene(fibers="radial", **coarse(DiscScene))),
-        ("disc-circumferential", DiscScene(fibers="circumferential", **coarse(DiscScene))),
-        ("cylinder", CylinderScene(**coarse(CylinderScene))),
+        ("cube", coarse(CubeScene)),
+        ("hemisphere-linear", coarse(HemisphereScene, profile="linear")),
+        ("hemisphere-concave", coarse(HemisphereScene, profile="concave")),
+        ("hemisphere-convex", coarse(HemisphereScene, profile="convex")),
+        ("hemisphere-linear-symmetry", coarse(HemisphereScene, profile="linear",
+                                              flat_face="symmetry")),
+        ("disc-radial", coarse(DiscScene, fibers="radial")),
+        ("disc-circumferential", coarse(DiscScene, fibers="circumferential")),
+        ("cylinder", coarse(CylinderScene)),
     ]
 
 
@@ -90,7 +84,7 @@ def run_all(out=None, progress=SILENT, overwrite=False, quick=False):
     """Run every case (into ``out/<label>`` when ``out`` is given); returns the summary rows.
 
     A case that does not converge is a row with its status; the others still run.
-    ``quick`` runs every case on coarse settings (:data:`QUICK`)."""
+    ``quick`` runs every case on its scene's ``preview`` preset."""
     if out is None:
         return _run_all(None, progress, overwrite, quick)
     with output.folder(out, overwrite=overwrite) as out:

@@ -111,6 +111,9 @@ class Results:
         ``"interrupted"``.
     error : str or None
         Why the run did not finish.
+    preset : str or None
+        The named settings the scene's parameters match (``preview``, ``default``, ``paper``
+        or ``custom``; :meth:`ngincompat.scenes.base.Scene.preset`); None in older runs.
     solver : dict
         Stage name -> :class:`~ngincompat.fem.solver.SolverHistory`, in the order of the stages.
     timings : dict
@@ -152,6 +155,7 @@ class Results:
     mesh: MeshInfo
     status: str = DONE
     error: str | None = None
+    preset: str | None = None
     solver: dict[str, SolverHistory] = field(default_factory=dict)
     timings: dict[str, float] = field(default_factory=dict)
     metrics: dict[str, float] = field(default_factory=dict)
@@ -210,7 +214,8 @@ class Results:
         """A JSON-ready dict (non-finite floats become None, arrays lists)."""
         return io.jsonable({
             "scene": self.scene, "status": self.status, "error": self.error,
-            "params": self.params, "units": self.units, "mesh": asdict(self.mesh),
+            "preset": self.preset, "params": self.params, "units": self.units,
+            "mesh": asdict(self.mesh),
             "solver": {stage: h.as_dict() for stage, h in self.solver.items()},
             "timings": self.timings, "metrics": self.metrics,
             "metric_units": self.metric_units, "profiles": self.profiles,
@@ -229,7 +234,7 @@ class Results:
         return cls(
             scene=data["scene"], params=dict(data["params"]), units=dict(data["units"]),
             mesh=MeshInfo(**data["mesh"]), status=data.get("status", DONE),
-            error=data.get("error"),
+            error=data.get("error"), preset=data.get("preset"),
             solver={stage: _history(h) for stage, h in data.get("solver", {}).items()},
             timings={k: number(v) for k, v in data.get("timings", {}).items()},
             metrics={k: number(v) for k, v in data.get("metrics", {}).items()},
