@@ -28,6 +28,25 @@ def element_points(mesh, order=4):
     return mesh.MapToAllElements(rules, ngs.VOL)
 
 
+def element_boxes(mesh, order=4):
+    """``(lo, hi)``, each (n, 3): a box around every volume element, the bounding box of the
+    points of :func:`element_points`: the vertices and an integration rule of ``order``. It
+    holds a straight-sided element exactly; of a curved one it misses the bulge of its faces
+    between those points (not widened: a box reaching out of the body would be checked where
+    the growth need not be defined, e.g. sqrt(X1) left of X1 = 0)."""
+    xyz = ngs.CF((ngs.x, ngs.y, ngs.z))
+    lows, highs = [], []
+    for et in {el.type for el in mesh.Elements(ngs.VOL)}:
+        ir = ngs.IntegrationRule(et, order)
+        rule = ngs.IntegrationRule([tuple(p) for p in ir.points] + _VERTICES[et],
+                                   [0.0] * (len(ir.points) + len(_VERTICES[et])))
+        points = np.asarray(xyz(mesh.MapToAllElements({et: rule}, ngs.VOL)))
+        points = points.reshape(-1, len(rule.points), 3)
+        lows.append(points.min(axis=1))
+        highs.append(points.max(axis=1))
+    return np.concatenate(lows), np.concatenate(highs)
+
+
 def argmax(cf, mesh, order=4):
     """The largest value of a scalar CF over the integration points and vertices of a serial
     mesh (see :func:`maximum`) and the point (X1, X2, X3) where it is."""

@@ -54,7 +54,7 @@ def test_run_records_the_preset(tmp_path):
 def test_list_shows_each_scenes_presets(capsys):
     assert main(["list", "-v"]) == 0
     text = capsys.readouterr().out
-    for name, cls in SCENES.items():
+    for cls in SCENES.values():
         for preset in cls.preset_names():
             assert f"--preset {preset}" in text
     assert "--preset preview: maxh=0.5" in text

@@ -300,6 +300,37 @@ def _check_size(tree, text, name):
         stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
 
 
+def _parse(text, name):
+    """The syntax tree of ``text`` within the limits of size, not yet checked against the
+    whitelist."""
+    if not isinstance(text, str) or not text.strip():
+        raise ExpressionError(f"{name} must be a non-empty expression in X1, X2, X3 and t")
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(f"{name} = {_quote(text)} has {len(text)} characters: allowed "
+                              f"at most {MAX_LENGTH}")
+    try:
+        tree = ast.parse(text.strip(), mode="eval")
+    except (SyntaxError, MemoryError, RecursionError) as err:
+        reason = err.msg if isinstance(err, SyntaxError) else "nested too deeply"
+        raise ExpressionError(f"{name} = {_quote(text)} is not a valid expression: "
+                              f"{reason}") from None
+    _check_size(tree, text, name)
+    return tree
+
+
+def syntax_tree(text, name="expression"):
+    """The syntax tree of a valid expression (:func:`parse_expression` accepts it), for
+    other evaluations of the same expression (:mod:`ngincompat.mechanics.bounds`).
+
+    Raises
+    ------
+    ExpressionError
+        As :func:`parse_expression`.
+    """
+    parse_expression(text, name=name)
+    return _parse(text, name)
+
+
 def parse_expression(text, time=None, name="expression"):
     """Translate ``text`` into a CoefficientFunction of (X, t).
 
@@ -323,18 +354,7 @@ def parse_expression(text, time=None, name="expression"):
     ExpressionError
         For a syntax error or anything outside the whitelist.
     """
-    if not isinstance(text, str) or not text.strip():
-        raise ExpressionError(f"{name} must be a non-empty expression in X1, X2, X3 and t")
-    if len(text) > MAX_LENGTH:
-        raise ExpressionError(f"{name} = {_quote(text)} has {len(text)} characters: allowed "
-                              f"at most {MAX_LENGTH}")
-    try:
-        tree = ast.parse(text.strip(), mode="eval")
-    except (SyntaxError, MemoryError, RecursionError) as err:
-        reason = err.msg if isinstance(err, SyntaxError) else "nested too deeply"
-        raise ExpressionError(f"{name} = {_quote(text)} is not a valid expression: "
-                              f"{reason}") from None
-    _check_size(tree, text, name)
+    tree = _parse(text, name)
     if time is None:
         time = 1.0
     elif not isinstance(time, ngs.CoefficientFunction):

@@ -35,8 +35,9 @@ import numpy as np
 
 from ngincompat.errors import ParameterError
 from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics import bounds
 from ngincompat.mechanics.fields import DirectionField
-from ngincompat.sampling import element_points
+from ngincompat.sampling import element_boxes, element_points
 
 CF = ngs.CoefficientFunction
 
@@ -287,13 +288,16 @@ class TensorGrowth:
 CHECK_TIMES = tuple(k / 128 for k in range(129))
 
 
-def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4):
+def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expression=None):
     """Raise :class:`ParameterError` unless 0 < theta < inf everywhere in the body.
 
     theta is evaluated at the vertices and at the points of an integration rule of the given
     order in every element, at each of ``times`` (when a time Parameter is given). The message
     names the worst point and time: a non-finite value (NaN or +-inf) if there is one, else the
-    smallest value.
+    smallest value. Given the ``expression`` theta was parsed from, theta > 0 is then proven
+    between those points too, on a box around every element over the whole growth time
+    (:func:`ngincompat.mechanics.bounds.positive_on`: interval arithmetic), or a point where it
+    fails is named.
 
     Parameters
     ----------
@@ -307,6 +311,8 @@ def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4):
         The times checked when ``time`` is given (:data:`CHECK_TIMES`: 129 in [0, 1]).
     order : int
         Order of the integration rule whose points are checked.
+    expression : str, optional
+        The expression theta is (:mod:`ngincompat.mechanics.expressions`), in X1, X2, X3 and t.
 
     Raises
     ------
@@ -335,3 +341,18 @@ def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4):
     finally:
         if time is not None:
             time.Set(saved)
+    if expression is not None:
+        lo, hi = element_boxes(mesh, order)
+        span = (min(times), max(times)) if time is not None else (1.0, 1.0)
+        found = bounds.positive_on(expression, np.column_stack([lo, np.full(len(lo), span[0])]),
+                                   np.column_stack([hi, np.full(len(hi), span[1])]))
+        if found is not None:
+            (x, y, z, t), value, sampled = found
+            where = f"X = ({x:.4g}, {y:.4g}, {z:.4g})" + (f", t = {t:.4g}" if time is not None
+                                                           else "")
+            what = (f"theta = {value:.4g} at {where}, between the points where it was sampled"
+                    if sampled else f"theta could not be shown positive near {where}: its "
+                    f"bounds there reach {value:.4g}")
+            raise ParameterError(
+                f"{what}: the growth indicator must be finite and positive "
+                "(0 < theta < inf) everywhere in the body")

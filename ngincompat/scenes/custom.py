@@ -123,7 +123,7 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
             line=(tuple(start), tuple(end), self.line),
             fibers=(fields.from_name(self.fiber),) if material.needs_fibers else (),
             components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)},
-            analytic=not self.theta_file)
+            analytic=not self.theta_file, expression=None if self.theta_file else self.theta)
 
 
 def _check_file(name, path, extensions):

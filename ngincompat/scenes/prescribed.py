@@ -79,6 +79,9 @@ class PrescribedCase:
     analytic : bool
         theta is an analytic expression (closed forms of G apply); False for growth given as
         data on the mesh.
+    expression : str or None
+        The text theta was parsed from, when the user gave one: theta > 0 is then proven
+        between the sampled points too (:func:`~ngincompat.mechanics.growth.check_positive`).
     """
 
     scene: object
@@ -95,6 +98,7 @@ class PrescribedCase:
     verify: object = None
     mirror: int = 1
     analytic: bool = True
+    expression: str | None = None
 
     def mechanics(self, linear_solver=None):
         """The scene's mechanics problem (:class:`~ngincompat.fem.problem.GrowthMechanics`), at
@@ -208,7 +212,8 @@ def _solve(case, solution, progress):
     scene, time = case.scene, case.time
     with config.task_manager():
         with timed(solution.timings, "validate"):
-            check_positive(case.growth.theta, case.mesh, time)
+            check_positive(case.growth.theta, case.mesh, time,
+                           expression=case.expression)
         if not scene.mechanics:
             # G depends on Fg alone (eq. 10): no mechanics problem is built
             time.Set(1.0)

@@ -126,7 +126,7 @@ class Cell:
         direction = constant(self.direction) if self.direction else None
         growth = make_growth(self.kind, theta, direction)
         mesh = cube(maxh=self.maxh, elements=self.elements)
-        check_positive(growth.theta, mesh, time)
+        check_positive(growth.theta, mesh, time, expression=self.theta)
         if self.material == "goh":
             material = GOH(MU, lame_lambda(MU, self.nu), GOH_K1, self.k2, GOH_KAPPA)
             fibers = (constant(self.fiber),)
