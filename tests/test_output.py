@@ -217,3 +217,31 @@ def test_a_symbolic_link_as_output_folder_is_said(tmp_path, caplog):
         with output.folder(tmp_path / "link"):
             pass
     assert f"is a symbolic link: the run is written into {tmp_path / 'real'}" in caplog.text
+
+
+def test_vtk_holds_the_tensors_and_their_kinematics_agree(tmp_path):
+    """fields.vtu has P, S, sigma, Fg, Fe (9 components), J and Je, with their units in
+    results.json; read back, they satisfy F = Fe Fg, J = det F, Je = det Fe and
+    sigma = P F^T / J up to the interpolation of each field on its own."""
+    import meshio
+    import numpy as np
+
+    CubeScene(order=3, maxh=0.5, outputs="vtk").run(tmp_path)
+    data = meshio.read(tmp_path / "fields.vtu").point_data
+    for name in ("P", "S", "sigma", "Fg", "Fe", "G"):
+        assert data[name].shape[1] == 9, name
+    T = {k: data[k].reshape(-1, 3, 3) for k in ("P", "sigma", "Fg", "Fe")}
+    F = T["Fe"] @ T["Fg"]
+    J = np.linalg.det(F)
+    np.testing.assert_allclose(data["J"].ravel(), J, rtol=1e-2)
+    np.testing.assert_allclose(data["Je"].ravel(), np.linalg.det(T["Fe"]), rtol=1e-2)
+    scale = np.abs(T["sigma"]).max()
+    assert scale > 0
+    np.testing.assert_allclose(T["sigma"], T["P"] @ F.transpose(0, 2, 1) / J[:, None, None],
+                               atol=2e-2 * scale)
+    # isotropic growth, Jg = det Fg = theta: Fg = theta^(1/3) I
+    theta = data["theta"].ravel()
+    np.testing.assert_allclose(T["Fg"], np.cbrt(theta)[:, None, None] * np.eye(3), atol=1e-6)
+    units = json.loads((tmp_path / "results.json").read_text())["field_units"]
+    assert units["sigma"] == units["P"] == units["S11"] == "MPa"
+    assert units["u"] == "mm" and units["G"] == "1/mm" and units["Fe"] == "-"

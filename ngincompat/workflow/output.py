@@ -219,8 +219,9 @@ def wanted(results: Results) -> set[str]:
 
 
 def write(results: Results, out, outputs: set[str] | None = None) -> Results:
-    """Write a run into the folder ``out``: results.json always; ``fields.vtu`` (scalar and
-    vector fields; with ``results.frames`` also ``fields_NNN.vtu`` per frame and their time
+    """Write a run into the folder ``out``: results.json always; ``fields.vtu`` (every field:
+    scalars, vectors, and tensors as 9 components in row order, their units in results.json's
+    ``field_units``; with ``results.frames`` also ``fields_NNN.vtu`` per frame and their time
     series ``fields.pvd``), the figures and ``mesh.vol`` + ``growth.npz`` (the growth field as data,
     for a later run's ``--set mesh=... --set theta_file=...``) as the scene's ``outputs``
     ask. ``results.files`` lists what was written; results.json is written last.
@@ -236,8 +237,8 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     distributed = results.domain is not None and parallel.distributed(results.domain)
     if results.fields and results.domain is not None:
         if "vtk" in outputs:
-            vtk = interpolated({k: v for k, v in results.fields.items() if v.dim <= 3},
-                               results.domain, min(results.mesh.order, VTK_ORDER))
+            vtk = interpolated(results.fields, results.domain,
+                               min(results.mesh.order, VTK_ORDER))
             subdivision = 2 if results.mesh.order >= 3 else 1
             if distributed:
                 files += io.write_vtk_parallel(out / "fields", results.domain, vtk,
@@ -265,7 +266,9 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     results.timings["output"] = time.perf_counter() - start
     # what the run wrote, by content: --overwrite removes these files only as they were
     hashes = {f: _sha256(out / f) for f in results.files if (out / f).is_file()}
-    io.write_json(out / "results.json", {**results.to_dict(), "file_hashes": hashes})
+    units = field_units(results.fields, results.units) if "vtk" in outputs else {}
+    io.write_json(out / "results.json", {**results.to_dict(), "field_units": units,
+                                         "file_hashes": hashes})
     return results
 
 
@@ -307,9 +310,34 @@ def interpolated(fields: dict, mesh, order: int, copy: bool = False) -> dict:
                 out[name] = ngs.GridFunction(cf.space, name=name)
                 out[name].vec.data = cf.vec
             continue
-        space = ngs.L2(mesh, order=order) if cf.dim == 1 else ngs.VectorL2(mesh, order=order)
-        out[name] = ngs.GridFunction(space)
+        # one space of cf.dim components, not the product space L2**dim: the same values,
+        # set in one pass instead of one per component
+        out[name] = ngs.GridFunction(ngs.L2(mesh, order=order, dim=cf.dim))
         out[name].Set(cf)
+    return out
+
+
+#: The quantity each field measures, by its name or the start of its name (``S11``,
+#: ``sigma_max_principal``, ``u_released``), spelled in a scene's units by :func:`field_units`;
+#: every other field is a ratio (theta, J, Je, Fg, Fe, concentrations, modes). An energy
+#: density is a stress.
+FIELD_QUANTITIES = (("curlFg_sq", "1/length^2"), ("scalar_curvature", "1/length^2"),
+                    ("einstein_norm_g", "1/length^2"), ("Psi", "stress"), ("sigma", "stress"),
+                    ("P", "stress"), ("S", "stress"), ("u", "length"), ("G", "1/length"),
+                    ("b_", "1/length"), ("|b", "1/length"))
+
+
+def field_units(fields: dict, units: dict) -> dict[str, str]:
+    """Field name -> unit in the scene's ``units`` ("-" for a ratio), for results.json."""
+    out = {}
+    for name in fields:
+        quantity = next((q for prefix, q in FIELD_QUANTITIES if name.startswith(prefix)), None)
+        if quantity is None:
+            out[name] = "-"
+            continue
+        for key, symbol in units.items():
+            quantity = quantity.replace(key, symbol)
+        out[name] = quantity
     return out
 
 
