@@ -159,3 +159,15 @@ def test_default_settings_need_at_most_five_newton_iterations_per_load_step(name
     steps = [s for s in results.solver["growth"].steps if s.converged]
     assert results.converged and steps
     assert max(s.iterations for s in steps) <= 5, [s.iterations for s in steps]
+
+
+def test_cylinder_without_a_gradient_is_compatible_and_unrotated():
+    """a = 0: theta = 1 everywhere, so Curl Fg = 0, b = 0 (eq. 27) and Fe = I; the error of
+    eq. (27) is then absolute (its scale, the largest |b|, is 0)."""
+    results = CylinderScene.from_settings({"a": 0}, preset="preview").run()
+    assert results.status == "done"
+    m = results.metrics
+    assert m["b_eq27_error"] == 0.0
+    assert m["G_error_L2_rel"] == 0.0
+    assert abs(m["rotation_rate"]) < 1e-12
+    assert m["Fe_rotation_deviation"] < 1e-12
