@@ -11,17 +11,20 @@ Exit codes:
   error);
 * 5: a file could not be written (a full disk, a folder made read-only): one line; no file is
   left truncated under its final name;
-* 130: interrupted (Ctrl-C): one line; what was finished is kept, an unfinished run's
-  results.json is marked ``"status": "interrupted"``.
+* 130: interrupted (Ctrl-C, SIGINT or SIGTERM): one line; what was finished is kept, an
+  unfinished run's results.json is marked ``"status": "interrupted"``.
 
 This is the only module that parses arguments; everything it calls takes plain values.
 """
 
 import argparse
+import contextlib
 import errno
 import logging
 import os
+import signal
 import sys
+import threading
 
 from ngincompat import parallel
 from ngincompat.errors import (
@@ -423,6 +426,32 @@ def main(argv=None):
         return exit.code
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
+    with _terminate_as_interrupt():
+        return _dispatch(args)
+
+
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """SIGTERM (``kill``, a batch system's stop) ends a run as Ctrl-C does: marked
+    "interrupted", exit 130. A SIGINT the parent told the process to ignore (``command &`` in
+    a script: POSIX has background jobs ignore it) stays ignored."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) != signal.SIG_DFL):
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def _dispatch(args):
+    """Run the command of ``args``; every error the user can cause is an exit code."""
     try:
         return args.func(args)
     except ParameterError as err:

@@ -44,6 +44,7 @@ class Progress:
         self._bars = bars
         self.case_name = ""
         self._plan: list[str] = []
+        self._outcome: str | None = None
 
     @property
     def stream(self) -> TextIO:
@@ -72,13 +73,24 @@ class Progress:
         """Everything reported inside belongs to the case ``name``."""
         outer, self.case_name = self.case_name, name
         outer_plan, self._plan = self._plan, []
+        outer_outcome, self._outcome = self._outcome, None
         start = time.perf_counter()
         self.line("started")
         try:
             yield self
+        except BaseException:
+            self._outcome = self._outcome or "stopped"
+            raise
         finally:
-            self.line(f"finished in {time.perf_counter() - start:.1f} s")
-            self.case_name, self._plan = outer, outer_plan
+            seconds = time.perf_counter() - start
+            self.line(f"finished in {seconds:.1f} s" if self._outcome in (None, "done")
+                      else f"{self._outcome} after {seconds:.1f} s")
+            self.case_name, self._plan, self._outcome = outer, outer_plan, outer_outcome
+
+    def outcome(self, status: str) -> None:
+        """How the current case ended ("done", "not converged", "interrupted"), for its last
+        line: "finished in 4.4 s" only for a case that did."""
+        self._outcome = status
 
     def plan(self, stages) -> None:
         """The names of the current case's stages, in order, so that each is reported as

@@ -55,3 +55,27 @@ def test_a_folder_the_user_made_is_kept_when_the_run_writes_nothing(tmp_path, mo
     (tmp_path / "run").mkdir()
     assert main([*ARGS, "--out", str(tmp_path / "run")]) == EXIT_INTERRUPTED
     assert (tmp_path / "run").is_dir() and list((tmp_path / "run").iterdir()) == []
+
+
+def test_sigterm_from_outside_ends_a_run_as_interrupted(tmp_path):
+    """A real process, stopped by SIGTERM once its growth solve has begun: exit 130, the
+    folder's results.json says "interrupted", and its last progress line says so too."""
+    import subprocess
+    import sys
+
+    out = tmp_path / "run"
+    process = subprocess.Popen([sys.executable, "-m", "ngincompat.cli", "run", "cube",
+                                "--out", str(out)], stderr=subprocess.PIPE, text=True)
+    lines = []
+    for line in process.stderr:
+        lines.append(line)
+        if "growth: from" in line:
+            process.send_signal(signal.SIGTERM)
+            break
+    lines += process.stderr.readlines()
+    assert process.wait(timeout=120) == EXIT_INTERRUPTED, lines
+    assert json.loads((out / "results.json").read_text())["status"] == "interrupted"
+    progress = [line for line in lines if line.startswith("[cube]")]
+    assert progress[-1].startswith("[cube] interrupted after"), lines
+    assert not any("finished in" in line for line in lines)
+    assert "Traceback" not in "".join(lines)

@@ -204,6 +204,7 @@ def _run(scene, out, progress, label):
             results.timings = {**timings, **solution.timings}
             if out is not None:
                 output.write(results, out, outputs=set())
+        progress.outcome(solution.status)
     if solution.status == DONE:
         return results
     kind = Interrupted if solution.status == INTERRUPTED else ConvergenceError
