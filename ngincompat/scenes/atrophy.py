@@ -48,6 +48,7 @@ import ngsolve as ngs
 import numpy as np
 
 from geometries import brain, estimate
+from geometries import fsaverage_brain as fsaverage
 from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
 from ngincompat import config, sampling
 from ngincompat.errors import ParameterError, require
@@ -85,7 +86,15 @@ PLANES = ("e1", "e2", "e3")
 #: The fields of a frame of the time series (the end's fields.vtu has more).
 FRAME_FIELDS = ("c", "theta", "u", "J", "Je", *(f"|b_{p}|" for p in PLANES),
                 "sigma_max_principal")
-GEOMETRIES = ("idealized", "mni152")
+GEOMETRIES = ("idealized", "mni152", "fsaverage")
+#: Named seeds: MNI coordinates [mm] of the left hemisphere (x mirrored for the right).
+#: entorhinal: the anterior parahippocampal gyrus of the medial temporal lobe, where tau
+#: tangles appear first (Braak & Braak, Acta Neuropathol 82 (1991) 239, stage I-II) and
+#: where Weickenmeier et al. (J Mech Phys Solids 124 (2019) 264) seed tau; the coordinates
+#: are an estimate read off the anatomy, not a published centroid.
+NAMED_SEEDS = {"entorhinal": (-25.0, -10.0, -30.0)}
+#: The cortex is resolved with at least this many elements across its thickness (median).
+CORTEX_ELEMENTS_ACROSS = 2
 #: Endings of a user's own brain: a NIfTI label image (1 gray, 2 white) or a Netgen mesh
 #: with materials gray and white.
 USER_FILES = (".nii", ".nii.gz", ".vol", ".vol.gz")
@@ -104,11 +113,14 @@ class AtrophyScene(Scene):
                "burgers_peak_depth", "max_principal_stress", "stress_peak_depth",
                "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
                "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
-               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
+               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error",
+               "gray_volume", "white_volume", "volume_surface_deviation",
+               "cortex_elements_across_min", "cortex_elements_across_median")
     metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
                          "G_norm_L2": "length^(1/2)", "front_radius": "length",
                          "burgers_peak_depth": "length", "stress_peak_depth": "length",
-                         "c_integral": "length^3", **CURVATURE_QUANTITIES}
+                         "c_integral": "length^3", "gray_volume": "length^3",
+                         "white_volume": "length^3", **CURVATURE_QUANTITIES}
     #: Runs at the defaults give |Je / theta - 1| = 1.2e-2 and a relative equilibrium residual
     #: of 7e-10; the coarse run --maxh 2 --set t_end=10 --set dt=1 --set snapshots=2 gives
     #: 0.98 and 3.5e-5 (its gray shell, one element thick, is not resolved).
@@ -138,8 +150,14 @@ class AtrophyScene(Scene):
     d_axn: float = param(0.0, "axonal diffusivity added along radial axons in white matter",
                          "length^2/time", range=">= 0")
     alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time", range=">= 0")
-    seed: Literal["uniform"] | tuple[float, float, float] = param(
-        (0.0, 0.0, -5.0), "seed: uniform, or its centre X,Y,Z (in or on the body)", "length")
+    seed: Literal["uniform", "entorhinal"] | tuple[float, float, float] = param(
+        (0.0, 0.0, -5.0), "seed: uniform, entorhinal (cortex of the medial temporal lobe, "
+        "the brain's nearest surface point), or its centre X,Y,Z (in or on the body)",
+        "length")
+    hemisphere: str = param("left", "hemisphere of the fsaverage brain",
+                            choices=fsaverage.HEMISPHERES)
+    ico: int = param(4, "icosahedral subdivision of the fsaverage surfaces (4: 2562, 5: 10242 "
+                     "vertices)", range="[4, 5]")
     seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length", range="> 0")
     c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)",
                       range="(0, 1]")
@@ -162,6 +180,17 @@ class AtrophyScene(Scene):
     formulation: Literal["mixed", "displacement"] = param(
         "mixed", "mixed (pressure against volumetric locking, on Je) or displacement")
 
+    def trust(self, results):
+        """A cortex with fewer than :data:`CORTEX_ELEMENTS_ACROSS` elements across its
+        thickness (median) does not resolve the gray/white mismatch it carries."""
+        across = results.metrics.get("cortex_elements_across_median")
+        if across is None or across >= CORTEX_ELEMENTS_ACROSS:
+            return []
+        return [f"cortex_elements_across_median = {across:g} < {CORTEX_ELEMENTS_ACROSS}: the "
+                "cortex is under-resolved (one element across its thickness); the stress "
+                "and |b| at the gray/white interface are not converged: raise ico or lower "
+                "maxh"]
+
     def __post_init__(self):
         super().__post_init__()
         require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
@@ -170,6 +199,9 @@ class AtrophyScene(Scene):
         axes = self.axes()
         require(self.gray_thickness < min(axes) / 2, "gray_thickness",
                 self.gray_thickness, f"in (0, {min(axes) / 2:g}) (half the smallest semi-axis)")
+        require(self.seed not in NAMED_SEEDS or self.geometry != "idealized", "seed",
+                self.seed, "uniform or X,Y,Z on the idealized brain (named seeds need an "
+                "anatomical one: geometry = fsaverage, mni152)")
         centre = self.seed_centre()
         if centre is not None and self.geometry == "idealized":
             inside = sum((x / a) ** 2 for x, a in zip(centre, axes, strict=True))
@@ -192,8 +224,18 @@ class AtrophyScene(Scene):
         return self.semi_axes
 
     def seed_centre(self):
-        """The seed's centre, or None for a uniform seed."""
-        return None if self.seed == "uniform" else self.seed
+        """The seed's centre, or None for a uniform seed (a named one in the brain's
+        coordinates: :func:`geometries.fsaverage_brain.from_mni`)."""
+        if self.seed == "uniform":
+            return None
+        if self.seed in NAMED_SEEDS:
+            x, y, z = NAMED_SEEDS[self.seed]
+            point = fsaverage.from_mni((-x if self.hemisphere == "right" else x, y, z))
+            if self.geometry == "fsaverage":     # on the cortex: the nearest pial vertex
+                pial = fsaverage.surfaces(self.hemisphere, self.ico)[0]
+                point = pial[np.argmin(np.linalg.norm(pial - point, axis=1))]
+            return tuple(float(v) for v in point)
+        return self.seed
 
     def n_steps(self):
         """Number of equal time steps, of length t_end / n <= dt."""
@@ -257,6 +299,8 @@ class AtrophyScene(Scene):
                          curve_order=self.order)
         if self.geometry == "mni152":
             return mni152(self.maxh, self.elements)
+        if self.geometry == "fsaverage":
+            return fsaverage.fsaverage(self.hemisphere, self.ico, maxh=self.maxh)
         if self.geometry.endswith((".nii", ".nii.gz")):
             return from_nifti(self.geometry, self.maxh, self.elements)
         if not Path(self.geometry).is_file():
@@ -308,8 +352,10 @@ class AtrophyCase:
                         for k in TISSUES}
         self.volume0["total"] = sum(self.volume0.values())
         self.vertices = np.array([v.point for v in mesh.vertices])
-        #: Largest |X_k| of the body: the extent of the sections and of the profile.
-        self.extent = np.max(np.abs(self.vertices), axis=0)
+        #: Centre and half-sizes of the body's bounding box: the sections pass through the
+        #: centre, the profile starts there.
+        low, high = self.vertices.min(axis=0), self.vertices.max(axis=0)
+        self.centre, self.extent = (low + high) / 2, (high - low) / 2
         self.c_extremes = [self.transport.minimum(), self.transport.maximum()]
         self._record(0.0)
 
@@ -404,6 +450,7 @@ class AtrophyCase:
             with progress.phase("stresses and profiles"), \
                     timed(results.timings, "postprocess"):
                 metrics.update(self._transport_metrics())
+                metrics.update(self._anatomy())
                 if self.problem is not None and self.snapshots:
                     metrics.update(self._mechanics(fields))
                 results.profiles["line"] = self._line(fields, metrics)
@@ -460,6 +507,24 @@ class AtrophyCase:
         extra, metrics = cv.measure_growth(self.Fg_h, self.mesh, self.G, exact=False)
         fields.update(extra)
         return metrics
+
+    def _anatomy(self):
+        """The tissues' volumes; on the fsaverage brain also their deviation from the volumes
+        the surfaces enclose (divergence theorem) and the elements across the cortex."""
+        out = {"gray_volume": self.volume0["gray"], "white_volume": self.volume0["white"]}
+        scene = self.scene
+        if scene.geometry != "fsaverage":
+            return out
+        pial, white, triangles = fsaverage.surfaces(scene.hemisphere, scene.ico)
+        across = fsaverage.elements_across(self.mesh, scene.hemisphere, scene.ico)
+        white, _ = fsaverage.cortex(pial, white, triangles, fsaverage.MIN_THICKNESS)
+        inner = fsaverage.enclosed_volume(white, triangles)
+        gray = fsaverage.enclosed_volume(pial, triangles) - inner
+        out["volume_surface_deviation"] = max(abs(out["gray_volume"] / gray - 1),
+                                              abs(out["white_volume"] / inner - 1))
+        out["cortex_elements_across_min"] = float(across.min())
+        out["cortex_elements_across_median"] = float(np.median(across))
+        return out
 
     def _transport_metrics(self):
         last = {k: v[-1] for k, v in self.series.items()}
@@ -519,8 +584,9 @@ class AtrophyCase:
                 "sigma_rr": postprocess.component(sigma, basis["r"]),
                 "sigma_thetatheta": postprocess.component(sigma, basis["theta"]),
                 "sigma_max_principal": fields["sigma_max_principal"]})
-        s, values = postprocess.sample_line(self.mesh, sampled, (0.0, 0.0, 0.0), (a, 0, 0),
-                                            n=401)
+        centre = tuple(self.centre)
+        s, values = postprocess.sample_line(self.mesh, sampled, centre,
+                                            (centre[0] + a, *centre[1:]), n=401)
         line = {"R": s, **values}
         surface = s[np.flatnonzero(np.isfinite(values["c"]))[-1]]     # last point inside
         metrics["burgers_peak_depth"] = float(surface - s[np.nanargmax(values["burgers"])])
@@ -530,8 +596,8 @@ class AtrophyCase:
         return line
 
     def _sections(self, fields, n=121):
-        """theta, |b| and the max principal stress on the planes X_k = 0, k = 1, 2, 3,
-        sampled on n x n grids (NaN outside the mesh)."""
+        """theta, |b| and the max principal stress on the planes X_k = const through the
+        centre, k = 1, 2, 3, sampled on n x n grids (NaN outside the mesh)."""
         axes = self.extent
         cfs = {k: fields[k] for k in ("theta", "|b|", "sigma_max_principal") if k in fields}
         basis = np.eye(3)
@@ -541,8 +607,8 @@ class AtrophyCase:
             u = np.linspace(-axes[i], axes[i], n)
             v = np.linspace(-axes[j], axes[j], n)
             out[f"{plane}_u"], out[f"{plane}_v"] = u, v
-            sampled = postprocess.sample_plane(self.mesh, cfs, (0, 0, 0), basis[i], basis[j],
-                                               u, v)
+            sampled = postprocess.sample_plane(self.mesh, cfs, tuple(self.centre), basis[i],
+                                               basis[j], u, v)
             out.update({f"{plane}_{key}": values for key, values in sampled.items()})
         return out
 
