@@ -13,12 +13,17 @@ Meshing (measured choices, see the README's atrophy section):
   vertices and re-triangulates them as the convex hull of their points on the registration
   sphere; no decimation, and pial and white keep their vertex correspondence. At
   subdivision 3 (642 vertices, 11 mm edges) the pial and white surfaces intersect;
-* **tetrahedra**: Netgen fills the two nested closed surfaces from their triangles (kept as
-  they are, so the volumes are those the surfaces enclose): gray between them, white inside
-  the white one. A layer of prisms between corresponding triangles (the cortex resolved by
-  construction) was tried and dropped: 20 of the 5120 prisms of subdivision 4 and 25 of the
-  20480 of subdivision 5 are twisted (no split into tetrahedra, not even from their
-  centroid), where the pial vertices slide sideways over the white ones;
+* **cortex**: ``layers`` layers of prisms between corresponding white and pial triangles,
+  each cut into tetrahedra (:func:`prism_tetrahedra`), so the cortex has ``layers``
+  elements across by construction, at 3 ``layers`` tetrahedra per triangle. Where the pial
+  vertices slide far sideways over the white ones a prism is twisted (no cut into
+  tetrahedra without an inverted one: 20 of the 5120 columns of subdivision 4 at 2
+  layers, 146 columns with their neighbours); those are left to Netgen;
+* **white matter** (and those few columns): Netgen fills the white surface from its
+  triangles, kept as they are, so the mesh is conforming and the volumes are those the
+  surfaces enclose. ``layers = 0`` lets Netgen fill the whole cortex from the pial and
+  white triangles: at subdivision 4 about one element across it (the surfaces' triangles,
+  6 mm, set the tetrahedra's size);
 * **medial wall**: fsaverage closes each hemisphere over the cut through the corpus callosum
   and brainstem with pial = white (thickness 0), which Netgen cannot mesh. Where the cortex
   is thinner than ``min_thickness`` (along the pial normal) the white vertex is moved to
@@ -37,7 +42,7 @@ from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
-from netgen.meshing import Element2D, FaceDescriptor, MeshingParameters, MeshPoint, Pnt
+from netgen.meshing import Element2D, Element3D, FaceDescriptor, MeshingParameters, MeshPoint, Pnt
 from netgen.meshing import Mesh as NetgenMesh
 
 from ngincompat.errors import ParameterError, require
@@ -53,6 +58,22 @@ _CACHE_VERSION = 1
 _MEDIAL = 1e-3
 #: The thinnest cortex meshed [cm] (the medial wall's gray layer).
 MIN_THICKNESS = 0.1
+#: The three tetrahedra of a prism (bottom 0, 1, 2 below top 3, 4, 5) for each choice of
+#: the diagonals of its sides (:data:`_SIDES`): 0 = the diagonal from the side's first
+#: corner to its third, 1 = from its second to its fourth. The two cyclic choices have no
+#: such split; the smallest-number rule never makes them.
+_PRISM_SPLITS = {
+    (1, 1, 0): ((0, 1, 2, 3), (1, 2, 3, 4), (2, 3, 4, 5)),
+    (1, 0, 0): ((0, 1, 2, 3), (1, 2, 3, 5), (1, 3, 4, 5)),
+    (0, 1, 0): ((0, 1, 2, 4), (0, 2, 3, 4), (2, 3, 4, 5)),
+    (0, 1, 1): ((0, 1, 2, 4), (0, 2, 4, 5), (0, 3, 4, 5)),
+    (1, 0, 1): ((0, 1, 2, 5), (0, 1, 3, 5), (1, 3, 4, 5)),
+    (0, 0, 1): ((0, 1, 2, 5), (0, 1, 4, 5), (0, 3, 4, 5)),
+}
+#: The sides of a prism, each oriented out of it.
+_SIDES = ((0, 1, 4, 3), (1, 2, 5, 4), (2, 0, 3, 5))
+#: The upright reference prism: bottom 0, 1, 2 at X3 = 0, top 3, 4, 5 at X3 = 1.
+_UPRIGHT = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [0, 1, 1]], float)
 #: MNI (x, y, z) -> project (X1, X2, X3) = (y, -x, z): a rotation.
 _AXES = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
 
@@ -128,58 +149,228 @@ def cortex(pial, white, triangles, min_thickness):
     return white, medial
 
 
-def build(hemisphere="left", ico=4, min_thickness=MIN_THICKNESS, maxh=1.0):
+def prism_tetrahedra(points, bottom, top):
+    """Tetrahedra of the prisms with corners ``bottom`` (m, 3) below ``top`` (m, 3) (vertex
+    numbers into ``points``), conforming across the prisms' sides, oriented as Netgen's.
+
+    A prism is cut into the three tetrahedra of :data:`_PRISM_SPLITS` for the diagonals its
+    sides take from their vertex of smallest number (so neighbours agree). Where the cortex
+    is sheared one of these is inverted; such a prism is cut from a point added at its
+    centroid instead: 8 tetrahedra over its 2 triangles and the 6 halves of its sides.
+
+    Returns
+    -------
+    tets : ndarray (k, 4)
+        Negatively oriented ((b - a) x (c - a) . (d - a) < 0), as Netgen's are.
+    prism : ndarray (k,)
+        The prism each tetrahedron belongs to.
+    centroids : ndarray (j, 3)
+        The added points, numbered from ``len(points)`` on.
+    twisted : ndarray
+        The prisms that neither cut gives without an inverted tetrahedron.
+    """
+    corners = np.hstack([bottom, top])
+    m = len(corners)
+    choice = np.stack([
+        np.minimum(corners[:, s[1]], corners[:, s[3]]) < np.minimum(corners[:, s[0]],
+                                                                      corners[:, s[2]])
+        for s in _SIDES], axis=1).astype(int)
+    tets = np.empty((m, 3, 4), dtype=corners.dtype)
+    upright = np.empty((m, 3))
+    for key, split in _PRISM_SPLITS.items():
+        rows = np.all(choice == np.array(key), axis=1)
+        for t, tet in enumerate(split):
+            tets[rows, t] = corners[rows][:, list(tet)]
+        upright[rows] = np.sign(signed_volumes(_UPRIGHT, np.array(split)))
+    volumes = signed_volumes(points, tets.reshape(-1, 4)).reshape(m, 3)
+    sheared = np.any(volumes * upright <= 0, axis=1)
+    flip = (volumes > 0) & ~sheared[:, None]
+    tets[flip] = tets[flip][:, [0, 2, 1, 3]]
+    good = np.flatnonzero(~sheared)
+    cut = corners[sheared]
+    centroids = points[cut].mean(axis=1)
+    centre = len(points) + np.arange(len(cut))
+    faces = [cut[:, [0, 2, 1]], cut[:, [3, 4, 5]]]
+    for side in _SIDES:
+        faces += _halves(cut[:, list(side)])
+    fan = np.stack([np.column_stack([f, centre]) for f in faces], axis=1).reshape(-1, 4)
+    inverted = signed_volumes(np.vstack([points, centroids]), fan).reshape(-1, 8) >= 0
+    return (np.vstack([tets[good].reshape(-1, 4), fan]),
+            np.concatenate([np.repeat(good, 3), np.repeat(np.flatnonzero(sheared), 8)]),
+            centroids, np.flatnonzero(sheared)[np.any(inverted, axis=1)])
+
+
+def _halves(quads):
+    """The two triangles of quadrilaterals (k, 4) cut along the diagonal from their corner
+    of smallest number, with the quadrilaterals' orientation."""
+    first = (np.minimum(quads[:, 0], quads[:, 2]) < np.minimum(quads[:, 1], quads[:, 3]))
+    first = first[:, None]
+    return [np.where(first, quads[:, [0, 1, 2]], quads[:, [0, 1, 3]]),
+            np.where(first, quads[:, [0, 2, 3]], quads[:, [1, 2, 3]])]
+
+
+def signed_volumes(points, tets):
+    """(b - a) x (c - a) . (d - a) / 6 of each tetrahedron a, b, c, d."""
+    a, b, c, d = (points[tets[:, k]] for k in range(4))
+    return np.einsum("ij,ij->i", np.cross(b - a, c - a), d - a) / 6
+
+
+def build(hemisphere="left", ico=4, layers=2, min_thickness=MIN_THICKNESS, maxh=1.0):
     """The Netgen mesh of a hemisphere (see the module): materials ``gray`` (cortex) and
-    ``white``, boundaries ``surface`` (pial) and ``interface`` (white surface); ``maxh``
-    bounds the tetrahedra (in the cortex the surfaces' triangles set their size)."""
+    ``white``, boundaries ``surface`` (pial) and ``interface`` (white surface).
+
+    The cortex is ``layers`` layers of prisms (:func:`prism_tetrahedra`), except around
+    twisted prisms: those columns and their neighbours (sharing a vertex) are left to Netgen,
+    which fills them with the white matter (``maxh`` bounds its tetrahedra). With
+    ``layers = 0`` Netgen fills the whole cortex from the pial and white triangles."""
+    require(isinstance(layers, int) and 0 <= layers <= 8, "layers", layers,
+            "an integer in [0, 8]")
     require(0 < min_thickness <= 0.2, "min_thickness", min_thickness, "in (0, 0.2] cm")
     pial, white, triangles = surfaces(hemisphere, ico)
     white, _ = cortex(pial, white, triangles, min_thickness)
-    n = len(pial)
+    n, levels = len(pial), max(layers, 1)
+    points = np.vstack([white + k / levels * (pial - white) for k in range(levels + 1)])
+    number = [k * n + np.arange(n) for k in range(levels + 1)]
+    columns = [(number[k][triangles], number[k + 1][triangles]) for k in range(levels)]
+    hole = np.full(len(triangles), layers == 0)
+    for bottom, top in columns if layers else ():
+        twisted = prism_tetrahedra(points, bottom, top)[3]
+        hole[twisted] = True
+    if hole.any() and not hole.all():
+        hole = np.any(np.isin(triangles, triangles[hole]), axis=1)
+    tets = []
+    for bottom, top in columns if layers else ():
+        layer, _, centroids, _ = prism_tetrahedra(points, bottom[~hole], top[~hole])
+        tets.append(layer)
+        points = np.vstack([points, centroids])
+    cortex_tets = np.vstack(tets) if tets else np.empty((0, 4), dtype=int)
+    faces, sides = _filled_boundary(triangles, number, hole)
+    edges = np.linalg.norm(white[triangles] - white[np.roll(triangles, 1, axis=1)], axis=2)
+    filled, domains, points = _fill(points, faces, sides, min(maxh, float(edges.mean())))
+    tets = np.vstack([cortex_tets, filled])
+    domains = np.concatenate([np.ones(len(cortex_tets), dtype=int), domains])
+    used = np.unique(tets)               # not the inner levels of the columns Netgen filled
+    ids = np.zeros(len(points), dtype=object)
     mesh = NetgenMesh(dim=3)
-    ids = [mesh.Add(MeshPoint(Pnt(*p))) for p in np.vstack([white, pial])]
-    mesh.Add(FaceDescriptor(surfnr=1, domin=1, domout=0, bc=1))
-    mesh.Add(FaceDescriptor(surfnr=2, domin=2, domout=1, bc=2))
+    ids[used] = [mesh.Add(MeshPoint(Pnt(*p))) for p in points[used]]
     mesh.SetMaterial(1, "gray")
     mesh.SetMaterial(2, "white")
+    for tet, domain in zip(tets, domains, strict=True):
+        mesh.Add(Element3D(int(domain), list(ids[tet])))
+    mesh.Add(FaceDescriptor(surfnr=1, domin=1, domout=0, bc=1))
+    mesh.Add(FaceDescriptor(surfnr=2, domin=2, domout=1, bc=2))
     mesh.SetBCName(0, "surface")
     mesh.SetBCName(1, "interface")
+    for tri in number[levels][triangles]:
+        mesh.Add(Element2D(1, list(ids[tri])))
     for tri in triangles:
-        mesh.Add(Element2D(1, [ids[i + n] for i in tri]))
-        mesh.Add(Element2D(2, [ids[i] for i in tri]))
-    try:
-        mesh.GenerateVolumeMesh(mp=MeshingParameters(maxh=maxh))
-    except Exception as err:     # Netgen raises its own kinds when the surfaces are bad
-        raise ParameterError(f"fsaverage: Netgen could not fill the surfaces ({err})") \
-            from None
-    if not mesh.ne:
-        raise ParameterError("fsaverage: Netgen made no tetrahedra (the surfaces intersect)")
+        mesh.Add(Element2D(2, list(ids[tri])))
     return mesh
 
 
+def _filled_boundary(triangles, number, hole):
+    """The closed surface Netgen fills, with the (inside, outside) domains of each face
+    (1 gray, 2 white, 0 not filled), oriented out of the inside: the white triangles, the
+    pial triangles over the hole and the hole's walls towards the prisms, cut into
+    triangles as the prisms' tetrahedra have them."""
+    levels = len(number) - 1
+    faces = [triangles, number[levels][triangles[hole]]]
+    sides = [np.where(hole[:, None], (2, 1), (2, 0)), np.tile((1, 0), (hole.sum(), 1))]
+    edges = {}
+    for t in np.flatnonzero(~hole):
+        for k in range(3):
+            edges[tuple(sorted((triangles[t][k], triangles[t][(k + 1) % 3])))] = t
+    walls = []
+    for t in np.flatnonzero(hole):
+        for k in range(3):
+            a, b = triangles[t][k], triangles[t][(k + 1) % 3]
+            if tuple(sorted((a, b))) in edges:
+                walls += [[number[j][a], number[j][b], number[j + 1][b], number[j + 1][a]]
+                          for j in range(levels)]
+    if walls:
+        halves = _halves(np.array(walls))
+        faces += halves
+        sides += [np.tile((1, 0), (len(h), 1)) for h in halves]
+    return np.vstack(faces), np.vstack(sides)
+
+
+def _fill(points, faces, sides, maxh):
+    """Netgen's tetrahedra in the closed surface ``faces`` (vertex numbers into ``points``;
+    ``sides`` the (inside, outside) domain of each): the tetrahedra, numbered as the
+    returned points (``points`` and Netgen's new ones after them), and their domains."""
+    used = np.unique(faces)
+    local = np.full(len(points), -1)
+    local[used] = np.arange(len(used))
+    mesh = NetgenMesh(dim=3)
+    ids = [mesh.Add(MeshPoint(Pnt(*p))) for p in points[used]]
+    kinds = sorted({tuple(int(d) for d in pair) for pair in sides})
+    for k, (inside, outside) in enumerate(kinds):
+        mesh.Add(FaceDescriptor(surfnr=k + 1, domin=inside, domout=outside, bc=k + 1))
+    for face, pair in zip(local[faces], sides, strict=True):
+        mesh.Add(Element2D(kinds.index(tuple(int(d) for d in pair)) + 1,
+                           [ids[i] for i in face]))
+    try:
+        mesh.GenerateVolumeMesh(mp=MeshingParameters(maxh=maxh))
+    except Exception as err:     # Netgen raises its own kinds when the surface is bad
+        raise ParameterError(f"fsaverage: Netgen could not fill the surfaces ({err})") \
+            from None
+    elements = list(mesh.Elements3D())
+    if not elements:
+        raise ParameterError("fsaverage: Netgen made no tetrahedra (the surfaces intersect)")
+    filled = np.array([p.p for p in mesh.Points()])
+    if not np.allclose(filled[:len(used)], points[used]):
+        raise ParameterError("fsaverage: Netgen renumbered the surfaces' vertices")
+    number = np.concatenate([used, len(points) + np.arange(len(filled) - len(used))])
+    tets = number[np.array([[v.nr - 1 for v in el.vertices] for el in elements])]
+    domains = np.array([el.index for el in elements])
+    return tets, domains, np.vstack([points, filled[len(used):]])
+
+
 def elements_across(mesh, hemisphere="left", ico=4, min_thickness=MIN_THICKNESS, samples=64):
-    """How many elements the segment from each pial vertex to its white vertex crosses
-    (sampled at ``samples`` points): the cortex's resolution, per vertex off the medial
-    wall (where fsaverage's cortex is at least ``min_thickness`` thick)."""
+    """How many elements are stacked across the cortex, per triangle off the medial wall
+    (where fsaverage's cortex is at least ``min_thickness`` thick at its three corners):
+    the extent along the mean normal N of the white and pial triangles of the column
+    between them over the median extent along N of the gray elements that the segment
+    from the white triangle's centroid to the pial one's crosses (sampled at ``samples``
+    points). A layer of prisms cut into tetrahedra counts once."""
     pial, white, triangles = surfaces(hemisphere, ico)
-    keep = np.linalg.norm(pial - white, axis=1) >= min_thickness
+    keep = np.all(np.linalg.norm(pial - white, axis=1)[triangles] >= min_thickness, axis=1)
     white, _ = cortex(pial, white, triangles, min_thickness)
+    top, bottom = (x[triangles[keep]].mean(axis=1) for x in (pial, white))
     s = (np.arange(samples) + 0.5) / samples
-    points = white[keep, None, :] + s[None, :, None] * (pial - white)[keep, None, :]
-    flat = points.reshape(-1, 3)
-    found = mesh(flat[:, 0], flat[:, 1], flat[:, 2])
-    numbers = np.array([p[-1] for p in found]).reshape(-1, samples)
-    return np.array([len(np.unique(row[row >= 0])) for row in numbers])
+    flat = (bottom[:, None, :] + s[None, :, None] * (top - bottom)[:, None, :]).reshape(-1, 3)
+    numbers = mesh(flat[:, 0], flat[:, 1], flat[:, 2])["nr"].reshape(-1, samples)
+    elements = list(mesh.Elements(ngs.VOL))
+    corners = np.array([[v.nr for v in el.vertices] for el in elements])
+    numbers[~np.isin(numbers, [k for k, el in enumerate(elements) if el.mat == "gray"])] = -1
+    points = np.array([v.point for v in mesh.vertices])
+    normal = sum(_unit_normals(x, triangles[keep]) for x in (pial, white))
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    column = np.einsum("kcj,kj->kc", np.concatenate([pial[triangles[keep]],
+                                                     white[triangles[keep]]], axis=1), normal)
+    thickness = column.max(axis=1) - column.min(axis=1)
+    out = np.empty(len(thickness))
+    for k, row in enumerate(numbers):
+        along = points[corners[np.unique(row[row >= 0])]] @ normal[k]
+        out[k] = thickness[k] / np.median(along.max(axis=1) - along.min(axis=1))
+    return out
 
 
-def fsaverage(hemisphere="left", ico=4, min_thickness=MIN_THICKNESS, maxh=1.0):
+def _unit_normals(points, triangles):
+    """The unit normals of triangles."""
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    normals = np.cross(b - a, c - a)
+    return normals / np.linalg.norm(normals, axis=1)[:, None]
+
+
+def fsaverage(hemisphere="left", ico=4, layers=2, min_thickness=MIN_THICKNESS, maxh=1.0):
     """The hemisphere of :func:`build` as an NGSolve mesh, cached in
     :func:`~geometries.voxel_brain.cache_dir` after the first build (written atomically)."""
-    path = cache_dir() / (f"fsaverage_{hemisphere}_ico{ico}_t{min_thickness:g}_"
+    path = cache_dir() / (f"fsaverage_{hemisphere}_ico{ico}_L{layers}_t{min_thickness:g}_"
                           f"h{maxh:g}_v{_CACHE_VERSION}.vol.gz")
     if path.is_file():
         return ngs.Mesh(str(path))
-    mesh = build(hemisphere, ico, min_thickness, maxh)
+    mesh = build(hemisphere, ico, layers, min_thickness, maxh)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.vol.gz")
     mesh.Save(str(tmp))

@@ -93,6 +93,8 @@ GEOMETRIES = ("idealized", "mni152", "fsaverage")
 #: where Weickenmeier et al. (J Mech Phys Solids 124 (2019) 264) seed tau; the coordinates
 #: are an estimate read off the anatomy, not a published centroid.
 NAMED_SEEDS = {"entorhinal": (-25.0, -10.0, -30.0)}
+#: The default seed of the idealized brain (its basal pole) [cm].
+IDEALIZED_SEED = (0.0, 0.0, -5.0)
 #: The cortex is resolved with at least this many elements across its thickness (median).
 CORTEX_ELEMENTS_ACROSS = 2
 #: Endings of a user's own brain: a NIfTI label image (1 gray, 2 white) or a Netgen mesh
@@ -151,13 +153,16 @@ class AtrophyScene(Scene):
                          "length^2/time", range=">= 0")
     alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time", range=">= 0")
     seed: Literal["uniform", "entorhinal"] | tuple[float, float, float] = param(
-        (0.0, 0.0, -5.0), "seed: uniform, entorhinal (cortex of the medial temporal lobe, "
-        "the brain's nearest surface point), or its centre X,Y,Z (in or on the body)",
-        "length")
+        IDEALIZED_SEED, "seed: uniform, entorhinal (cortex of the medial temporal lobe, on "
+        "fsaverage its nearest pial vertex), or its centre X,Y,Z (in or on the body); the "
+        "default is entorhinal on the fsaverage brain", "length")
     hemisphere: str = param("left", "hemisphere of the fsaverage brain",
                             choices=fsaverage.HEMISPHERES)
     ico: int = param(4, "icosahedral subdivision of the fsaverage surfaces (4: 2562, 5: 10242 "
                      "vertices)", range="[4, 5]")
+    cortex_layers: int = param(2, "layers of prisms (3 tetrahedra each) across the cortex of "
+                               "the fsaverage brain; 0: Netgen fills it from the surfaces",
+                               range="[0, 8]")
     seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length", range="> 0")
     c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)",
                       range="(0, 1]")
@@ -187,12 +192,14 @@ class AtrophyScene(Scene):
         if across is None or across >= CORTEX_ELEMENTS_ACROSS:
             return []
         return [f"cortex_elements_across_median = {across:g} < {CORTEX_ELEMENTS_ACROSS}: the "
-                "cortex is under-resolved (one element across its thickness); the stress "
-                "and |b| at the gray/white interface are not converged: raise ico or lower "
-                "maxh"]
+                "cortex is under-resolved; the stress and |b| at the gray/white interface are "
+                "not converged: refine (more cortex_layers on the fsaverage brain, a smaller "
+                "maxh or gray_thickness / maxh >= 2 on the idealized one)"]
 
     def __post_init__(self):
         super().__post_init__()
+        if self.geometry == "fsaverage" and self.seed == IDEALIZED_SEED:
+            object.__setattr__(self, "seed", "entorhinal")     # the default, outside it
         require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
                 self.geometry, f"{', '.join(GEOMETRIES)} or a file ending in "
                 f"{', '.join(USER_FILES)}")
@@ -300,7 +307,8 @@ class AtrophyScene(Scene):
         if self.geometry == "mni152":
             return mni152(self.maxh, self.elements)
         if self.geometry == "fsaverage":
-            return fsaverage.fsaverage(self.hemisphere, self.ico, maxh=self.maxh)
+            return fsaverage.fsaverage(self.hemisphere, self.ico, self.cortex_layers,
+                                       maxh=self.maxh)
         if self.geometry.endswith((".nii", ".nii.gz")):
             return from_nifti(self.geometry, self.maxh, self.elements)
         if not Path(self.geometry).is_file():
