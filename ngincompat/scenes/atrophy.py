@@ -52,7 +52,7 @@ from geometries import fsaverage_brain as fsaverage
 from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
 from ngincompat import config, sampling
 from ngincompat.errors import ParameterError, require
-from ngincompat.fem import postprocess
+from ngincompat.fem import depth, postprocess
 from ngincompat.fem.problem import GrowthMechanics, check_formulation
 from ngincompat.fem.solver import NewtonOptions, SolverHistory, solve_growth
 from ngincompat.fem.transport import FisherKPP, diffusion_tensor
@@ -93,6 +93,8 @@ GEOMETRIES = ("idealized", "mni152", "fsaverage")
 #: where Weickenmeier et al. (J Mech Phys Solids 124 (2019) 264) seed tau; the coordinates
 #: are an estimate read off the anatomy, not a published centroid.
 NAMED_SEEDS = {"entorhinal": (-25.0, -10.0, -30.0)}
+#: Bands of the depth profile per cortical thickness (Fig. 5e).
+DEPTH_BANDS = 8
 #: The default seed of the idealized brain (its basal pole) [cm].
 IDEALIZED_SEED = (0.0, 0.0, -5.0)
 #: The cortex is resolved with at least this many elements across its thickness (median).
@@ -117,12 +119,15 @@ class AtrophyScene(Scene):
                "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
                "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error",
                "gray_volume", "white_volume", "volume_surface_deviation",
-               "cortex_elements_across_min", "cortex_elements_across_median")
+               "cortex_elements_across_min", "cortex_elements_across_median",
+               "cortex_thickness", "burgers_interface_fraction",
+               "interface_band_volume_fraction", "stress_interface_over_surface")
     metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
                          "G_norm_L2": "length^(1/2)", "front_radius": "length",
                          "burgers_peak_depth": "length", "stress_peak_depth": "length",
                          "c_integral": "length^3", "gray_volume": "length^3",
-                         "white_volume": "length^3", **CURVATURE_QUANTITIES}
+                         "white_volume": "length^3", "cortex_thickness": "length",
+                         **CURVATURE_QUANTITIES}
     #: Runs at the defaults give |Je / theta - 1| = 1.2e-2 and a relative equilibrium residual
     #: of 7e-10; the coarse run --maxh 2 --set t_end=10 --set dt=1 --set snapshots=2 gives
     #: 0.98 and 3.5e-5 (its gray shell, one element thick, is not resolved).
@@ -461,6 +466,9 @@ class AtrophyCase:
                 metrics.update(self._anatomy())
                 if self.problem is not None and self.snapshots:
                     metrics.update(self._mechanics(fields))
+                results.profiles["depth"] = self._depth(fields, metrics)
+                if "u" in fields:
+                    results.profiles["surface"] = self._surface(fields)
                 results.profiles["line"] = self._line(fields, metrics)
                 results.profiles["sections"] = self._sections(fields)
         results.fields = fields
@@ -577,6 +585,51 @@ class AtrophyCase:
             "equilibrium_residual_rel": float(np.linalg.norm(np.array(total))) / size,
         }
 
+    def _depth(self, fields, metrics):
+        """The paper's finding (Fig. 5e): theta, |b| and the max principal stress averaged
+        over bands of depth xi below the surface (:mod:`ngincompat.fem.depth`; 0 at the
+        surface, 1 at the gray/white interface, 2 one mean cortical thickness T into the
+        white matter); the share of int |b| dV within T of the interface, and of the
+        volume; the mean stress in the bands next to the interface over that in the band at
+        the surface."""
+        mesh, order = self.mesh, 2 * self.scene.order
+        xi, d_i, thickness = depth.depth_coordinate(mesh)
+        edges = np.linspace(0.0, 2.0, 2 * DEPTH_BANDS + 1)
+        cfs = {k: fields[k] for k in ("theta", "|b|", "sigma_max_principal") if k in fields}
+        means, _ = depth.band_means(cfs, xi, edges, mesh, order)
+        near = ngs.IfPos(thickness - d_i, 1.0, 0.0)
+        metrics["cortex_thickness"] = thickness
+        metrics["burgers_interface_fraction"] = (
+            ngs.Integrate(near * fields["|b|"], mesh, order=order)
+            / ngs.Integrate(fields["|b|"], mesh, order=order))
+        metrics["interface_band_volume_fraction"] = (
+            ngs.Integrate(near, mesh, order=order) / self.volume0["total"])
+        if "sigma_max_principal" in means:
+            stress = means["sigma_max_principal"]
+            metrics["stress_interface_over_surface"] = float(
+                np.mean(stress[DEPTH_BANDS - 1:DEPTH_BANDS + 1]) / stress[0])
+        return {"xi": (edges[:-1] + edges[1:]) / 2, **means}
+
+    def _surface(self, fields):
+        """c, theta, the max principal stress and u at the vertices of the outer surface,
+        and its triangles (Fig. 5 a-c)."""
+        mesh = self.mesh
+        triangles = []
+        for el in mesh.Elements(ngs.BND):
+            if el.mat == "surface":
+                corners = [v.nr for v in el.vertices]
+                triangles += [corners[:3]] + ([[corners[0], corners[2], corners[3]]]
+                                              if len(corners) == 4 else [])
+        triangles = np.array(triangles)
+        used, local = np.unique(triangles, return_inverse=True)
+        points = self.vertices[used]
+        at = mesh(*points.T)
+        out = {"points": points, "triangles": local.reshape(-1, 3)}
+        for key in ("c", "theta", "sigma_max_principal", "u"):
+            values = np.asarray(fields[key](at))
+            out[key] = values[:, 0] if values.shape[1] == 1 else values
+        return out
+
     def _line(self, fields, metrics):
         """The profile from the centre along +X1 to the surface, with the depth of the
         largest |b| and stress below the surface (the last point of the line in the body)."""
@@ -675,11 +728,26 @@ def _figures(scene, mechanics):
                    f"Cauchy stress [{stress}]", f"{title}: residual stress along +X1",
                    floor=1e-3 * min(scene.mu_gray, scene.mu_white)),
         ]
+    if mechanics:
+        figures.append(Figure(
+            "brain.png", "points", "", {"reference: c [-]": "c",
+                                        "atrophied: theta [-]": "theta",
+                                        f"atrophied: max principal stress [{stress}]":
+                                            "sigma_max_principal"},
+            "", f"{title}: surface (Fig. 5)", profile="surface", kind="surface",
+            deform={"atrophied: theta [-]": "u",
+                    f"atrophied: max principal stress [{stress}]": "u"},
+            view=(10.0, -90.0 if scene.hemisphere == "right" else 90.0)))
+        figures.append(Figure(
+            "depth.png", "xi", "depth xi [-] (0 surface, 1 gray/white interface)",
+            {"max principal stress": "sigma_max_principal"},
+            f"mean max principal stress [{stress}]", f"{title}: stress against depth (Fig. 5e)",
+            right={"|b|": "|b|"}, right_label=f"mean |b| [1/{L}]", profile="depth"))
     labels = {"theta": "theta [-]", "|b|": f"|b| [1/{L}]",
               "sigma_max_principal": f"max principal stress [{stress}]"}
     keys = [k for k in labels if mechanics or k != "sigma_max_principal"]
     figures.append(Figure("sections.png", "e1_u", f"[{L}]",
-                          {f"{labels[k]} on X{p[1]} = 0": f"{p}_{k}"
+                          {f"{labels[k]}, X{p[1]} through the centre": f"{p}_{k}"
                            for p in PLANES for k in keys},
                           f"[{L}]", f"{title}: sections (Fig. 5)", profile="sections",
                           kind="maps"))

@@ -13,6 +13,7 @@ oscillation.
 from itertools import cycle
 
 import numpy as np
+from matplotlib import cm, colormaps, colors
 from matplotlib.figure import Figure
 
 from ngincompat.atomic import atomic_path
@@ -103,6 +104,9 @@ def figure(results, spec):
     p = results.profiles[spec.profile]
     if spec.kind == "maps":
         return maps_figure(p, spec.curves, spec.xlabel, spec.title)
+    if spec.kind == "surface":
+        panels = {label: (key, spec.deform.get(label)) for label, key in spec.curves.items()}
+        return surface_figure(p, panels, spec.title, spec.view)
     if spec.kind == "deformed":
         panels = {label: (key, spec.deform[label]) for label, key in spec.curves.items()}
         return deformed_figure({"": p}, panels, (spec.x, spec.y), spec.xlabel, spec.ylabel,
@@ -135,13 +139,67 @@ def maps_figure(profile, maps, label, title=None):
     for ax, (panel, key) in zip(axes.ravel(), maps.items(), strict=True):
         plane = key.split("_", 1)[0]
         u, v = profile[f"{plane}_u"], profile[f"{plane}_v"]
-        image = ax.imshow(np.ma.masked_invalid(profile[key]), origin="lower", cmap="viridis",
-                          extent=(u[0], u[-1], v[0], v[-1]), interpolation="nearest")
+        values = np.ma.masked_invalid(profile[key])
+        image = ax.imshow(values, origin="lower", extent=(u[0], u[-1], v[0], v[-1]),
+                          interpolation="nearest", **_colours(values))
         _panel(fig, ax, image, panel, label)
     if title:
         fig.suptitle(title, fontsize="medium")
     fig.tight_layout()
     return fig
+
+
+def surface_figure(profile, panels, title=None, view=(10.0, 90.0)):
+    """A body's surface seen from one side, one panel per field (Fig. 5 a-c).
+
+    Parameters
+    ----------
+    profile : dict
+        "points" (n, 3) and "triangles" (m, 3) of the surface, and per field key the values
+        at the points (n,), per displacement key the displacements (n, 3).
+    panels : dict
+        Panel title -> (field key, displacement key or None): the field drawn on the
+        surface moved by the displacement (the reference surface for None).
+    view : (float, float)
+        Elevation and azimuth of the camera [degrees].
+    """
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    points = np.asarray(profile["points"], dtype=float)
+    triangles = np.asarray(profile["triangles"]).astype(int)
+    fig = Figure(figsize=(4.6 * len(panels), 4.2), dpi=110)
+    for k, (panel, (key, moved)) in enumerate(panels.items()):
+        ax = fig.add_subplot(1, len(panels), k + 1, projection="3d")
+        where = points + (np.asarray(profile[moved]) if moved else 0.0)
+        values = np.ma.masked_invalid(np.asarray(profile[key])[triangles].mean(axis=1))
+        colours = _colours(values)
+        norm = colors.Normalize(colours.get("vmin", values.min()),
+                                           colours.get("vmax", values.max()))
+        cmap = colormaps[colours["cmap"]]
+        ax.add_collection3d(Poly3DCollection(where[triangles], facecolors=cmap(norm(values)),
+                                             edgecolor="none"))
+        low, high = points.min(axis=0), points.max(axis=0)
+        centre, half = (low + high) / 2, (high - low).max() / 2
+        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
+            setter(c - half, c + half)
+        ax.set_box_aspect((1, 1, 1))
+        ax.view_init(*view)
+        ax.set_axis_off()
+        ax.set_title(panel, fontsize="small")
+        fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.6)
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    return fig
+
+
+def _colours(values):
+    """A diverging map centred on 0 for a field of both signs (a signed stress), else
+    viridis."""
+    low, high = float(values.min()), float(values.max())
+    if low < 0 < high:
+        bound = max(-low, high)
+        return {"cmap": "RdBu_r", "vmin": -bound, "vmax": bound}
+    return {"cmap": "viridis"}
 
 
 def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):

@@ -69,12 +69,17 @@ class Figure:
         "deformed": colour maps of 2-D arrays (one panel per curve) sampled on a reference
         grid whose axes are the profile's ``x`` (columns) and ``y`` (rows), each drawn on the
         grid moved by the displacement that ``deform`` names for its panel (see
-        :func:`ngincompat.workflow.plots.deformed_figure`).
+        :func:`ngincompat.workflow.plots.deformed_figure`); "surface": the surface of
+        the profile's "points" and "triangles" coloured by each curve's values at the
+        points, moved by the displacement ``deform`` names for the panel (if any), seen
+        from ``view`` (:func:`ngincompat.workflow.plots.surface_figure`).
     y : str
         "deformed": key of the grid's second axis in the profile.
     deform : dict
         "deformed": panel label -> profile key of the displacement, an array of the grid's
-        shape with 3 components.
+        shape with 3 components; "surface": of the displacements at the points.
+    view : tuple
+        "surface": elevation and azimuth of the camera [degrees].
     """
 
     file: str
@@ -91,6 +96,7 @@ class Figure:
     kind: str = "profile"
     y: str = ""
     deform: dict[str, str] = field(default_factory=dict)
+    view: tuple[float, float] = (10.0, 90.0)
 
 
 @dataclass(eq=False)
