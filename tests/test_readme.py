@@ -45,6 +45,9 @@ RUN = {
 FOLDING = RUN["folding"]
 #: The real brain coarser still: 2 cm voxels (a few hundred hexahedra), seed inside it.
 RUN_MNI152 = [*RUN["atrophy"], "--maxh", "2"]
+#: The fsaverage hemisphere has no coarser mesh (40k tetrahedra): its transport, geometry and
+#: measures run here, its mechanics in test_fsaverage_brain.py.
+RUN_FSAVERAGE = [*RUN["atrophy"], "--set", "mechanics=false"]
 #: Coarse settings of ``ngincompat bench CASE``, by case.
 BENCH = {
     "cube": ["--maxh", "1", "--orders", "1", "2"],
@@ -96,7 +99,8 @@ def coarse(argv, scheduler=None):
     scheduler's address is replaced by ``scheduler``."""
     command = argv[0]
     if command == "run":
-        rule = RUN_MNI152 if "geometry=mni152" in argv else RUN[argv[1]]
+        rule = (RUN_MNI152 if "geometry=mni152" in argv else
+                RUN_FSAVERAGE if "geometry=fsaverage" in argv else RUN[argv[1]])
         return [*argv, *rule, "-q"]
     if command == "paper":
         return [*argv, "--quick", "-q"]
