@@ -145,3 +145,15 @@ def test_atrophy_on_the_fsaverage_brain(tmp_path, monkeypatch):
     assert m["equilibrium_residual_rel"] < 1e-6
     for name in ("brain.png", "depth.png", "sections.png"):
         assert (out / name).stat().st_size > 0
+
+
+def test_an_under_resolved_cortex_warns():
+    """One element across (Netgen filling the surfaces: median 1.04) warns; the default
+    two layers (median 2.00) and a run that does not measure it do not."""
+    from types import SimpleNamespace
+
+    scene = AtrophyScene(geometry="fsaverage")
+    (warning,) = scene.trust(SimpleNamespace(metrics={"cortex_elements_across_median": 1.04}))
+    assert warning.startswith("cortex_elements_across_median = 1.04 < 2")
+    assert scene.trust(SimpleNamespace(metrics={"cortex_elements_across_median": 2.0})) == []
+    assert scene.trust(SimpleNamespace(metrics={})) == []

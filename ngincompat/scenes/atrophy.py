@@ -604,10 +604,11 @@ class AtrophyCase:
             / ngs.Integrate(fields["|b|"], mesh, order=order))
         metrics["interface_band_volume_fraction"] = (
             ngs.Integrate(near, mesh, order=order) / self.volume0["total"])
-        if "sigma_max_principal" in means:
-            stress = means["sigma_max_principal"]
-            metrics["stress_interface_over_surface"] = float(
-                np.mean(stress[DEPTH_BANDS - 1:DEPTH_BANDS + 1]) / stress[0])
+        stress = means.get("sigma_max_principal", np.full(1, np.nan))
+        interface = stress[DEPTH_BANDS - 1:DEPTH_BANDS + 1]
+        if np.isfinite(stress[0]) and stress[0] != 0 and np.isfinite(interface).any():
+            # (a mesh coarser than the cortex, 2 cm voxels, leaves bands empty)
+            metrics["stress_interface_over_surface"] = float(np.nanmean(interface) / stress[0])
         return {"xi": (edges[:-1] + edges[1:]) / 2, **means}
 
     def _surface(self, fields):
