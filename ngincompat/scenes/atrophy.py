@@ -590,8 +590,8 @@ class AtrophyCase:
         over bands of depth xi below the surface (:mod:`ngincompat.fem.depth`; 0 at the
         surface, 1 at the gray/white interface, 2 one mean cortical thickness T into the
         white matter); the share of int |b| dV within T of the interface, and of the
-        volume; the mean stress in the bands next to the interface over that in the band at
-        the surface."""
+        volume; the mean stress in the gray band at the interface (7/8 <= xi < 1) over that
+        in the band at the surface (0 <= xi < 1/8)."""
         mesh, order = self.mesh, 2 * self.scene.order
         xi, d_i, thickness = depth.depth_coordinate(mesh)
         edges = np.linspace(0.0, 2.0, 2 * DEPTH_BANDS + 1)
@@ -604,11 +604,11 @@ class AtrophyCase:
             / ngs.Integrate(fields["|b|"], mesh, order=order))
         metrics["interface_band_volume_fraction"] = (
             ngs.Integrate(near, mesh, order=order) / self.volume0["total"])
-        stress = means.get("sigma_max_principal", np.full(1, np.nan))
-        interface = stress[DEPTH_BANDS - 1:DEPTH_BANDS + 1]
-        if np.isfinite(stress[0]) and stress[0] != 0 and np.isfinite(interface).any():
+        stress = means.get("sigma_max_principal", np.full(DEPTH_BANDS, np.nan))
+        interface, surface = stress[DEPTH_BANDS - 1], stress[0]
+        if np.isfinite(interface) and np.isfinite(surface) and surface != 0:
             # (a mesh coarser than the cortex, 2 cm voxels, leaves bands empty)
-            metrics["stress_interface_over_surface"] = float(np.nanmean(interface) / stress[0])
+            metrics["stress_interface_over_surface"] = float(interface / surface)
         return {"xi": (edges[:-1] + edges[1:]) / 2, **means}
 
     def _surface(self, fields):
@@ -731,7 +731,7 @@ def _figures(scene, mechanics):
         ]
     if mechanics:
         figures.append(Figure(
-            "brain.png", "points", "", {"reference: c [-]": "c",
+            "brain.png", "points", "", {"reference: c [-] at the end": "c",
                                         "atrophied: theta [-]": "theta",
                                         f"atrophied: max principal stress [{stress}]":
                                             "sigma_max_principal"},

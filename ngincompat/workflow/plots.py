@@ -173,8 +173,7 @@ def surface_figure(profile, panels, title=None, view=(10.0, 90.0)):
         where = points + (np.asarray(profile[moved]) if moved else 0.0)
         values = np.ma.masked_invalid(np.asarray(profile[key])[triangles].mean(axis=1))
         colours = _colours(values)
-        norm = colors.Normalize(colours.get("vmin", values.min()),
-                                           colours.get("vmax", values.max()))
+        norm = colors.Normalize(colours.get("vmin"), colours.get("vmax"))
         cmap = colormaps[colours["cmap"]]
         ax.add_collection3d(Poly3DCollection(where[triangles], facecolors=cmap(norm(values)),
                                              edgecolor="none"))
@@ -182,7 +181,7 @@ def surface_figure(profile, panels, title=None, view=(10.0, 90.0)):
         centre, half = (low + high) / 2, (high - low).max() / 2
         for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
             setter(c - half, c + half)
-        ax.set_box_aspect((1, 1, 1))
+        ax.set_box_aspect((1, 1, 1), zoom=1.4)
         ax.view_init(*view)
         ax.set_axis_off()
         ax.set_title(panel, fontsize="small")
@@ -194,12 +193,18 @@ def surface_figure(profile, panels, title=None, view=(10.0, 90.0)):
 
 def _colours(values):
     """A diverging map centred on 0 for a field of both signs (a signed stress), else
-    viridis."""
-    low, high = float(values.min()), float(values.max())
-    if low < 0 < high:
-        bound = max(-low, high)
+    viridis; the limits at the 0.5 and 99.5 percentiles, so that a few peaks (at mesh
+    singularities) do not wash out the rest (the colour bar's ends then mean "or beyond")."""
+    finite = np.asarray(values.compressed() if np.ma.isMaskedArray(values) else values,
+                        dtype=float)
+    finite = finite[np.isfinite(finite)]
+    if finite.size == 0:
+        return {"cmap": "viridis"}
+    low, high = np.percentile(finite, [0.5, 99.5])
+    if finite.min() < 0 < finite.max():
+        bound = max(-low, high, 1e-300)
         return {"cmap": "RdBu_r", "vmin": -bound, "vmax": bound}
-    return {"cmap": "viridis"}
+    return {"cmap": "viridis", "vmin": low, "vmax": max(high, low + 1e-300)}
 
 
 def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
