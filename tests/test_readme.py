@@ -47,7 +47,8 @@ FOLDING = RUN["folding"]
 RUN_MNI152 = [*RUN["atrophy"], "--maxh", "2"]
 #: The fsaverage hemisphere has no coarser mesh (40k tetrahedra): its transport, geometry and
 #: measures run here, its mechanics in test_fsaverage_brain.py.
-RUN_FSAVERAGE = [*RUN["atrophy"], "--set", "mechanics=false"]
+RUN_FSAVERAGE = ["--set", "t_end=4", "--set", "dt=1", "--set", "snapshots=1", "--set",
+                 "mechanics=false"]
 #: Coarse settings of ``ngincompat bench CASE``, by case.
 BENCH = {
     "cube": ["--maxh", "1", "--orders", "1", "2"],
