@@ -21,11 +21,13 @@ each of these times is also a frame of the time series ``fields.pvd``. Volumes: 
 gray and white volume loss 1 - int J dV / V0 at the snapshots; 1 - int theta dV / V0 and
 int c dV at every step.
 
-Geometry: the idealized ellipsoid with a gray shell (tetrahedra), the MNI152 template or a
-user's NIfTI label image (hexahedra on coarsened voxels, or six tetrahedra per voxel with
-``elements = tet``, :mod:`geometries.voxel_brain`), or a
-user's Netgen mesh with materials gray and white. On a real brain the axons of d_axn are
-still radial from the centre of the bounding box (no tractography); d_axn = 0 by default.
+Geometry: the idealized ellipsoid with a gray shell (tetrahedra), a hemisphere of fsaverage
+(the cortex as layers of prisms between its white and pial surfaces,
+:mod:`geometries.fsaverage_brain`), the MNI152 template or a user's NIfTI label image
+(hexahedra on coarsened voxels, or six tetrahedra per voxel with ``elements = tet``,
+:mod:`geometries.voxel_brain`), or a user's Netgen mesh with materials gray and white. On a
+real brain the axons of d_axn are still radial from the origin (no tractography); d_axn = 0
+by default.
 
 Parameters and their sources (the paper gives none; every value is a choice, see
 docs of the brain scenes): d_ext = 1.5 mm^2/yr and alpha = 0.6 /yr as used in
@@ -142,9 +144,10 @@ class AtrophyScene(Scene):
     maxh: float = MAXH(1.0, help="mesh size (the voxel edge of mni152 and NIfTI brains)")
     g_order: int = G_ORDER(2, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
-    geometry: str = param("idealized", "brain: idealized (ellipsoid), mni152 (MNI ICBM152 "
-                          "template, needs nilearn), or a file: NIfTI labels (1 gray, 2 "
-                          "white) or a Netgen mesh (materials gray, white)")
+    geometry: str = param("idealized", "brain: idealized (ellipsoid), fsaverage (a hemisphere "
+                          "from the pial and white surfaces, needs nilearn), mni152 (MNI "
+                          "ICBM152 template, needs nilearn), or a file: NIfTI labels (1 gray, "
+                          "2 white) or a Netgen mesh (materials gray, white)")
     elements: str = param("hex", "elements of a voxel brain (mni152, NIfTI): hex, or tet (six "
                           "per voxel, as the curvature output needs)", choices=ELEMENTS)
     semi_axes: tuple[float, float, float] = param(
