@@ -144,10 +144,12 @@ def _status_code(rows):
 
 def _cmd_paper(args):
     from ngincompat.studies import paper
+    only = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
     rows = paper.run_all(args.out, progress=Progress(quiet=args.quiet),
-                         overwrite=args.overwrite, quick=args.quick)
+                         overwrite=args.overwrite, resolution=args.resolution, only=only)
     print(paper.summary_markdown(rows))
-    print(f"summary written to {args.out}/summary.md (.csv, .json) with figures")
+    print(f"report written to {args.out}/report.html; summary to {args.out}/summary.md "
+          "(.csv, .json), figures beside them")
     return _status_code(rows)
 
 
@@ -396,14 +398,20 @@ def build_parser():
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
     p.set_defaults(func=_cmd_run)
 
-    p = sub.add_parser("paper", help="run every idealized scene of the paper, one summary")
+    p = sub.add_parser("paper", help="run the paper's sections 3.1-3.7: one summary, one "
+                       "report.html")
     p.add_argument("--out", required=True, help="output folder")
+    p.add_argument("--resolution", choices=("preview", "paper"), default="preview",
+                   help="preview (default: every section in minutes, on each scene's "
+                        "preview settings) or paper (the paper's resolution and settings)")
+    p.add_argument("--only", metavar="LIST",
+                   help="comma list of sections to run, e.g. 3.5,3.6 (default: all of "
+                        "3.1-3.7); the report shows every section the folder holds")
     p.add_argument("--overwrite", action="store_true",
-                   help="replace a run already in --out (its files are removed first)")
+                   help="replace the runs already in --out (their files are removed first); "
+                        "without it, finished runs of the same settings are kept and the "
+                        "job continues")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
-    p.add_argument("--quick", action="store_true",
-                   help="coarse settings: the whole job in about a minute, as a smoke test "
-                        "(the numbers are not the paper's)")
     p.set_defaults(func=_cmd_paper)
 
     _add_variants(sub, "expansion", "the skin-expansion scene for all four expanders",

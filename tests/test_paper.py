@@ -1,54 +1,100 @@
-"""``ngincompat paper`` (the main job) on its quick settings."""
+"""``ngincompat paper`` (the main job): sections, resolutions, the summary and the figures."""
 
 import json
 
 import pytest
+from conftest import FOLDING_COARSE
 
 from ngincompat.cli import main
-from ngincompat.studies import paper
+from ngincompat.errors import ParameterError
+from ngincompat.scenes import CubeScene, SkinExpansionScene
+from ngincompat.studies import figures, paper
 
 
 @pytest.fixture(scope="module")
-def quick_paper(tmp_path_factory):
+def idealized(tmp_path_factory):
+    """Sections 3.2 and 3.3 on their preview settings (80 s at load 8)."""
     out = tmp_path_factory.mktemp("paper")
-    code = main(["paper", "--out", str(out), "--quick", "-q"])
+    code = main(["paper", "--out", str(out), "--only", "3.2,3.3", "-q"])
     return code, out
 
 
-def test_every_case_runs_and_is_summarised(quick_paper):
-    code, out = quick_paper
+@pytest.mark.slow
+def test_every_case_runs_and_is_summarised(idealized):
+    code, out = idealized
     assert code == 0
     summary = json.loads((out / "summary.json").read_text())
-    labels = [label for label, _ in paper.cases()]
+    labels = [label for _, label, _ in paper.cases(only=["3.2", "3.3"])]
     assert [row["case"] for row in summary["rows"]] == labels
     assert all(row["status"] == "done" for row in summary["rows"])
+    assert summary["resolution"] == "preview"
+    drawn = ["fig2g_burgers.png", "fig2h_curl.png", "fig2_radial_check.png",
+             "fig3e_disc_stress.png", *(f for label in labels
+                                        for f in figures.case_files(label))]
+    for name in [*drawn, "summary.md", "summary.csv", "report.html"]:
+        assert (out / name).stat().st_size > 0, name
     for label in labels:
         assert (out / label / "results.json").is_file()
-    for name in ("fig2g_burgers.png", "fig2h_curl.png", "fig3e_disc_stress.png",
-                 "summary.md", "summary.csv"):
-        assert (out / name).stat().st_size > 0
-    assert set(summary["files"]) == {*labels, "fig2g_burgers.png", "fig2h_curl.png",
-                                     "fig3e_disc_stress.png", "summary.md", "summary.csv",
-                                     "summary.json"}
+    assert set(summary["files"]) == {*labels, *drawn, "report.html", "summary.md",
+                                     "summary.csv", "summary.json"}
 
 
-def test_summary_carries_units_and_the_checks(quick_paper):
-    _, out = quick_paper
+@pytest.mark.slow
+def test_summary_carries_units_and_the_checks(idealized):
+    _, out = idealized
     header = (out / "summary.md").read_text().splitlines()[0]
-    assert "strain_energy [N mm]" in header and "seconds [s]" in header
-    assert "t_growth [s]" in header and "t_incompatibility [s]" in header
+    assert "seconds [s]" in header and "t_growth [s]" in header and "| units |" in header
     rows = {r["case"]: r for r in json.loads((out / "summary.json").read_text())["rows"]}
+    assert rows["disc-radial"]["units"] == "mm, MPa"
     # where the time goes, per phase: the phases add up to no more than the case's time
     for r in rows.values():
         phases = [r[f"t_{p}"] for p in paper.PHASES]
         assert all(t >= 0 for t in phases) and sum(phases) <= r["seconds"] + 0.05
     # even coarse, the closed forms hold where they are exact in the discretisation
-    assert rows["cube"]["burgers_max"] == pytest.approx(1 / 12, rel=1e-4)
-    assert rows["cylinder"]["b_eq27_error"] < 1e-8
+    assert rows["disc-radial"]["b_eq22_error"] < 1e-8
     assert rows["hemisphere-linear-symmetry"]["radial_sigma_rr_error"] < 0.5
 
 
-def test_a_second_run_into_the_same_folder_needs_overwrite(quick_paper, capsys):
-    _, out = quick_paper
-    assert main(["paper", "--out", str(out), "--quick", "-q"]) == 2
-    assert "holds another run" in capsys.readouterr().err
+@pytest.mark.slow
+def test_overwrite_replaces_the_runs(idealized):
+    _, out = idealized
+    before = (out / "disc-radial" / "results.json").stat().st_mtime_ns
+    assert main(["paper", "--out", str(out), "--only", "3.3", "--overwrite", "-q"]) == 0
+    assert (out / "disc-radial" / "results.json").stat().st_mtime_ns > before
+    # --overwrite removed what the earlier job wrote, the hemispheres' runs among it
+    assert not (out / "hemisphere-linear").exists()
+
+
+def test_resolutions_take_the_scenes_presets():
+    assert paper.resolution_settings(CubeScene, "preview") == CubeScene.preset_settings(
+        "preview")
+    assert paper.resolution_settings(CubeScene, "paper") == (
+        CubeScene.preset_settings("paper") if "paper" in CubeScene.preset_names() else {})
+    if "preview" not in SkinExpansionScene.preset_names():
+        assert (paper.resolution_settings(SkinExpansionScene, "preview")
+                == paper.PREVIEW_WITHOUT_PRESET["skin"])
+    with pytest.raises(ParameterError, match="--only 3.9: allowed sections 3.1"):
+        paper.sections(["3.9"])
+    with pytest.raises(ParameterError, match="--resolution 'fine'"):
+        paper.resolution_settings(CubeScene, "fine")
+
+
+@pytest.mark.slow
+def test_the_biomedical_sections_run_into_one_report(tmp_path, monkeypatch):
+    """Sections 3.5-3.7 on settings coarser than their preview (a small brain, the pressure
+    expander without a hold, a small bilayer before its onset): every case runs, the field
+    figures and Fig. 7 are drawn and the report has the three sections."""
+    folding = dict(pair.split("=") for pair in FOLDING_COARSE[1::2])
+    monkeypatch.setattr(paper, "PREVIEW_WITHOUT_PRESET", {
+        "atrophy": dict(semi_axes="3,2.5,2", gray_thickness=0.5, t_end=10.0, dt=1.0,
+                        snapshots=1, maxh=1.0),
+        "skin": dict(expander="pressure", maxh=2.5, growth_order=2, g_order=3,
+                     hold_days=0.0),
+        "folding": {**folding, "release": "false"}})
+    rows = paper.run_all(tmp_path, resolution="preview", only=["3.5", "3.6", "3.7"])
+    assert [r["status"] for r in rows] == ["done"] * 8
+    for label in ("atrophy", "skin-circle"):
+        assert (tmp_path / figures.case_files(label)[0]).stat().st_size > 0
+    assert (tmp_path / "fig7_folding.png").stat().st_size > 0
+    page = (tmp_path / "report.html").read_text()
+    assert all(f'id="s{n}"' in page for n in ("3.5", "3.6", "3.7"))

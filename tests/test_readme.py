@@ -64,7 +64,7 @@ BENCH = {
 SUMMARY = {
     "list": "cube",
     "run": "results written to",
-    "paper": "summary written to",
+    "paper": "report written to",
     "expansion": "summary written to",
     "folding": "summary written to",
     "bench": "|",
@@ -104,7 +104,7 @@ def coarse(argv, scheduler=None):
                 RUN_FSAVERAGE if "geometry=fsaverage" in argv else RUN[argv[1]])
         return [*argv, *rule, "-q"]
     if command == "paper":
-        return [*argv, "--quick", "-q"]
+        return [*argv, "--only", "3.1,3.4", "-q"]
     if command == "expansion":
         return [*argv, "--footprints", "circle", *SKIN_COARSE, "-q"]
     if command == "folding":

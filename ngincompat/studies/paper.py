@@ -1,25 +1,38 @@
-"""``ngincompat paper``: every idealized scene of sections 3.1-3.4 with one summary table.
+"""``ngincompat paper``: the paper's seven result sections, 3.1 to 3.7, one summary and one
+report.
 
-Runs the cube; the hemisphere with the linear, concave and convex profiles (and the linear one
-in symmetry mode, checked against the 1-D radial solution); the disc with radial and
-circumferential GOH fibers; the cylinder. Each run writes its own folder; the summary is
-written as ``summary.md``, ``summary.csv`` and ``summary.json``, and the comparison figures of
-Fig. 2g-h (hemisphere profiles) and Fig. 3e (disc fiber families) as PNG.
+Section 3.1 runs the cube; 3.2 the hemisphere with the linear, concave and convex profiles
+(and the linear one in symmetry mode, checked against the 1-D radial solution); 3.3 the disc
+with radial and circumferential GOH fibers; 3.4 the cylinder; 3.5 brain atrophy; 3.6 skin
+expansion under the four expanders; 3.7 cortical folding for the three axon fields. Each run
+writes its own folder ``DIR/<case>``; the job writes the field figures of the paper's Figs.
+1-7 (``fig*.png``), the profile figures of Figs. 2g-h and 3e, the summary (``summary.md``,
+``.csv``, ``.json``, one row per case) and ``report.html`` (:mod:`ngincompat.studies.report`).
+
+``resolution`` chooses the settings: ``preview`` (the default; each scene's ``preview``
+preset, or for a scene without one yet the settings of :data:`PREVIEW_WITHOUT_PRESET`) or
+``paper`` (each scene's ``paper`` preset, else its defaults, which are the paper's parameters
+where the paper gives them). The job resumes: a case whose folder holds a finished run of the
+same settings (and whose field figure exists) is read back, not recomputed, unless
+``overwrite``; so an interrupted job continues where it stopped, and ``only`` runs some
+sections into a folder that holds the others.
 """
 
-import time
+from __future__ import annotations
 
-from ngincompat.errors import ConvergenceError
+import time
+from pathlib import Path
+
+from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.progress import SILENT
-from ngincompat.scenes import CubeScene, CylinderScene, DiscScene, HemisphereScene
-from ngincompat.workflow import output, plots, tables
+from ngincompat.scenes import HemisphereScene
+from ngincompat.studies import figures, report
+from ngincompat.studies.sections import NUMBERS, SECTIONS
+from ngincompat.workflow import io, output, tables
 from ngincompat.workflow.results import DONE
 
-#: Verification metrics reported in the summary, by scene (closed forms and references).
-CHECKS = ("G_error_L2_rel", "radial_sigma_rr_error", "radial_sigma_thetatheta_error",
-          "b_radial_rel", "b_eq22_error", "sigma_r_rim_rel", "b_eq27_error",
-          "Fe_rotation_deviation")
-
+#: The resolutions of :func:`run_all`.
+RESOLUTIONS = ("preview", "paper")
 
 #: The hemispheres are solved as quarters (their mirror planes X1 = 0, X2 = 0 held): the same
 #: solution at a third of the unknowns. With the centre refined to 0.04 the quarter's stresses
@@ -28,120 +41,186 @@ CHECKS = ("G_error_L2_rel", "radial_sigma_rr_error", "radial_sigma_thetatheta_er
 #: instead of 10-24 s.
 HEMISPHERE = dict(model="quarter", centre_maxh=0.04)
 
+#: Preview settings of the scenes that have no ``preview`` preset yet (scene name ->
+#: settings), chosen to keep the whole preview job within minutes on two cores; a scene's own
+#: ``preview`` preset replaces its entry here as soon as it has one.
+PREVIEW_WITHOUT_PRESET = {
+    "atrophy": dict(maxh=1.5, dt=1.0, snapshots=2),
+    "skin": dict(maxh=2.5, growth_order=2, g_order=3, inflation_steps=5),
+    "folding": dict(maxh=0.3),
+}
 
-def cases(quick=False):
-    """(label, scene) of every run; ``quick``: on each scene's ``preview`` preset (every case
-    runs in seconds; the numbers are a smoke test of the whole job, not the paper's)."""
-    def coarse(cls, **variant):
-        paper = HEMISPHERE if cls is HemisphereScene else {}
-        preview = cls.preset_settings("preview") if quick else {}
-        return cls.from_settings({**paper, **preview, **variant})
-    return [
-        ("cube", coarse(CubeScene)),
-        ("hemisphere-linear", coarse(HemisphereScene, profile="linear")),
-        ("hemisphere-concave", coarse(HemisphereScene, profile="concave")),
-        ("hemisphere-convex", coarse(HemisphereScene, profile="convex")),
-        ("hemisphere-linear-symmetry", coarse(HemisphereScene, profile="linear",
-                                              flat_face="symmetry")),
-        ("disc-radial", coarse(DiscScene, fibers="radial")),
-        ("disc-circumferential", coarse(DiscScene, fibers="circumferential")),
-        ("cylinder", coarse(CylinderScene)),
-    ]
+
+
+
+def resolution_settings(cls, resolution):
+    """The settings of ``cls`` at ``resolution`` (see the module docstring)."""
+    if resolution not in RESOLUTIONS:
+        raise ParameterError(f"--resolution {resolution!r}: allowed "
+                             + " or ".join(RESOLUTIONS))
+    if resolution in cls.preset_names():
+        return cls.preset_settings(resolution)
+    return dict(PREVIEW_WITHOUT_PRESET.get(cls.name, {})) if resolution == "preview" else {}
+
+
+def sections(only=None):
+    """The sections to run: all, or those whose numbers ``only`` lists."""
+    if not only:
+        return list(SECTIONS)
+    unknown = [n for n in only if n not in NUMBERS]
+    if unknown:
+        raise ParameterError(f"--only {','.join(unknown)}: allowed sections "
+                             + ", ".join(NUMBERS))
+    return [s for s in SECTIONS if s.number in only]
+
+
+def cases(resolution="preview", only=None):
+    """(section, label, scene) of every run of the chosen sections."""
+    out = []
+    for section in sections(only):
+        for label, cls, variant in section.cases:
+            paper = HEMISPHERE if cls is HemisphereScene else {}
+            settings = {**paper, **resolution_settings(cls, resolution), **variant}
+            out.append((section, label, cls.from_settings(settings)))
+    return out
 
 
 #: Phases of a run whose wall time the summary shows (results.json has them all).
 PHASES = ("mesh", "growth", "incompatibility", "postprocess", "output")
 
+#: Verification metrics reported in the summary, by scene (closed forms and references).
+CHECKS = ("G_error_L2_rel", "radial_sigma_rr_error", "radial_sigma_thetatheta_error",
+          "b_radial_rel", "b_eq22_error", "sigma_r_rim_rel", "b_eq27_error",
+          "Fe_rotation_deviation")
+
 #: Columns of the summary table and their units.
-COLUMNS = ("case", "status", "warnings", "ndof", "newton", "load_steps", "newton_per_step",
-           "seconds", "strain_energy", "burgers_max", "max_principal_stress", *CHECKS,
-           *(f"t_{p}" for p in PHASES))
-UNITS = {"seconds": "s",
-         **{k: CubeScene.metric_unit(k)
-            for k in COLUMNS[COLUMNS.index("strain_energy"):-len(PHASES)]},
-         **{f"t_{p}": "s" for p in PHASES}}
+COLUMNS = ("section", "case", "units", "status", "warnings", "ndof", "newton", "load_steps",
+           "newton_per_step", "seconds", "strain_energy", "burgers_max",
+           "max_principal_stress", *CHECKS, *(f"t_{p}" for p in PHASES))
+UNITS = {"seconds": "s", **{f"t_{p}": "s" for p in PHASES}}
 
 
-def row(label, results, seconds):
-    """The summary row of one run."""
+def row(section, label, results, seconds):
+    """The summary row of one run; ``units``: its length and stress units (the sections
+    differ: mm and MPa, cm and kPa)."""
     m = results.metrics
-    history = results.solver.get("growth")
-    converged = [s for s in history.steps if s.converged] if history else []
+    steps = [s for h in results.solver.values() for s in h.steps if s.converged]
+    units = results.units
     return {
-        "case": label, "status": results.status, "warnings": len(results.warnings),
-        "ndof": results.mesh.ndof,
-        "newton": results.newton_iterations, "load_steps": len(converged),
-        "newton_per_step": max((s.iterations for s in converged), default=0),
+        "section": section, "case": label,
+        "units": f"{units.get('length', '')}, {units.get('stress', '')}",
+        "status": results.status,
+        "warnings": len(results.warnings), "ndof": results.mesh.ndof,
+        "newton": results.newton_iterations, "load_steps": len(steps),
+        "newton_per_step": max((s.iterations for s in steps), default=0),
         "seconds": round(seconds, 2), "strain_energy": m.get("strain_energy"),
         "burgers_max": m.get("burgers_max"),
-        "max_principal_stress": m.get("max_principal_stress"),
+        "max_principal_stress": m.get("max_principal_stress",
+                                      m.get("max_principal_stress_released")),
         **{k: m[k] for k in CHECKS if k in m},
         **{f"t_{p}": round(results.timings[p], 2) for p in PHASES if p in results.timings},
     }
 
 
-def run_all(out=None, progress=SILENT, overwrite=False, quick=False):
-    """Run every case (into ``out/<label>`` when ``out`` is given); returns the summary rows.
-
-    A case that does not converge is a row with its status; the others still run.
-    ``quick`` runs every case on its scene's ``preview`` preset."""
+def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", only=None):
+    """Run the sections (``only``: their numbers; default all) at ``resolution``; with
+    ``out``, into ``out/<case>`` with the figures, the summary and report.html, resuming
+    finished cases unless ``overwrite``. Returns the summary rows of the cases run now and
+    before. A case that does not converge is a row with its status; the others still run."""
+    runs = cases(resolution, only)
     if out is None:
-        return _run_all(None, progress, overwrite, quick)
-    with output.folder(out, overwrite=overwrite) as out:
-        return _run_all(out, progress, overwrite, quick)
+        return [_run_case(s, label, scene, None, progress, False)[0]
+                for s, label, scene in runs]
+    with output.folder(out, overwrite=overwrite, resume=not overwrite) as out:
+        reuse = {label: _finished(out, label, scene) for _, label, scene in runs}
+        _refuse_other_settings(out, runs, reuse, overwrite)
+        done = _read_summary(out) if not overwrite else {}
+        results = {}
+        for section in sections(only):
+            for s, label, scene in runs:
+                if s is not section:
+                    continue
+                if reuse[label] is not None:
+                    progress.line(f"{label}: finished before, read from {out / label}")
+                    results[label] = reuse[label]
+                    done[label] = row(s.number, label, reuse[label],
+                                      sum(reuse[label].timings.values()))
+                    continue
+                done[label], results[label] = _run_case(s, label, scene, out, progress,
+                                                        overwrite=True)
+                figures.case_figure(out, label, results[label])
+            figures.section_figures(out, section, results)
+            _write(out, done, resolution)
+        return [done[label] for _, label, _ in runs]
 
 
-def _run_all(out, progress, overwrite, quick):
-    """:func:`run_all` in a folder already prepared (or none)."""
-    rows, results = [], {}
-    runs = cases(quick)
-    for label, scene in runs:
-        start = time.perf_counter()
-        try:
-            r = scene.run(None if out is None else out / label, overwrite=overwrite,
-                          progress=progress, label=label)
-        except ConvergenceError as err:
-            r = err.results
-        results[label] = r
-        rows.append(row(label, r, time.perf_counter() - start))
-    if out is not None:
-        files = [label for label, _ in runs]
-        if all(results[k].status == DONE for k in FIGURE_CASES if k in results):
-            files += _comparison_figures(out, results)
-        files += ["summary.md", "summary.csv", "summary.json"]
-        tables.write(out, "summary", rows, list(COLUMNS), UNITS, files=files)
-    return rows
+def _run_case(section, label, scene, out, progress, overwrite):
+    """Run one case; returns its summary row and its results (those of the last converged
+    state for a case that did not converge)."""
+    start = time.perf_counter()
+    try:
+        r = scene.run(None if out is None else out / label, overwrite=overwrite,
+                      progress=progress, label=label)
+    except ConvergenceError as err:
+        r = err.results
+    return row(section.number, label, r, time.perf_counter() - start), r
+
+
+def _finished(out, label, scene):
+    """The results of ``out/label`` if it holds a finished run of ``scene``'s settings whose
+    field figure exists, else None."""
+    path = Path(out) / label
+    if not (path / "results.json").is_file():
+        return None
+    try:
+        r = output.read(path)
+    except ParameterError:
+        return None
+    if r.status != DONE or r.params != scene.settings():
+        return None
+    return r if all((Path(out) / f).is_file() for f in figures.case_files(label)) else None
+
+
+def _refuse_other_settings(out, runs, reuse, overwrite):
+    """Before anything runs: a case folder holding a run of other settings is replaced only
+    with ``overwrite`` (a finished run of the same settings is reused, an unfinished one
+    of them continued)."""
+    if overwrite:
+        return
+    for _, label, scene in runs:
+        path = out / label / "results.json"
+        if reuse[label] is None and path.is_file():
+            try:
+                params = output.read(path.parent).params
+            except ParameterError:
+                params = None
+            if params != scene.settings():
+                raise ParameterError(
+                    f"--out {out}: {label} holds a run of other settings (another "
+                    "--resolution?): choose another folder, or pass --overwrite to replace "
+                    "it")
+
+
+def _read_summary(out):
+    """The rows of an earlier summary in ``out`` by case (none if there is none)."""
+    path = Path(out) / "summary.json"
+    if not path.is_file():
+        return {}
+    return {r["case"]: r for r in io.read_json(path).get("rows", [])}
+
+
+def _write(out, rows, resolution):
+    """The summary and the report of every case the folder holds."""
+    order = [label for s in SECTIONS for label, _, _ in s.cases]
+    ordered = [rows[k] for k in order if k in rows]
+    names = [r["case"] for r in ordered]
+    pictures = [f for f in figures.all_files(names) if (Path(out) / f).is_file()]
+    files = [*names, *pictures, "report.html", "summary.md", "summary.csv", "summary.json"]
+    tables.write(out, "summary", ordered, list(COLUMNS), UNITS, files=files,
+                 resolution=resolution)
+    report.write(out, ordered, resolution)
 
 
 def summary_markdown(rows):
     """The summary table in markdown, with units."""
     return tables.markdown(rows, list(COLUMNS), UNITS)
-
-
-#: The runs the comparison figures are drawn from.
-FIGURE_CASES = ("hemisphere-linear", "hemisphere-concave", "hemisphere-convex", "disc-radial",
-                "disc-circumferential")
-
-
-def _comparison_figures(out, results):
-    """Fig. 2g, 2h (hemisphere profiles) and 3e (disc fiber families); returns the files."""
-    hemi = {k.split("-")[1]: results[k].profile("line")
-            for k in ("hemisphere-linear", "hemisphere-concave", "hemisphere-convex")}
-    R = hemi["linear"]["R"]
-    plots.profiles(out / "fig2g_burgers.png", R,
-                   {k: p["|b_meridional|"] for k, p in hemi.items()}, xlabel="R [mm]",
-                   ylabel="|b| on the meridional plane [1/mm]",
-                   title="Fig. 2g: hemisphere, growth profiles")
-    plots.profiles(out / "fig2h_curl.png", R, {k: p["curlFg_sq"] for k, p in hemi.items()},
-                   xlabel="R [mm]", ylabel="Curl Fg : Curl Fg [1/mm$^2$]",
-                   title="Fig. 2h: hemisphere, growth profiles")
-    disc = {k.split("-")[1]: results[k].profile("line")
-            for k in ("disc-radial", "disc-circumferential")}
-    curves = {}
-    for family, p in disc.items():
-        curves[f"sigma_r ({family} fibers)"] = p["sigma_r"]
-        curves[f"sigma_theta ({family} fibers)"] = p["sigma_theta"]
-    plots.profiles(out / "fig3e_disc_stress.png", disc["radial"]["R"], curves,
-                   xlabel="R [mm]", ylabel="Cauchy stress [MPa]",
-                   title="Fig. 3e: disc, GOH fiber families")
-    return ["fig2g_burgers.png", "fig2h_curl.png", "fig3e_disc_stress.png"]

@@ -3,23 +3,47 @@
 Every figure is made without pyplot, so importing this module never changes matplotlib's
 backend (notebooks keep their inline figures), and written atomically. Curves on one axis
 differ in colour, line style and marker, so curves that coincide (S22 and S33 of the cube)
-stay visible; axes never use an offset, and every axis spans at least ``RELATIVE_FLOOR`` of
+stay visible; a curve of few points (:data:`FEW`) carries a marker at every point, so a
+single point shows; every curve is in the legend, even alone; titles are wrapped to the
+figure's width instead of clipped; tick labels never use an offset or a multiplier over the
+axis (three significant digits each instead); and every axis spans at least ``RELATIVE_FLOOR`` of
 its largest absolute value and at least the figure's own ``floor`` (a scene sets it from its
 stress scale), so round-off around a constant (Curl Fg : Curl Fg = 1/16 in the cylinder) or
 the discretisation error of a stress-free body is drawn flat, not magnified into apparent
 oscillation.
 """
 
+import textwrap
 from itertools import cycle
 
 import numpy as np
 from matplotlib import cm, colormaps, colors
 from matplotlib.figure import Figure
+from matplotlib.ticker import FormatStrFormatter
 
 from ngincompat.atomic import atomic_path
 
 #: Smallest range of an axis relative to its largest absolute value.
 RELATIVE_FLOOR = 1e-4
+
+#: Curves of at most this many points get a marker at every point.
+FEW = 25
+
+def tick_format(lo, hi):
+    """Tick labels for the range [lo, hi]: enough significant digits to tell ticks a tenth
+    of the range apart (three at least), no offset or multiplier printed over the axis."""
+    big = max(abs(lo), abs(hi))
+    digits = 3
+    if hi > lo and big > 0:
+        digits = int(np.clip(np.ceil(np.log10(big / (hi - lo))) + 2, 3, 12))
+    return FormatStrFormatter(f"%.{digits}g")
+
+
+def wrapped(title, width_inches, fontsize=10):
+    """``title`` broken into lines that fit ``width_inches`` at ``fontsize`` points (an average
+    character is taken as 0.55 of the font size)."""
+    chars = max(int(width_inches * 72 / (0.55 * fontsize)), 20)
+    return "\n".join(textwrap.wrap(title, chars)) if title else title
 
 #: (line style, marker) per curve, in order: coinciding curves stay distinguishable.
 STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)), "v"),
@@ -51,15 +75,17 @@ def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_labe
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     _floor(ax, curves.values(), floor)
+    _numbers(ax)
     if right:
         twin = ax.twinx()
         lines += _plot(twin, x, right, styles, colours=["tab:red", "tab:purple", "tab:brown"])
         twin.set_ylabel(right_label)
         _floor(twin, right.values(), right_floor)
-    if len(lines) > 1:
+        _numbers(twin)
+    if lines:
         ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
     if title:
-        ax.set_title(title, fontsize="medium")
+        ax.set_title(wrapped(title, fig.get_figwidth()), fontsize="medium")
     fig.tight_layout()
     return fig
 
@@ -70,11 +96,21 @@ def _plot(ax, x, curves, styles, colours):
     for i, (label, values) in enumerate(curves.items()):
         style, marker = next(styles)
         kwargs = {"color": colours[i % len(colours)]} if colours else {}
+        if n <= FEW:
+            marker = marker or "o"
         (line,) = ax.plot(x, values, lw=2, ls=style, marker=marker,
-                          markevery=max(1, n // 10), markersize=4, label=label, **kwargs)
+                          markevery=1 if n <= FEW else max(1, n // 10), markersize=4,
+                          label=label, **kwargs)
         lines.append(line)
-    ax.ticklabel_format(axis="y", useOffset=False)
     return lines
+
+
+def _numbers(ax):
+    """Tick labels of :func:`tick_format` on both linear axes (of the limits the data set
+    now; :func:`_floor` may widen them later, which only lowers the digits needed)."""
+    for axis, limits in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        if axis.get_scale() == "linear":
+            axis.set_major_formatter(tick_format(*limits))
 
 
 def _floor(ax, values, floor):
@@ -142,9 +178,9 @@ def maps_figure(profile, maps, label, title=None):
         values = np.ma.masked_invalid(profile[key])
         image = ax.imshow(values, origin="lower", extent=(u[0], u[-1], v[0], v[-1]),
                           interpolation="nearest", **_colours(values))
-        _panel(fig, ax, image, panel, label)
+        _panel(fig, ax, image, wrapped(panel, 3.6, 11), label)
     if title:
-        fig.suptitle(title, fontsize="medium")
+        fig.suptitle(wrapped(title, fig.get_figwidth(), 12), fontsize="large")
     fig.tight_layout()
     return fig
 
@@ -240,14 +276,8 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
     fig = Figure(figsize=(4.6 * ncols, 0.5 + len(rows) * (1.0 + 3.4 * aspect)), dpi=110)
     grid = np.atleast_2d(fig.subplots(len(rows), ncols, squeeze=False))
     for col, (label, (key, disp)) in enumerate(panels.items()):
-        data = np.concatenate([np.ravel(p[key]) for p in rows.values()])
-        lo, hi = float(np.nanmin(data)), float(np.nanmax(data))
-        least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)))
-        if hi - lo < least:
-            lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
-        cmap = "viridis"
-        if lo < 0 < hi:
-            lo, hi, cmap = -max(-lo, hi), max(-lo, hi), "RdBu_r"
+        lo, hi, cmap = _scale(np.concatenate([np.ravel(p[key]) for p in rows.values()]),
+                              floor)
         for row, (name, p) in enumerate(rows.items()):
             ax = grid[row, col]
             U, V = np.meshgrid(p[axes[0]], p[axes[1]])
@@ -258,19 +288,34 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
             ax.set_aspect("equal")
             _panel(fig, ax, image, f"{name}: {label}" if name else label, xlabel, ylabel)
     if title:
-        fig.suptitle(title, fontsize="medium")
+        fig.suptitle(wrapped(title, fig.get_figwidth(), 12), fontsize="large")
     fig.tight_layout()
     return fig
 
 
+def _scale(data, floor):
+    """(lo, hi, colour map) of a colour scale: at least ``floor`` and ``RELATIVE_FLOOR`` of the
+    largest absolute value wide; diverging and centred on zero for data of both signs."""
+    data = data[np.isfinite(data)]
+    if data.size == 0:
+        return 0.0, 1.0, "viridis"
+    lo, hi = float(data.min()), float(data.max())
+    least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)))
+    if hi - lo < least:
+        lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
+    if lo < 0 < hi:
+        return -max(-lo, hi), max(-lo, hi), "RdBu_r"
+    return lo, hi, "viridis"
+
+
 def _panel(fig, ax, image, title, xlabel, ylabel=None):
-    """A colour map's colour bar, title and axis labels, in small type."""
-    fig.colorbar(image, ax=ax, shrink=0.85)
-    ax.set_title(title, fontsize="small")
+    """A colour map's colour bar (three-digit ticks), title and axis labels."""
+    fig.colorbar(image, ax=ax, shrink=0.85, format=tick_format(*image.get_clim()))
+    ax.set_title(title, fontsize="medium")
     ax.set_xlabel(xlabel, fontsize="small")
     if ylabel:
         ax.set_ylabel(ylabel, fontsize="small")
-    ax.tick_params(labelsize="x-small")
+    ax.tick_params(labelsize="small")
 
 
 def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):
@@ -278,7 +323,8 @@ def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):
     save(profile_figure(s, curves, xlabel, ylabel, title, floor=floor), path)
 
 
-def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False):
+def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False, markevery=1,
+                  vlines=None):
     """A matplotlib Figure of curves with their own abscissae, each with markers.
 
     Parameters
@@ -290,21 +336,29 @@ def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False):
     title : str, optional
     logx, logy : bool
         Logarithmic axes.
+    markevery : int
+        A marker on every this many points.
+    vlines : dict, optional
+        Label -> abscissa of a vertical dashed line (e.g. the onset of an instability).
     """
-    fig = Figure(figsize=(5.0, 3.6), dpi=120)
+    fig = Figure(figsize=(5.4, 3.8), dpi=120)
     ax = fig.subplots()
     for (label, (x, y)), (style, marker) in zip(curves.items(), cycle(STYLES)):
-        ax.plot(x, y, ls=style, marker=marker or "o", lw=2, label=label or None)
+        ax.plot(x, y, ls=style, marker=marker or "o", lw=2, label=label or None,
+                markevery=markevery, markersize=4)
+    for (label, x), colour in zip((vlines or {}).items(), cycle(("0.3", "tab:red"))):
+        ax.axvline(x, ls="--", lw=1, color=colour, label=label)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     if logx:
         ax.set_xscale("log")
     if logy:
         ax.set_yscale("log")
-    if any(curves):
+    _numbers(ax)
+    if any(curves) or vlines:
         ax.legend(fontsize="small")
     if title:
-        ax.set_title(title, fontsize="medium")
+        ax.set_title(wrapped(title, fig.get_figwidth()), fontsize="medium")
     fig.tight_layout()
     return fig
 

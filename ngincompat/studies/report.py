@@ -1,0 +1,178 @@
+"""``report.html`` of ``ngincompat paper``: one static page, every image inlined, a section per
+paper section with the paper's findings, the measured values and verdicts
+(:mod:`ngincompat.studies.findings`), the figures laid out as the paper's Figs. 1-7, the
+runs' warnings, and the table of deviations from the paper's parameters
+(:mod:`ngincompat.studies.deviations`).
+
+The page needs no server, no network and no script: it can be opened from the folder, mailed
+or archived. It is written from the folders of the runs (results.json and the PNGs), so a job
+that resumed writes the same page as one that ran through.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+from pathlib import Path
+
+from ngincompat.atomic import atomic_path
+from ngincompat.studies import deviations, figures, findings
+from ngincompat.studies.sections import SECTIONS
+from ngincompat.workflow import io, output
+
+#: Per section: figures of the case folders shown beside the field figures (file in the
+#: case's folder, caption), as the paper's panels that are profiles or sections.
+SCENE_FIGURES = {
+    "cube": (("profile.png", "Fig. 1g: strain energy and Curl Fg : Curl Fg along X1"),
+             ("burgers.png", "Fig. 1e: |b| along X1"),
+             ("stress.png", "Fig. 1f: S11, S22, S33 along X1")),
+    "cylinder": (("burgers.png", "Fig. 4b: |b| across the cylinder"),
+                 ("profile.png", "Fig. 4d-e: strain energy and Curl Fg : Curl Fg")),
+    "atrophy": (("sections.png", "Fig. 5c-e: sections through the brain"),
+                ("volume_loss.png", "volume loss against time"),
+                ("stress.png", "stresses along X1")),
+    "skin": (("fields.png", "Fig. 6a-c: mid-thickness maps"),
+             ("stress.png", "Fig. 6c: residual stress along X1")),
+    "folding": (("eigenvalue.png", "the smallest tangent eigenvalue on the perfect branch"),
+                ("folds.png", "fold amplitude after the onset")),
+}
+
+#: The field figures' captions by the paper's figure number.
+CAPTIONS = {"1": "Fig. 1a-f", "2": "Fig. 2a-e", "3": "Fig. 3a-d", "4": "Fig. 4a-e",
+            "5": "Fig. 5b-e", "6": "Fig. 6a-c"}
+
+STYLE = """
+body{font-family:system-ui,sans-serif;max-width:1400px;margin:auto;padding:1em;color:#222}
+h1{font-size:1.6em} h2{border-bottom:2px solid #ccc;padding-bottom:.2em;margin-top:2em}
+table{border-collapse:collapse;margin:.6em 0;font-size:.92em}
+td,th{border:1px solid #bbb;padding:.3em .5em;vertical-align:top;text-align:left}
+th{background:#eee} .agrees{background:#d8f0d8} .partly{background:#fbeec0}
+.differs{background:#f6d0d0} .not-run{background:#e4e4e4}
+figure{margin:.5em 0} figure img{max-width:100%;border:1px solid #ddd}
+figcaption{font-size:.9em;color:#444} .grid{display:flex;flex-wrap:wrap;gap:1em}
+.grid figure{flex:1 1 420px;max-width:680px} .grid figure.wide{flex:1 1 100%;max-width:100%}
+.warn{color:#8a4b00} code{background:#f3f3f3;padding:0 .2em}
+"""
+
+
+def _image(path, caption, wide=False):
+    """A figure with the PNG inlined (nothing if the file is missing); ``wide``: the page's
+    whole width (the field figures)."""
+    path = Path(path)
+    if not path.is_file():
+        return ""
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    cls = ' class="wide"' if wide else ""
+    return (f'<figure{cls}><img alt="{html.escape(caption)}" '
+            f'src="data:image/png;base64,{data}">'
+            f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+
+
+def _table(header, rows, classes=None):
+    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+    body = []
+    for i, r in enumerate(rows):
+        cls = f' class="{classes[i]}"' if classes and classes[i] else ""
+        body.append(f"<tr{cls}>" + "".join(f"<td>{html.escape(str(c))}</td>" for c in r)
+                    + "</tr>")
+    return f"<table><tr>{head}</tr>{''.join(body)}</table>"
+
+
+def _results(out, labels):
+    """label -> Results of the case folders that hold a readable run."""
+    found = {}
+    for label in labels:
+        if (Path(out) / label / "results.json").is_file():
+            found[label] = output.read(Path(out) / label)
+    return found
+
+
+def _settings(results, section):
+    """The run's preset, and the settings that differ from the scene's defaults."""
+    if results is None:
+        return ""
+    cls = next(c for _, c, _ in section.cases)
+    defaults = {k: v[0] for k, v in cls.parameters().items()}
+    typed = cls.typed_settings(defaults)
+    changed = {k: v for k, v in results.params.items() if typed.get(k) != v}
+    return f"{results.preset}: " + (", ".join(f"{k}={v}" for k, v in changed.items())
+                                    or "the defaults")
+
+
+def _section(out, section, rows, results):
+    """The HTML of one paper section."""
+    labels = [label for label, _, _ in section.cases]
+    mine = [r for r in rows if r["case"] in labels]
+    parts = [f'<section id="s{section.number}"><h2>{section.number} '
+             f"{html.escape(section.title)}</h2>"]
+    if not mine:
+        parts.append("<p>Not run in this folder (<code>--only</code>).</p></section>")
+        return "".join(parts)
+    parts.append(_table(
+        ("case", "status", "warnings", "unknowns", "Newton iterations", "seconds",
+         "settings"),
+        [(r["case"], r["status"], r["warnings"], r["ndof"], r["newton"], r["seconds"],
+          _settings(results.get(r["case"]), section)) for r in mine]))
+    judged = findings.judged(section.number, results)
+    parts.append('<h3>Findings of the paper, measured</h3><table class="verdicts">'
+                 "<tr><th>the paper states</th><th>Fig.</th><th>measured</th>"
+                 "<th>verdict</th><th>why</th></tr>")
+    for f, measured, verdict, reason in judged:
+        cls = verdict.replace(" ", "-")
+        parts.append(f'<tr class="{cls}"><td>{html.escape(f.claim)}</td>'
+                     f"<td>{html.escape(f.figure)}</td><td>{html.escape(measured)}</td>"
+                     f"<td><b>{verdict}</b></td><td>{html.escape(reason)}</td></tr>")
+    parts.append("</table>")
+    images = []
+    for label in labels:
+        for name in figures.case_files(label):
+            number = name[3]
+            images.append(_image(Path(out) / name, f"{CAPTIONS[number]}: {label}, colour "
+                                 "maps on the deformed body", wide=True))
+    for name in figures.section_files(section.number):
+        images.append(_image(Path(out) / name, name[:-4].replace("_", " ")))
+    for label in labels:
+        for name, caption in SCENE_FIGURES.get(label.split("-")[0], ()):
+            images.append(_image(Path(out) / label / name, f"{caption} ({label})"))
+    parts.append('<div class="grid">' + "".join(i for i in images if i) + "</div>")
+    warnings = [(label, w) for label in labels if label in results
+                for w in results[label].warnings]
+    if warnings:
+        parts.append("<h3>Warnings of the runs</h3><ul>" + "".join(
+            f'<li class="warn">{html.escape(label)}: {html.escape(w)}</li>'
+            for label, w in warnings) + "</ul>")
+    parts.append("</section>")
+    return "".join(parts)
+
+
+def write(out, rows, resolution):
+    """Write ``out/report.html`` for the summary ``rows`` (the cases in the folder)."""
+    out = Path(out)
+    results = _results(out, [r["case"] for r in rows])
+    counts = {}
+    body = []
+    for section in SECTIONS:
+        body.append(_section(out, section, rows, results))
+        for _, _, verdict, _ in findings.judged(section.number, results):
+            counts[verdict] = counts.get(verdict, 0) + 1
+    record = io.provenance()["provenance"]
+    total = sum(r["seconds"] or 0 for r in rows)
+    head = (f"<h1>Lee et al. 2021, <i>The geometry of incompatibility in growing soft "
+            f"tissues</i>, reproduced with ngincompat</h1><p>Resolution <b>{resolution}</b>; "
+            f"{len(rows)} runs, {total:.0f} s of run time; "
+            + ", ".join(f"{n} findings {v}" for v, n in counts.items())
+            + f". Written {html.escape(str(record.get('date', '')))} on "
+            f"{html.escape(str(record.get('host', '')))}.</p>"
+            + "<p>Sections: " + " ".join(f'<a href="#s{s.number}">{s.number}</a>'
+                                        for s in SECTIONS)
+            + ' <a href="#deviations">deviations</a></p>')
+    table = deviations.rows()
+    dev = ('<section id="deviations"><h2>Where the defaults differ from the paper</h2>'
+           + _table(("section", "scene", "parameter", "paper", "ours (default)", "reason",
+                     "effect"), [tuple(d.values()) for d in table]) + "</section>")
+    page = ("<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">"
+            "<title>ngincompat: the paper's sections 3.1-3.7</title>"
+            f"<style>{STYLE}</style></head><body>{head}{''.join(body)}{dev}</body></html>")
+    with atomic_path(out / "report.html") as tmp:
+        tmp.write_text(page, encoding="utf-8")
+    return out / "report.html"

@@ -1,0 +1,179 @@
+"""Colour maps of fields on the deformed boundary of a body, drawn headless with matplotlib
+(the paper's contour plots, Figs. 1a-f, 2a-e, 3a-d, 4a-e, 5, 6).
+
+The boundary of the mesh is triangulated (a quadrilateral face in two triangles), every
+triangle subdivided so that high-order fields show their variation inside an element, and
+each field evaluated at the corners of the small triangles; a triangle is coloured by the mean
+of its corners. The points are moved by the displacement (the deformed configuration of the
+paper's figures). Matplotlib's 3-D axes sort the triangles by depth, which draws convex
+bodies (cube, hemisphere, disc, cylinder, the brain seen from outside) correctly.
+
+A field of both signs (a stress component) gets a diverging colour map centred at zero; a
+field of one sign a sequential one. Every panel has its own colour bar with the field's unit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+from matplotlib import cm, colors
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
+from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+from ngincompat.workflow.plots import tick_format
+
+#: Triangles per panel the subdivision aims at (finer looks no different at the figure's size).
+TRIANGLES = 12000
+
+
+#: Smallest range of a colour scale relative to its largest absolute value: round-off around
+#: a constant is drawn flat, not magnified into a pattern.
+RELATIVE_FLOOR = 1e-4
+
+
+@dataclass
+class Panel:
+    """One colour map: ``title`` (the quantity and its unit), the CoefficientFunction, whether
+    it is a signed quantity (a stress component: a diverging map centred at zero whatever
+    its values), the smallest range of its scale, and the displacement it is drawn on (None:
+    the figure's)."""
+
+    title: str
+    cf: object
+    signed: bool = False
+    floor: float = 0.0
+    u: object = None
+
+
+def boundary_triangles(mesh, subdivision: int):
+    """Corners of the boundary's triangles, each face cut into ``subdivision``^2 triangles.
+
+    Returns an array of shape (n, 3, 3): n triangles, three corners, three coordinates."""
+    k = subdivision
+    # barycentric corners of the k^2 small triangles of the unit triangle
+    small = []
+    for i in range(k):
+        for j in range(k - i):
+            small.append(((i, j), (i + 1, j), (i, j + 1)))
+            if i + j + 1 < k:
+                small.append(((i + 1, j), (i + 1, j + 1), (i, j + 1)))
+    small = np.asarray(small, float) / k                     # (m, 3, 2): (l1, l2) per corner
+    out = []
+    for el in mesh.Elements(ngs.BND):
+        p = np.array([mesh[v].point for v in el.vertices])
+        faces = [p[[0, 1, 2]]] if len(p) == 3 else [p[[0, 1, 2]], p[[0, 2, 3]]]
+        for a, b, c in faces:
+            out.append(a + small[..., :1] * (b - a) + small[..., 1:] * (c - a))
+    return np.concatenate(out) if out else np.zeros((0, 3, 3))
+
+
+def evaluate(mesh, cfs, points):
+    """Values of ``cfs`` (a list of CoefficientFunctions) at ``points`` (n, 3); NaN where the
+    mesh does not hold the point. A point on the boundary is found from inside: moved by
+    1e-7 of the body's size towards the centre of the points."""
+    centre = points.mean(axis=0)
+    size = np.ptp(points, axis=0).max()
+    inward = points + 1e-7 * size * (centre - points) / np.maximum(
+        np.linalg.norm(centre - points, axis=1, keepdims=True), 1e-300)
+    mips = mesh(inward[:, 0], inward[:, 1], inward[:, 2])
+    inside = mips["nr"] >= 0
+    values = []
+    for cf in cfs:
+        n = int(np.prod(cf.dims))
+        v = np.full((len(points), n), np.nan)
+        if inside.any():
+            v[inside] = np.asarray(cf(mips[inside])).reshape(-1, n)
+        values.append(v[:, 0] if n == 1 else v)
+    return values
+
+
+def colour_scale(values, signed=False, floor=0.0):
+    """(norm, colour map) of a field: diverging and centred at zero for a signed quantity,
+    sequential otherwise; at least ``floor`` and ``RELATIVE_FLOOR`` of the largest absolute
+    value wide."""
+    data = values[np.isfinite(values)]
+    if data.size == 0:
+        return colors.Normalize(0, 1), "viridis"
+    lo, hi = float(data.min()), float(data.max())
+    least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)), 1e-300)
+    if signed:
+        m = max(-lo, hi, least / 2)
+        return colors.Normalize(-m, m), "RdBu_r"
+    if hi - lo < least:
+        lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
+    return colors.Normalize(lo, hi), "viridis"
+
+
+def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
+                   subdivision=None, scale=1.0):
+    """A figure of colour maps on the deformed boundary, one panel per field.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+    u : CoefficientFunction or None
+        The displacement (None: the reference configuration).
+    panels : list of Panel
+    title : str
+        The figure's title (the scene and the paper's figure).
+    unit : str
+        Length unit of the axes.
+    view : (float, float)
+        Elevation and azimuth of the camera [degrees].
+    ncols : int, optional
+        Most panels per row (default four); the rows are balanced.
+    subdivision : int, optional
+        Triangles per face edge (default: enough for :data:`TRIANGLES`).
+    scale : float
+        Factor on the displacement.
+    """
+    nface = sum(1 if len(el.vertices) == 3 else 2 for el in mesh.Elements(ngs.BND))
+    k = subdivision or int(np.clip(np.sqrt(TRIANGLES / max(nface, 1)), 1, 8))
+    tri = boundary_triangles(mesh, k)
+    points = tri.reshape(-1, 3)
+    shifts = list(dict.fromkeys(p.u if p.u is not None else u for p in panels))
+    values = evaluate(mesh, [p.cf for p in panels], points)
+    real = [d for d in shifts if d is not None]
+    moved = {None: tri}
+    for d, v in zip(real, evaluate(mesh, real, points) if real else [], strict=True):
+        moved[d] = np.where(np.isfinite(v), points + scale * v, points).reshape(tri.shape)
+    ncols = ncols or 4
+    nrows = -(-len(panels) // ncols)
+    ncols = -(-len(panels) // nrows)            # balanced rows: 5 panels as 3 + 2
+    fig = Figure(figsize=(3.6 * ncols, 3.0 * nrows + 0.6), dpi=110)
+    every = np.concatenate([moved[d].reshape(-1, 3) for d in shifts])
+    lo, hi = every.min(axis=0), every.max(axis=0)
+    span = hi - lo
+    for i, (panel, v) in enumerate(zip(panels, values, strict=True)):
+        shape = moved[panel.u if panel.u is not None else u]
+        ax = fig.add_subplot(nrows, ncols, i + 1, projection="3d")
+        face = np.nanmean(v.reshape(tri.shape[:2]), axis=1)
+        norm, cmap = colour_scale(face, panel.signed, panel.floor)
+        mappable = cm.ScalarMappable(norm=norm, cmap=cmap)
+        rgba = mappable.to_rgba(np.ma.masked_invalid(face))
+        # edges in the face's colour: no hairline seams between the small triangles
+        ax.add_collection3d(Poly3DCollection(shape, facecolors=rgba, edgecolors=rgba,
+                                             linewidths=0.25))
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        ax.set_zlim(lo[2], hi[2])
+        ax.set_box_aspect(np.maximum(span, 1e-3 * span.max()))
+        for axis, extent in zip((ax.xaxis, ax.yaxis, ax.zaxis), span, strict=True):
+            # a thin direction (the disc's, the skin's thickness) gets two ticks, not a pile
+            axis.set_major_locator(MaxNLocator(2 if extent < 0.5 * span.max() else 5))
+        ax.view_init(*view)
+        ax.set_xlabel(f"X1 [{unit}]", fontsize="small", labelpad=-2)
+        ax.set_ylabel(f"X2 [{unit}]", fontsize="small", labelpad=-2)
+        ax.set_zlabel(f"X3 [{unit}]", fontsize="small", labelpad=-2)
+        ax.tick_params(labelsize="x-small", pad=0)
+        ax.set_title(panel.title, fontsize="medium")
+        bar = fig.colorbar(mappable, ax=ax, shrink=0.7, pad=0.16,
+                           format=tick_format(norm.vmin, norm.vmax))
+        bar.ax.tick_params(labelsize="small")
+    fig.suptitle(title, fontsize="large")
+    fig.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.86 if nrows == 1 else 0.92,
+                        wspace=0.25, hspace=0.25)
+    return fig

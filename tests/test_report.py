@@ -1,0 +1,165 @@
+"""``ngincompat paper``'s report.html, opened in a real browser (headless Chromium): it loads
+without console errors, every image is there and not blank, every section that ran has its
+table of verdicts; and the findings' verdicts on constructed results."""
+
+import base64
+import html
+import io
+import json
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+from matplotlib.image import imsave
+
+from ngincompat.cli import main
+from ngincompat.studies import deviations, findings, paper
+from ngincompat.workflow.results import MeshInfo, Results
+
+CHROMIUM = next((shutil.which(n) for n in ("chromium", "chromium-browser", "google-chrome")
+                 if shutil.which(n)), None)
+needs_chromium = pytest.mark.skipif(
+    CHROMIUM is None, reason="no Chromium on PATH (Debian: apt-get install chromium; .ci/run "
+    "installs it where apt-get is available)")
+
+#: Put first in the page's head: records error events (scripts, images that fail to load) and
+#: console.error calls; after the load, writes what it found into <pre id="check">: the
+#: errors, every image's size and pixel variance (grey levels, on a canvas), and per section
+#: its tables of verdicts.
+PROBE = """<script>
+window.__errors = [];
+window.addEventListener('error', e => window.__errors.push(String(e.message ||
+    ('failed to load ' + ((e.target && (e.target.src || '')) + '').slice(-60)))), true);
+const __error = console.error;
+console.error = (...a) => { window.__errors.push(a.join(' ')); __error(...a); };
+window.addEventListener('load', () => {
+  const images = [...document.images].map(img => {
+    let variance = null;
+    if (img.complete && img.naturalWidth > 0) {
+      const w = Math.min(img.naturalWidth, 600), h = Math.min(img.naturalHeight, 600);
+      const c = document.createElement('canvas'); c.width = w; c.height = h;
+      const g = c.getContext('2d'); g.drawImage(img, 0, 0, w, h);
+      const d = g.getImageData(0, 0, w, h).data;
+      let s = 0, s2 = 0, n = 0;
+      for (let i = 0; i < d.length; i += 4) {
+        const v = (d[i] + d[i + 1] + d[i + 2]) / 3; s += v; s2 += v * v; n++; }
+      variance = s2 / n - (s / n) ** 2;
+    }
+    return {alt: img.alt, width: img.naturalWidth, variance: variance};
+  });
+  const sections = [...document.querySelectorAll('section')].map(s => ({id: s.id,
+    tables: s.querySelectorAll('table.verdicts').length,
+    rows: s.querySelectorAll('table.verdicts tr').length}));
+  const pre = document.createElement('pre'); pre.id = 'check';
+  pre.textContent = JSON.stringify({errors: window.__errors, images, sections});
+  document.body.appendChild(pre);
+});
+</script>"""
+
+
+def browse(page, tmp_path, screenshot=None):
+    """Open ``page`` (HTML text) with :data:`PROBE` in headless Chromium; returns the probe's
+    record and the console lines Chromium logged."""
+    probed = tmp_path / "probed.html"
+    probed.write_text(page.replace("<head>", "<head>" + PROBE, 1), encoding="utf-8")
+    flags = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+             "--enable-logging=stderr", "--v=0", "--virtual-time-budget=10000",
+             "--window-size=1400,3000"]
+    done = subprocess.run([*flags, "--dump-dom", probed.as_uri()], capture_output=True,
+                          text=True, timeout=180)
+    if screenshot is not None:
+        subprocess.run([*flags, f"--screenshot={screenshot}", (tmp_path / "probed.html")
+                        .as_uri()], capture_output=True, timeout=180)
+    found = re.search(r'<pre id="check">(.*?)</pre>', done.stdout, re.S)
+    assert found, done.stderr[-2000:]
+    console = [line for line in done.stderr.splitlines() if ":CONSOLE" in line]
+    return json.loads(html.unescape(found.group(1))), console
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    """The report of sections 3.1 and 3.4 on their preview settings."""
+    out = tmp_path_factory.mktemp("paper")
+    assert main(["paper", "--out", str(out), "--only", "3.1,3.4", "-q"]) == 0
+    return out
+
+
+@needs_chromium
+def test_the_probe_sees_a_broken_image_and_a_console_error(tmp_path):
+    """The browser check can fail: a missing image and console.error are caught, a blank
+    image has no variance."""
+    png = io.BytesIO()
+    imsave(png, np.ones((8, 8, 3)), format="png")            # one colour
+    blank = base64.b64encode(png.getvalue()).decode("ascii")
+    page = ("<!DOCTYPE html><html><head></head><body><img alt='gone' src='missing.png'>"
+            f"<img alt='blank' src='data:image/png;base64,{blank}'>"
+            "<script>console.error('broken')</script></body></html>")
+    record, console = browse(page, tmp_path)
+    assert any("broken" in e for e in record["errors"])
+    assert any("missing.png" in e for e in record["errors"])
+    images = {i["alt"]: i for i in record["images"]}
+    assert images["gone"]["width"] == 0
+    assert images["blank"]["variance"] == pytest.approx(0.0)
+    assert console
+
+
+@needs_chromium
+def test_report_loads_with_its_images_and_verdicts(report, tmp_path):
+    page = (report / "report.html").read_text(encoding="utf-8")
+    assert "http://" not in page and "https://" not in page       # nothing from the network
+    shot = report / "screenshot.png"
+    record, console = browse(page, tmp_path, screenshot=shot)
+    assert record["errors"] == [] and console == []
+    assert len(record["images"]) >= 6
+    for image in record["images"]:
+        assert image["width"] > 0, image["alt"]
+        assert image["variance"] > 20, image["alt"]          # not blank
+    sections = {s["id"]: s for s in record["sections"]}
+    assert set(sections) == {f"s{n}" for n in paper.NUMBERS} | {"deviations"}
+    for number in ("3.1", "3.4"):
+        tables = sections[f"s{number}"]
+        expected = sum(f.section == number for f in findings.FINDINGS)
+        assert tables["tables"] == 1 and tables["rows"] == expected + 1
+    assert sections["s3.5"]["tables"] == 0                    # not run here: no verdicts
+    assert shot.stat().st_size > 0
+
+
+def test_report_lists_every_deviation_with_the_scenes_defaults(report):
+    page = (report / "report.html").read_text(encoding="utf-8")
+    for row in deviations.rows():
+        assert html.escape(row["ours"]) in page
+    assert "mu = 0.1786 MPa" in page            # the skin's, against ref. [77]'s 0.55 MPa
+
+
+def test_a_second_run_resumes_and_overwrite_recomputes(report, capsys):
+    """Finished cases of the same settings are read back; other settings need --overwrite."""
+    before = (report / "cube" / "results.json").stat().st_mtime_ns
+    assert main(["paper", "--out", str(report), "--only", "3.1", "-q"]) == 0
+    assert (report / "cube" / "results.json").stat().st_mtime_ns == before
+    summary = json.loads((report / "summary.json").read_text())
+    assert [r["case"] for r in summary["rows"]] == ["cube", "cylinder"]
+    assert main(["paper", "--out", str(report), "--only", "3.1", "--resolution", "paper",
+                 "-q"]) == 2
+    assert "other settings" in capsys.readouterr().err
+
+
+def _results(profile, metrics=None, status="done"):
+    return Results(scene="cube", params={}, units={"length": "mm", "stress": "MPa"},
+                   mesh=MeshInfo(ne=1, nv=1, order=1, maxh=1.0), status=status,
+                   metrics=metrics or {}, profiles={"line": profile})
+
+
+def test_verdicts_follow_the_measured_trend():
+    """The cube's |b| must fall with X1 (eq. 16: |b| ~ 1 / theta); the same profile reversed
+    is a refutation, a case that did not finish is not judged."""
+    x = np.linspace(0, 1, 11)
+    b = (1 / 12) / (1 + x / 4) ** (1 / 3)
+    (finding,) = [f for f in findings.FINDINGS if f.measure is findings._cube_b_trend]
+    falling = _results({"X1": x, "|b_n2|": b}, {"G_error_L2_rel": 1e-16})
+    rising = _results({"X1": x, "|b_n2|": b[::-1]}, {"G_error_L2_rel": 1e-16})
+    assert finding.judge({"cube": falling})[1] == findings.AGREES
+    assert finding.judge({"cube": rising})[1] == findings.DIFFERS
+    failed = _results({"X1": x, "|b_n2|": b}, status="not converged")
+    assert finding.judge({"cube": failed})[1] == findings.NOT_RUN
