@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from ngincompat.studies.sections import SECTIONS
 from ngincompat.workflow import plots, surface
 
@@ -94,7 +96,8 @@ def case_figure(out, label, results):
 def section_files(number):
     """The comparison figures of a section."""
     return {"3.2": ["fig2g_burgers.png", "fig2h_curl.png", "fig2_radial_check.png"],
-            "3.3": ["fig3e_disc_stress.png"], "3.7": ["fig7_folding.png"]}.get(number, [])
+            "3.3": ["fig3e_disc_stress.png"],
+            "3.7": ["fig7_folding.png", "fig7_onset.png"]}.get(number, [])
 
 
 def all_files(labels):
@@ -191,3 +194,16 @@ def _folding(out, results):
                                 "Fig. 7: cortical folding, one row per axon field",
                                 floor=1e-3 * scene.mu_white)
     plots.save(fig, out / "fig7_folding.png")
+    perfect = {k.split("-", 1)[1]: r for k, r in results.items() if "perfect" in r.profiles}
+    if perfect:
+        stress = scene.units["stress"]
+        curves = {axons: (r.profiles["perfect"]["theta_c"], r.profiles["perfect"]["eigenvalue"])
+                  for axons, r in perfect.items()}
+        onsets = {f"onset, {axons}: theta_c = {r.metrics['onset_growth']:.4g}":
+                  r.metrics["onset_growth"] for axons, r in perfect.items()
+                  if np.isfinite(r.metrics.get("onset_growth", np.nan))}
+        plots.save(plots.curves_figure(
+            curves, "cortex growth theta_c [-]",
+            f"smallest tangent eigenvalue [{stress}/{L}$^2$]",
+            "The perfect branch: the smallest eigenvalue crosses zero at the onset of folding",
+            vlines=onsets), out / "fig7_onset.png")

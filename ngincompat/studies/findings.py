@@ -222,10 +222,10 @@ def _atrophy_gray(r):
 
 def _atrophy_depth(key, what):
     def measure(r):
-        depth, gray, h = r.metrics[key], r.params["gray_thickness"], r.params["maxh"]
-        holds = abs(depth - gray) <= h
+        depth, gray = r.metrics[key], r.params["gray_thickness"]
+        holds = abs(depth - gray) <= gray / 2
         reason = ("" if holds else f"its peak lies {_g(depth)} cm deep, not at the interface "
-                  f"({_g(gray)} cm) within one element ({_g(h)} cm)")
+                  f"({_g(gray)} cm) within half the gray thickness")
         return (f"{what} peaks {_g(depth)} cm below the surface; interface at {_g(gray)} cm",
                 *_warned(r, AGREES if holds else DIFFERS, reason))
     return measure

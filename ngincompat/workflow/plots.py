@@ -41,8 +41,8 @@ def tick_format(lo, hi):
 
 def wrapped(title, width_inches, fontsize=10):
     """``title`` broken into lines that fit ``width_inches`` at ``fontsize`` points (an average
-    character is taken as 0.55 of the font size)."""
-    chars = max(int(width_inches * 72 / (0.55 * fontsize)), 20)
+    character is taken as 0.62 of the font size, a margin for wide ones)."""
+    chars = max(int(width_inches * 72 / (0.62 * fontsize)), 20)
     return "\n".join(textwrap.wrap(title, chars)) if title else title
 
 #: (line style, marker) per curve, in order: coinciding curves stay distinguishable.

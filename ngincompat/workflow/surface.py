@@ -174,6 +174,6 @@ def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
                            format=tick_format(norm.vmin, norm.vmax))
         bar.ax.tick_params(labelsize="small")
     fig.suptitle(title, fontsize="large")
-    fig.subplots_adjust(left=0.02, right=0.95, bottom=0.03, top=0.86 if nrows == 1 else 0.92,
+    fig.subplots_adjust(left=0.05, right=0.95, bottom=0.03, top=0.86 if nrows == 1 else 0.92,
                         wspace=0.25, hspace=0.25)
     return fig
