@@ -49,9 +49,8 @@ FIELDS = {
         (r"(e) Curl $F^g$ : Curl $F^g$ [1/{L}$^2$]", "curlFg_sq", False, None),
         (r"$S_{{11}}$ [{S}]", "S11", True, None))),
     "atrophy": ("5", (15, -120), (
-        (r"(c) volume ratio $\vartheta$ [-]", "theta", False, None),
-        (r"(d) |b| (largest of $e_1, e_2, e_3$) [1/{L}]", "|b|", False, None),
-        (r"(b, e) max principal stress [{S}]", "sigma_max_principal", True, None))),
+        (r"(a) volume ratio $\vartheta$ on the atrophied brain [-]", "theta", False, None),
+        (r"(b) max principal stress [{S}]", "sigma_max_principal", True, None))),
     "skin": ("6", (55, -70), (
         (r"(a) area growth $\vartheta^g$ (inflated) [-]", "theta", False, "u_inflated"),
         (r"(b) |b| on $e_3$ (inflated) [1/{L}]", "|b|", False, "u_inflated"),
@@ -70,9 +69,9 @@ def case_files(label):
     return [f"fig{FIELDS[scene][0]}_{label}.png"] if scene in FIELDS else []
 
 
-def case_figure(out, label, results):
-    """Draw the field figure of the case ``label`` from its NGSolve fields (nothing for a
-    scene without one, or a run without fields or displacement)."""
+def case_figure(out, label, results, resolution):
+    """Draw the field figure of the case ``label`` from its NGSolve fields, titled with the
+    ``resolution`` it ran at (nothing for a scene without one, or a run without fields)."""
     scene = _scene(label)
     if scene not in FIELDS or results.domain is None:
         return
@@ -88,7 +87,7 @@ def case_figure(out, label, results):
     variant = label[len(scene) + 1:] or scene
     title = f"Fig. {number}: {scene}, {variant}".replace(f"{scene}, {scene}", scene)
     fig = surface.surface_figure(results.domain, f.get("u"), panels,
-                                 f"{title} (deformed; {results.preset or 'custom'} settings)",
+                                 f"{title} (deformed; {resolution} resolution)",
                                  L, view=view, ncols=4)
     plots.save(fig, Path(out) / case_files(label)[0])
 

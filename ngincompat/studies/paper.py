@@ -154,7 +154,7 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
                     continue
                 done[label], results[label] = _run_case(s, label, scene, out, progress,
                                                         overwrite=True)
-                figures.case_figure(out, label, results[label])
+                figures.case_figure(out, label, results[label], resolution)
             figures.section_figures(out, section, results)
             _write(out, done, resolution)
         return [done[label] for _, label, _ in runs]

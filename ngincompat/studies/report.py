@@ -39,7 +39,7 @@ SCENE_FIGURES = {
 
 #: The field figures' captions by the paper's figure number.
 CAPTIONS = {"1": "Fig. 1a-f", "2": "Fig. 2a-e", "3": "Fig. 3a-d", "4": "Fig. 4a-e",
-            "5": "Fig. 5b-e", "6": "Fig. 6a-c"}
+            "5": "Fig. 5a-b", "6": "Fig. 6a-c"}
 
 STYLE = """
 body{font-family:system-ui,sans-serif;max-width:1400px;margin:auto;padding:1em;color:#222}
@@ -88,15 +88,13 @@ def _results(out, labels):
 
 
 def _settings(results, section):
-    """The run's preset, and the settings that differ from the scene's defaults."""
+    """The run's settings that differ from its scene's defaults."""
     if results is None:
         return ""
     cls = next(c for _, c, _ in section.cases)
-    defaults = {k: v[0] for k, v in cls.parameters().items()}
-    typed = cls.typed_settings(defaults)
+    typed = cls.typed_settings({k: v[0] for k, v in cls.parameters().items()})
     changed = {k: v for k, v in results.params.items() if typed.get(k) != v}
-    return f"{results.preset}: " + (", ".join(f"{k}={v}" for k, v in changed.items())
-                                    or "the defaults")
+    return ", ".join(f"{k}={v}" for k, v in changed.items()) or "none"
 
 
 def _section(out, section, rows, results):
@@ -110,7 +108,7 @@ def _section(out, section, rows, results):
         return "".join(parts)
     parts.append(_table(
         ("case", "status", "warnings", "unknowns", "Newton iterations", "seconds",
-         "settings"),
+         "settings other than the defaults"),
         [(r["case"], r["status"], r["warnings"], r["ndof"], r["newton"], r["seconds"],
           _settings(results.get(r["case"]), section)) for r in mine]))
     judged = findings.judged(section.number, results)

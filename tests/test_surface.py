@@ -1,0 +1,53 @@
+"""Colour maps on the deformed boundary: the triangulation covers the boundary, the fields are
+evaluated where the triangles are, the body is drawn moved by its displacement, and a signed
+field gets a scale centred at zero."""
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+from netgen.occ import Box, OCCGeometry, Pnt
+
+from ngincompat.workflow import surface
+
+
+@pytest.fixture(scope="module")
+def mesh():
+    return ngs.Mesh(OCCGeometry(Box(Pnt(0, 0, 0), Pnt(1, 2, 1))).GenerateMesh(maxh=0.6))
+
+
+def _areas(tri):
+    return 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+
+
+@pytest.mark.parametrize("k", [1, 3])
+def test_the_triangles_cover_the_boundary(mesh, k):
+    """Their areas add up to the box's surface, 2 (1 + 2 + 2) = 10, at every subdivision."""
+    tri = surface.boundary_triangles(mesh, k)
+    nface = sum(1 for _ in mesh.Elements(ngs.BND))
+    assert len(tri) == nface * k * k
+    assert _areas(tri).sum() == pytest.approx(10.0, rel=1e-12)
+
+
+def test_fields_are_evaluated_at_the_corners(mesh):
+    tri = surface.boundary_triangles(mesh, 2)
+    points = tri.reshape(-1, 3)
+    (values,) = surface.evaluate(mesh, [ngs.x + 10 * ngs.z], points)
+    # the points are found 1e-7 of the size inside: the field is off by its gradient times that
+    np.testing.assert_allclose(values, points[:, 0] + 10 * points[:, 2], atol=1e-5)
+
+
+def test_the_body_is_drawn_moved_and_signed_fields_centred(mesh):
+    """u = (0.5 X1, 0, 0) stretches the box to X1 in [0, 1.5]; a field of both signs gets
+    the diverging map from -max|f| to max|f|, one of one sign a sequential one."""
+    u = ngs.CF((0.5 * ngs.x, 0, 0))
+    panels = [surface.Panel("f", ngs.x - 0.25, signed=True), surface.Panel("g", ngs.y + 1)]
+    fig = surface.surface_figure(mesh, u, panels, "t", "mm", subdivision=1)
+    axes = [ax for ax in fig.axes if hasattr(ax, "get_zlim")]
+    assert axes[0].get_xlim() == pytest.approx((0.0, 1.5), abs=1e-6)
+    norm, cmap = surface.colour_scale(np.array([-0.25, 1.0]), signed=True)
+    assert (norm.vmin, norm.vmax, cmap) == (-1.0, 1.0, "RdBu_r")
+    norm, cmap = surface.colour_scale(np.array([1.0, 3.0]))
+    assert (norm.vmin, norm.vmax, cmap) == (1.0, 3.0, "viridis")
+    # round-off around a constant is drawn flat: the scale is widened, not magnified
+    norm, _ = surface.colour_scale(0.0625 + 1e-12 * np.arange(3))
+    assert norm.vmax - norm.vmin >= surface.RELATIVE_FLOOR * 0.0625
