@@ -51,9 +51,12 @@ FIELDS = {
     "atrophy": ("5", (15, -120), (
         (r"(a) volume ratio $\vartheta$ on the atrophied brain [-]", "theta", False, None),
         (r"(b) max principal stress [{S}]", "sigma_max_principal", True, None))),
+    # the skin's "u_inflated" is its problem's displacement when the run is measured: at the
+    # end of the deflation ramp (the inflated shape is not kept), so growth and |b| are drawn
+    # on the deflated patch, the released stress on the released one
     "skin": ("6", (55, -70), (
-        (r"(a) area growth $\vartheta^g$ (inflated) [-]", "theta", False, "u_inflated"),
-        (r"(b) |b| on $e_3$ (inflated) [1/{L}]", "|b|", False, "u_inflated"),
+        (r"(a) area growth $\vartheta^g$, deflated [-]", "theta", False, "u_inflated"),
+        (r"(b) |b| on $e_3$, deflated [1/{L}]", "|b|", False, "u_inflated"),
         (r"(c) max principal stress, released [{S}]", "sigma_max_released", True,
          "u_released"))),
 }
@@ -64,16 +67,19 @@ def _scene(label):
 
 
 def case_files(label):
-    """The field figure of a case (none for a scene without one)."""
+    """The field figure of a case (none for a scene without one, nor for the hemisphere's
+    symmetry case: a check, shown against its reference in ``fig2_radial_check.png``)."""
     scene = _scene(label)
-    return [f"fig{FIELDS[scene][0]}_{label}.png"] if scene in FIELDS else []
+    if scene not in FIELDS or label.endswith("-symmetry"):
+        return []
+    return [f"fig{FIELDS[scene][0]}_{label}.png"]
 
 
 def case_figure(out, label, results, resolution):
     """Draw the field figure of the case ``label`` from its NGSolve fields, titled with the
     ``resolution`` it ran at (nothing for a scene without one, or a run without fields)."""
     scene = _scene(label)
-    if scene not in FIELDS or results.domain is None:
+    if not case_files(label) or results.domain is None:
         return
     number, view, spec = FIELDS[scene]
     f = results.fields
@@ -88,7 +94,7 @@ def case_figure(out, label, results, resolution):
     title = f"Fig. {number}: {scene}, {variant}".replace(f"{scene}, {scene}", scene)
     fig = surface.surface_figure(results.domain, f.get("u"), panels,
                                  f"{title} (deformed; {resolution} resolution)",
-                                 L, view=view, ncols=4)
+                                 L, view=view, ncols=5 if len(panels) <= 5 else 4)
     plots.save(fig, Path(out) / case_files(label)[0])
 
 
@@ -162,7 +168,8 @@ def _radial_check(out, results):
          r"$\sigma_{\theta\theta}$, 3-D": (R, p["sigma_thetatheta"]),
          r"$\sigma_{\theta\theta}$, 1-D radial solution": (R[inner], stt)},
         f"R [{L}]", f"Cauchy stress [{S}]",
-        "Hemisphere, linear profile: 3-D against the 1-D radial solution", markevery=10)
+        "Hemisphere, linear profile: 3-D against the 1-D radial solution", markevery=10,
+        colours=["tab:blue", "tab:blue", "tab:red", "tab:red"])
     plots.save(fig, out / "fig2_radial_check.png")
 
 

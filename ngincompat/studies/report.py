@@ -33,9 +33,10 @@ SCENE_FIGURES = {
                 ("stress.png", "stresses along X1")),
     "skin": (("fields.png", "Fig. 6a-c: mid-thickness maps"),
              ("stress.png", "Fig. 6c: residual stress along X1")),
-    "folding": (("eigenvalue.png", "the smallest tangent eigenvalue on the perfect branch"),
-                ("folds.png", "fold amplitude after the onset")),
 }
+
+#: Figures of several panels side by side, shown at the page's width.
+WIDE = {"fields.png", "sections.png", "fig7_folding.png"}
 
 #: The field figures' captions by the paper's figure number.
 CAPTIONS = {"1": "Fig. 1a-f", "2": "Fig. 2a-e", "3": "Fig. 3a-d", "4": "Fig. 4a-e",
@@ -128,10 +129,11 @@ def _section(out, section, rows, results):
             images.append(_image(Path(out) / name, f"{CAPTIONS[number]}: {label}, colour "
                                  "maps on the deformed body", wide=True))
     for name in figures.section_files(section.number):
-        images.append(_image(Path(out) / name, name[:-4].replace("_", " ")))
+        images.append(_image(Path(out) / name, name[:-4].replace("_", " "), name in WIDE))
     for label in labels:
         for name, caption in SCENE_FIGURES.get(label.split("-")[0], ()):
-            images.append(_image(Path(out) / label / name, f"{caption} ({label})"))
+            images.append(_image(Path(out) / label / name, f"{caption} ({label})",
+                                 name in WIDE))
     parts.append('<div class="grid">' + "".join(i for i in images if i) + "</div>")
     warnings = [(label, w) for label in labels if label in results
                 for w in results[label].warnings]
@@ -161,6 +163,11 @@ def write(out, rows, resolution):
             + ", ".join(f"{n} findings {v}" for v, n in counts.items())
             + f". Written {html.escape(str(record.get('date', '')))} on "
             f"{html.escape(str(record.get('host', '')))}.</p>"
+            + ("<p>The preview resolution is a first look on coarse meshes: a finding that "
+               "differs there because of a discretisation error (a stress that should vanish "
+               "on a face, a deviation from a reference) is measured again with "
+               "<code>ngincompat paper --resolution paper</code>.</p>"
+               if resolution == "preview" else "")
             + "<p>Sections: " + " ".join(f'<a href="#s{s.number}">{s.number}</a>'
                                         for s in SECTIONS)
             + ' <a href="#deviations">deviations</a></p>')

@@ -324,7 +324,7 @@ def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):
 
 
 def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False, markevery=1,
-                  vlines=None):
+                  vlines=None, colours=None):
     """A matplotlib Figure of curves with their own abscissae, each with markers.
 
     Parameters
@@ -340,12 +340,15 @@ def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False, ma
         A marker on every this many points.
     vlines : dict, optional
         Label -> abscissa of a vertical dashed line (e.g. the onset of an instability).
+    colours : list, optional
+        A colour per curve (e.g. one per quantity, computed and reference alike).
     """
     fig = Figure(figsize=(5.4, 3.8), dpi=120)
     ax = fig.subplots()
-    for (label, (x, y)), (style, marker) in zip(curves.items(), cycle(STYLES)):
+    for i, ((label, (x, y)), (style, marker)) in enumerate(zip(curves.items(), cycle(STYLES))):
+        kwargs = {"color": colours[i]} if colours else {}
         ax.plot(x, y, ls=style, marker=marker or "o", lw=2, label=label or None,
-                markevery=markevery, markersize=4)
+                markevery=markevery, markersize=4, **kwargs)
     for (label, x), colour in zip((vlines or {}).items(), cycle(("0.3", "tab:red"))):
         ax.axvline(x, ls="--", lw=1, color=colour, label=label)
     ax.set_xlabel(xlabel)
