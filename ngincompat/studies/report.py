@@ -151,16 +151,21 @@ def write(out, rows, resolution):
     results = _results(out, [r["case"] for r in rows])
     counts = {}
     body = []
+    ran = {r["section"] for r in rows}
     for section in SECTIONS:
         body.append(_section(out, section, rows, results))
+        if section.number not in ran:
+            continue
         for _, _, verdict, _ in findings.judged(section.number, results):
             counts[verdict] = counts.get(verdict, 0) + 1
     record = io.provenance()["provenance"]
     total = sum(r["seconds"] or 0 for r in rows)
     head = (f"<h1>Lee et al. 2021, <i>The geometry of incompatibility in growing soft "
             f"tissues</i>, reproduced with ngincompat</h1><p>Resolution <b>{resolution}</b>; "
-            f"{len(rows)} runs, {total:.0f} s of run time; "
-            + ", ".join(f"{n} findings {v}" for v, n in counts.items())
+            f"{len(rows)} runs, {total:.0f} s of run time; findings "
+            + ", ".join(f"{v}: {counts[v]}" for v in (findings.AGREES, findings.PARTLY,
+                                                      findings.DIFFERS, findings.NOT_RUN)
+                        if v in counts)
             + f". Written {html.escape(str(record.get('date', '')))} on "
             f"{html.escape(str(record.get('host', '')))}.</p>"
             + ("<p>The preview resolution is a first look on coarse meshes: a finding that "
