@@ -74,3 +74,11 @@ def test_deformed_figure_draws_each_field_on_the_moved_grid():
     for ax in maps:
         assert ax.collections[0].get_clim() == (-6.0, 6.0)   # both rows, symmetric
         assert ax.get_xlabel() == "X1 [cm]"
+
+
+def test_long_titles_wrap_to_the_figure_and_keep_their_formulas():
+    title = r"(a) area growth $\vartheta^g$ of the skin, deflated, $\bar n_\phi$ plane [-]"
+    lines = plots.wrapped(title, 2.0).split("\n")
+    assert len(lines) > 1 and " ".join(lines) == title
+    assert all(line.count("$") % 2 == 0 for line in lines)        # no formula cut in two
+    assert all(len(line) <= 24 for line in lines if "$" not in line)

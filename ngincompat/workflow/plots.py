@@ -40,10 +40,16 @@ def tick_format(lo, hi):
 
 
 def wrapped(title, width_inches, fontsize=10):
-    """``title`` broken into lines that fit ``width_inches`` at ``fontsize`` points (an average
-    character is taken as 0.62 of the font size, a margin for wide ones)."""
+    """``title`` broken into lines that fit ``width_inches`` at ``fontsize`` points, never
+    inside a formula $...$ (an average character is taken as 0.62 of the font size, a
+    margin for wide ones)."""
+    if not title:
+        return title
     chars = max(int(width_inches * 72 / (0.62 * fontsize)), 20)
-    return "\n".join(textwrap.wrap(title, chars)) if title else title
+    # never break inside $...$ (mathtext is parsed line by line)
+    kept = "$".join(p.replace(" ", "\0") if i % 2 else p
+                    for i, p in enumerate(title.split("$")))
+    return "\n".join(textwrap.wrap(kept, chars)).replace("\0", " ")
 
 #: (line style, marker) per curve, in order: coinciding curves stay distinguishable.
 STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)), "v"),

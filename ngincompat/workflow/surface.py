@@ -23,7 +23,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from ngincompat.workflow.plots import tick_format
+from ngincompat.workflow.plots import tick_format, wrapped
 
 #: Triangles per panel the subdivision aims at (finer looks no different at the figure's size).
 TRIANGLES = 12000
@@ -169,7 +169,7 @@ def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
         ax.set_ylabel(f"X2 [{unit}]", fontsize="small", labelpad=-2)
         ax.set_zlabel(f"X3 [{unit}]", fontsize="small", labelpad=-2)
         ax.tick_params(labelsize="x-small", pad=0)
-        ax.set_title(panel.title, fontsize="medium")
+        ax.set_title(wrapped(panel.title, 3.2), fontsize="medium")
         bar = fig.colorbar(mappable, ax=ax, shrink=0.7, pad=0.16,
                            format=tick_format(norm.vmin, norm.vmax))
         bar.ax.tick_params(labelsize="small")
