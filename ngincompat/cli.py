@@ -402,8 +402,8 @@ def build_parser():
                        "report.html")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--resolution", choices=("preview", "paper"), default="preview",
-                   help="preview (default: every section in minutes, on each scene's "
-                        "preview settings) or paper (the paper's resolution and settings)")
+                   help="preview (default: a first look on coarse settings, each scene's "
+                        "preview preset) or paper (the paper's resolution and settings)")
     p.add_argument("--only", metavar="LIST",
                    help="comma list of sections to run, e.g. 3.5,3.6 (default: all of "
                         "3.1-3.7); the report shows every section the folder holds")
