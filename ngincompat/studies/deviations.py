@@ -70,8 +70,9 @@ DEVIATIONS = (
               "1e-3 mu"),
     Deviation("3.5", AtrophyScene, "geometry",
               "an anatomical brain (the models of refs. [85, 55])",
-              "the idealized ellipsoid with a gray shell is the default (an anatomical "
-              "template needs nilearn and minutes of meshing; another issue is adding it)",
+              "the idealized ellipsoid with a gray shell is the default; the anatomical "
+              "hemisphere (geometry=fsaverage) needs the brain extra (nilearn) and minutes "
+              "of meshing, which the main job does not assume",
               "the interface is a smooth shell: |b| and stress peaks sit on it, not in "
               "folded sulci; not measured against the anatomical brain"),
     Deviation("3.5", AtrophyScene, "d_ext, alpha, rate_gray, rate_white, mu_gray, mu_white",

@@ -48,9 +48,6 @@ FIELDS = {
         (r"(d) $\Psi$ [{S}]", "Psi", False, None),
         (r"(e) Curl $F^g$ : Curl $F^g$ [1/{L}$^2$]", "curlFg_sq", False, None),
         (r"$S_{{11}}$ [{S}]", "S11", True, None))),
-    "atrophy": ("5", (15, -120), (
-        (r"(a) volume ratio $\vartheta$ on the atrophied brain [-]", "theta", False, None),
-        (r"(b) max principal stress [{S}]", "sigma_max_principal", True, None))),
     # the skin's "u_inflated" is its problem's displacement when the run is measured: at the
     # end of the deflation ramp (the inflated shape is not kept), so growth and |b| are drawn
     # on the deflated patch, the released stress on the released one

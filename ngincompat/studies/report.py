@@ -28,7 +28,8 @@ SCENE_FIGURES = {
              ("stress.png", "Fig. 1f: S11, S22, S33 along X1")),
     "cylinder": (("burgers.png", "Fig. 4b: |b| across the cylinder"),
                  ("profile.png", "Fig. 4d-e: strain energy and Curl Fg : Curl Fg")),
-    "atrophy": (("sections.png", "Fig. 5c-e: sections through the brain"),
+    "atrophy": (("brain.png", "Fig. 5a-b: the brain's surface, reference and atrophied"),
+                ("sections.png", "Fig. 5c-e: sections through the brain"),
                 ("volume_loss.png", "volume loss against time"),
                 ("stress.png", "stresses along X1")),
     "skin": (("fields.png", "Fig. 6a-c: mid-thickness maps"),
@@ -36,11 +37,11 @@ SCENE_FIGURES = {
 }
 
 #: Figures of several panels side by side, shown at the page's width.
-WIDE = {"fields.png", "sections.png", "fig7_folding.png"}
+WIDE = {"fields.png", "sections.png", "brain.png", "fig7_folding.png"}
 
 #: The field figures' captions by the paper's figure number.
 CAPTIONS = {"1": "Fig. 1a-f", "2": "Fig. 2a-e", "3": "Fig. 3a-d", "4": "Fig. 4a-e",
-            "5": "Fig. 5a-b", "6": "Fig. 6a-c"}
+            "6": "Fig. 6a-c"}
 
 STYLE = """
 body{font-family:system-ui,sans-serif;max-width:1400px;margin:auto;padding:1em;color:#222}
