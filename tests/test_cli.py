@@ -144,17 +144,17 @@ def test_list_verbose_shows_type_default_unit_and_range(capsys):
     lines = capsys.readouterr().out.splitlines()
     cube = lines[:lines.index(next(line for line in lines if line.startswith("hemisphere")))]
     maxh = next(line for line in cube if line.startswith("    maxh "))
-    assert maxh == "    maxh (float, default 0.25 mm): allowed in (0, 1e+12]"
-    assert "    order (int, default 4): allowed an integer in [1, 10]" in cube
+    assert maxh == "    maxh (float, default 0.5 mm): allowed in (0, 1e+12]"
+    assert "    order (int, default 6): allowed an integer in [1, 10]" in cube
     nu = next(line for line in cube if line.startswith("    nu "))
     assert nu.startswith("    nu (float, default 0.4): allowed ") and "0.5" in nu
     assert cube[cube.index(maxh) + 1] == "        mesh size"
 
 
-#: The extras' packages (pyproject.toml's [test], [mpi], [brain], [dask], [parquet], [fast],
+#: The extras' packages (pyproject.toml's [test], [mpi], [brain], [dask], [parquet],
 #: [notebooks]): the main job (`ngincompat paper`) must run on the core dependencies alone.
 OPTIONAL = ("dask", "distributed", "mpi4py", "nilearn", "nibabel", "pyarrow", "sklearn",
-            "basix", "jupytext", "nbclient", "nbformat", "ipykernel", "hypothesis", "pytest",
+            "jupytext", "nbclient", "nbformat", "ipykernel", "hypothesis", "pytest",
             "importlinter")
 
 

@@ -134,7 +134,8 @@ def test_every_scene_meshed_from_a_geometry_has_an_estimate():
 def test_maxh_0001_on_the_cube_is_refused_before_meshing_naming_maxh_and_the_limit(
         tmp_path, capsys):
     out = tmp_path / "out"
-    assert main(["run", "cube", "--maxh", "0.001", "--out", str(out), "-q"]) == 2
+    assert main(["run", "cube", "--maxh", "0.001", "--set", "elements=hex", "--out", str(out),
+                 "-q"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and err.startswith("ngincompat: error: maxh = 0.001 ")
     assert "1e+09 elements" in err and "max_elements = 1000000" in err
@@ -144,11 +145,11 @@ def test_maxh_0001_on_the_cube_is_refused_before_meshing_naming_maxh_and_the_lim
 
 def test_the_limit_can_be_raised_and_counts_unknowns_by_order():
     with pytest.raises(ParameterError, match="^maxh = "):
-        SCENES["cube"].from_settings({"maxh": "0.01"})        # 1e6 hexahedra, order 4
-    SCENES["cube"].from_settings({"maxh": "0.01", "max_elements": "2000000",
+        SCENES["cube"].from_settings({"maxh": "0.01", "elements": "hex"})  # 1e6 hexahedra
+    SCENES["cube"].from_settings({"maxh": "0.01", "max_elements": "2000000", "elements": "hex",
                                   "max_dofs": "1000000000", "order": "1"})
     with pytest.raises(ParameterError, match="unknowns at order 10"):
-        SCENES["cube"].from_settings({"maxh": "0.02", "order": "10"})
+        SCENES["cube"].from_settings({"maxh": "0.02", "order": "10", "elements": "hex"})
 
 
 def test_a_huge_body_is_refused_by_its_element_count():

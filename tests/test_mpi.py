@@ -15,7 +15,7 @@ from ngincompat.scenes.cube import CubeScene
 
 ROOT = Path(__file__).resolve().parents[1]
 # coarse: 3 hexahedra per edge, so the profile line X2 = X3 = 1/2 runs inside elements
-SETTINGS = {"order": 2, "maxh": 0.34, "outputs": "vtk"}
+SETTINGS = {"order": 2, "maxh": 0.34, "elements": "hex", "outputs": "vtk"}
 
 
 def _mpiexec():

@@ -16,7 +16,8 @@ REQUIRED = {"scene", "status", "params", "units", "versions", "mesh", "solver", 
 @pytest.fixture(scope="module")
 def cube_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("cube")
-    code = main(["run", "cube", "--out", str(out), "--order", "3", "--maxh", "0.5", "-q"])
+    code = main(["run", "cube", "--out", str(out), "--order", "3", "--maxh", "0.5",
+                 "--set", "elements=hex", "-q"])
     assert code == 0
     return out, json.loads((out / "results.json").read_text())
 
@@ -170,7 +171,7 @@ def test_quarter_cube_is_the_full_cube_with_mirror_planes(cube_run, tmp_path):
     G error and largest stress from a quarter of the elements."""
     _, full = cube_run
     code = main(["run", "cube", "--out", str(tmp_path), "--order", "3", "--maxh", "0.5",
-                 "--set", "model=quarter", "--set", "outputs=none", "-q"])
+                 "--set", "elements=hex", "--set", "model=quarter", "--set", "outputs=none", "-q"])
     assert code == 0
     quarter = json.loads((tmp_path / "results.json").read_text())
     assert quarter["mesh"]["ne"] * 4 == full["mesh"]["ne"]
@@ -185,7 +186,8 @@ def test_mixed_formulation_from_the_command_line(cube_run, tmp_path):
     the converged 2.195334e-7)."""
     _, full = cube_run
     code = main(["run", "cube", "--out", str(tmp_path), "--order", "3", "--maxh", "0.5",
-                 "--set", "formulation=mixed", "--set", "outputs=none", "-q"])
+                 "--set", "elements=hex", "--set", "formulation=mixed", "--set", "outputs=none",
+                 "-q"])
     assert code == 0
     mixed = json.loads((tmp_path / "results.json").read_text())
     reference = 2.195334e-7

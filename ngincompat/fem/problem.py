@@ -33,7 +33,7 @@ from ngsolve.krylovspace import CGSolver
 
 from ngincompat import config, parallel
 from ngincompat.errors import require
-from ngincompat.fem.quadrature import volume_measure
+from ngincompat.fem.quadrature import resolve, volume_measure
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.mechanics.growth import GrowthModel
@@ -153,10 +153,11 @@ class GrowthMechanics:
         assembles it on VectorH1, as NGSolve's BDDC preconditioner (the iterative linear
         solvers) needs: built on the component spaces, its coarse problem is singular
         (measured: GMRES then stalls on the cube).
-    quadrature : {"gauss", "symmetric"}
+    quadrature : {"gauss", "symmetric", "auto"}
         The rule of energy, residual and tangent (:mod:`ngincompat.fem.quadrature`): NGSolve's
         Gauss rule of degree 2 order - 2, or on tetrahedra the symmetric rule of that degree
-        with about a third of the points at order 6 (basix needed).
+        with about a third of the points at order 6; "auto" the symmetric one where it has at
+        most half the points. The rule taken is the attribute ``quadrature``.
     """
 
     def __init__(self, mesh: ngs.Mesh, growth: GrowthModel, material: Material, order: int = 2,
@@ -166,7 +167,8 @@ class GrowthMechanics:
                  components: bool = True, quadrature: str = "gauss"):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         check_formulation(material, formulation, order)
-        dx = volume_measure(mesh, order, quadrature)
+        self.quadrature = resolve(quadrature, mesh, order)
+        dx = volume_measure(mesh, order, self.quadrature)
         mixed = formulation == "mixed"
         ensure_heap(order)
         if material.needs_fibers:

@@ -12,7 +12,7 @@ from ngincompat.incompatibility.operators import lattice_normals
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.scenes import prescribed
-from ngincompat.scenes.base import param
+from ngincompat.scenes.base import MAXH, ORDER, param
 
 
 @dataclass(frozen=True)
@@ -34,22 +34,26 @@ class CubeScene(prescribed.PrescribedScene):
 
     name = "cube"
     summary = "section 3.1: isotropic growth theta = 1 + X1 t / 4 of a 1 mm cube"
-    presets = {"preview": dict(maxh=0.5, order=2, g_order=3)}
+    # the measurements behind them: README, "Presets and the cost of each scene"
+    presets = {"preview": dict(maxh=0.5, order=3, g_order=3),
+               "paper": dict(elements="hex", maxh=0.25, order=4)}
     variant = ("model", "formulation")
     distributed = True
 
     side: float = param(1.0, "edge length of the cube", "length", range="> 0")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length")
-    elements: Literal["hex", "tet"] = param("hex", "element shape: hex (the paper's C3D8 "
-                                            "layout) or tet")
+    order: int = ORDER(6)
+    maxh: float = MAXH(0.5)
+    elements: Literal["hex", "tet"] = param("tet", "element shape: tet, or hex (the paper's "
+                                            "C3D8 layout)")
     model: Literal["full", "quarter"] = param("full", "full cube, or quarter (mirror planes "
                                               "X2 = X3 = side / 2)")
 
     def __post_init__(self):
         super().__post_init__()
         require(self.a * self.side > -1, "a", self.a, "> -1 / side (theta stays positive)")
-        require(self.quadrature == "gauss" or self.elements == "tet", "quadrature",
-                self.quadrature, "gauss with elements=hex (symmetric rules are for "
+        require(self.quadrature != "symmetric" or self.elements == "tet", "quadrature",
+                self.quadrature, "gauss or auto with elements=hex (symmetric rules are for "
                 "tetrahedra: elements=tet)")
 
     def mesh_estimate(self):

@@ -152,11 +152,12 @@ class PrescribedScene(Elastic, Scene):
     linear_solver: str = param("auto", "Newton's linear solver: direct, cg or gmres (BDDC "
                                "preconditioned); auto: direct serially, cg with MPI",
                                choices=LINEAR_SOLVERS)
-    quadrature: str = param("gauss", "rule of energy, residual and tangent: gauss (NGSolve's, "
+    quadrature: str = param("auto", "rule of energy, residual and tangent: gauss (NGSolve's, "
                             "degree 2 order - 2), or symmetric on tetrahedra (the same degree, "
-                            "74 points instead of 216 at order 6, order <= 8; needs "
-                            "fenics-basix; the energy reported is integrated again at degree "
-                            f"{CHECK_DEGREE})", choices=QUADRATURES)
+                            "74 points instead of 216 at order 6, order <= 8; the energy "
+                            f"reported is integrated again at degree {CHECK_DEGREE}); auto: "
+                            "symmetric on tetrahedra of order 6 to 8, else gauss",
+                            choices=QUADRATURES)
 
     #: Metrics of every prescribed-growth scene; subclasses add their verification metrics.
     metrics = ("strain_energy", "max_principal_stress", "burgers_max", "G_error_L2_rel",
@@ -293,7 +294,7 @@ def _mechanics(case, problem, fields):
     for label, (tensor, a, b) in case.components.items():
         fields[label] = postprocess.component(stress[tensor], a, b).Compile()
     # a cheaper rule's energy is integrated again: a mode it does not see would show there
-    degree = None if case.scene.quadrature == "gauss" else CHECK_DEGREE
+    degree = None if problem.quadrature == "gauss" else CHECK_DEGREE
     return {"strain_energy": case.mirror * problem.strain_energy(degree),
             "max_principal_stress": sampling.maximum(fields["sigma_max_principal"],
                                                         case.mesh)}
