@@ -174,11 +174,13 @@ def _cmd_folding(args):
 
 
 def _cmd_bench(args):
-    from ngincompat.studies import bench, curvature_rates, peer, scaling, stability
-    if args.case == "peer":
+    from ngincompat.studies import bench, costs, curvature_rates, peer, scaling, stability
+    if args.case == "scenes":
+        lines = costs.main(args.scenes, args.presets, out=args.out, timeout=args.timeout)
+    elif args.case == "peer":
         lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
     elif args.case == "cube":
-        lines = bench.cube_main(args.maxh, args.orders, out=args.out)
+        lines = bench.cube_main(args.maxh, args.orders, out=args.out, elements=args.elements)
     elif args.case == "accuracy":
         lines = bench.accuracy_main(out=args.out, quick=args.quick)
     elif args.case == "curvature":
@@ -214,7 +216,8 @@ def _cmd_sweep_plot(args):
 
 
 def _add_bench(sub):
-    """``bench cube | accuracy | curvature | peer | stability | scaling`` and their options."""
+    """``bench scenes | cube | accuracy | curvature | peer | stability | scaling`` and their
+    options."""
     from ngincompat.studies.scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
@@ -226,12 +229,22 @@ def _add_bench(sub):
         p.set_defaults(func=_cmd_bench)
         return p
 
+    p = case("scenes", "what each scene costs at each preset: dofs, Newton iterations, wall and "
+                       "CPU time, peak memory, error against the finest")
+    p.add_argument("--scenes", nargs="+", metavar="SCENE", help="default: every scene")
+    p.add_argument("--presets", nargs="+", metavar="PRESET",
+                   help="default: every preset of each scene (preview, default, paper)")
+    p.add_argument("--timeout", type=float, default=3600.0,
+                   help="seconds a run may take before it is stopped (default 3600)")
     p = case("cube", "run time against error of the cube (energy against the converged "
                      "energy)")
     p.add_argument("--maxh", type=float, nargs="+", default=[0.5, 0.25],
                    help="mesh sizes (default: 0.5 0.25)")
     p.add_argument("--orders", type=int, nargs="+", default=[2, 3, 4, 5],
                    help="polynomial orders (default: 2 3 4 5)")
+    p.add_argument("--elements", choices=("hex", "tet"), default="hex",
+                   help="element shape (default hex, the paper's layout; the scene's default "
+                        "is tet)")
     p = case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
                          "cylinder, with a plot and the cheapest setting per target")
     p.add_argument("--quick", action="store_true",

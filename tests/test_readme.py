@@ -51,6 +51,7 @@ RUN_FSAVERAGE = ["--set", "t_end=4", "--set", "dt=1", "--set", "snapshots=1", "-
                  "mechanics=false"]
 #: Coarse settings of ``ngincompat bench CASE``, by case.
 BENCH = {
+    "scenes": ["--scenes", "cube", "--presets", "preview"],
     "cube": ["--maxh", "1", "--orders", "1", "2"],
     "accuracy": ["--quick"],
     "curvature": ["--quick"],

@@ -1,0 +1,163 @@
+"""What each scene costs at each of its presets: ``ngincompat bench scenes``.
+
+Every (scene, preset) runs in a fresh process, ``ngincompat run SCENE --preset P --set
+outputs=none``, one after the other, so that its wall time, its CPU time (user + system of
+that process) and its peak memory (largest resident set, from ``wait4``) are its own. The
+table gives per run: ndof, Newton iterations (all stages), wall and CPU time, peak memory, the
+machine's load when it started (1-minute average: times on a shared machine are only
+comparable at a stated load), and the error of the scene's accuracy metric
+(:data:`ACCURACY_METRIC`) against the finest: its closed form where there is one
+(:data:`CLOSED_FORMS`: the cube's converged energy, the cylinder's stress-free rotation rate),
+else the run of the finest preset in the table (``paper`` when it ran; its own row then
+shows 0).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from ngincompat.errors import ParameterError
+from ngincompat.parameters import PRESETS
+from ngincompat.scenes import SCENES
+from ngincompat.studies.bench import CUBE_ENERGY
+from ngincompat.workflow import io, tables
+
+#: The metric whose error against the finest run measures a preset's accuracy, per scene:
+#: the strain energy of the prescribed-growth scenes, the rotation rate the cylinder's growth
+#: is relieved by, the mean growth under the skin expander's footprint, the atrophied brain's
+#: volume loss, the growth at the folding bilayer's onset of buckling.
+ACCURACY_METRIC = {"cube": "strain_energy", "hemisphere": "strain_energy",
+                   "disc": "strain_energy", "cylinder": "rotation_rate",
+                   "skin": "theta_mean_footprint", "atrophy": "volume_loss",
+                   "folding": "onset_growth", "custom": "strain_energy"}
+#: Exact values of a scene's accuracy metric, from the run's metrics.
+CLOSED_FORMS = {"cube": lambda metrics: CUBE_ENERGY,
+                "cylinder": lambda metrics: metrics.get("rotation_rate_expected")}
+COLUMNS = ("scene", "preset", "status", "ndof", "newton", "wall_s", "cpu_s", "peak_mb",
+           "load", "metric", "value", "error", "reference")
+UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB"}
+#: Seconds a single run may take before it is stopped (and reported as such).
+TIMEOUT = 3600.0
+
+
+def measure(scene, preset, timeout=TIMEOUT, threads=1):
+    """Run ``scene`` at ``preset`` in a fresh process; returns its results.json as a dict
+    (None when the run wrote none) and the row's cost columns (with ``status`` when the run
+    failed or was stopped after ``timeout`` seconds).
+
+    ``threads``: NGSolve threads of the run (``NGS_NUM_THREADS``; 1, every run's default,
+    keeps times on a shared machine comparable)."""
+    with tempfile.TemporaryDirectory(prefix="ngincompat-cost-") as tmp:
+        out, log = Path(tmp) / "run", Path(tmp) / "log"
+        command = [sys.executable, "-m", "ngincompat.cli", "run", scene, "--out", str(out),
+                   "--preset", preset, "--set", "outputs=none", "-q"]
+        load = os.getloadavg()[0]
+        start = time.perf_counter()
+        with open(log, "w") as stream:
+            proc = subprocess.Popen(command, stdout=stream, stderr=subprocess.STDOUT,
+                                    env={**os.environ, "NGS_NUM_THREADS": str(threads)})
+            code, usage = _wait(proc, start + timeout)
+        cost = {"wall_s": round(time.perf_counter() - start, 2),
+                "cpu_s": round(usage.ru_utime + usage.ru_stime, 2),
+                "peak_mb": round(usage.ru_maxrss / 1024), "load": round(load, 1)}
+        record = io.read_json(out / "results.json") if (out / "results.json").is_file() else None
+        if code is None:
+            cost["status"] = f"stopped after {timeout:g} s"
+        elif record is None:
+            last = log.read_text().strip().splitlines()[-1:] or [f"exit {code}"]
+            cost["status"] = f"failed: {last[0][:160]}"
+        return record, cost
+
+
+def _wait(proc, deadline):
+    """Wait for ``proc`` until the ``deadline`` (perf_counter); returns its exit code (None
+    when it was killed at the deadline) and its resource usage (``os.wait4``: that process
+    alone, with its peak resident set)."""
+    while True:
+        pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+        if pid:
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            return proc.returncode, usage
+        if time.perf_counter() > deadline:
+            proc.kill()
+            _, status, usage = os.wait4(proc.pid, 0)
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            return None, usage
+        time.sleep(0.05)
+
+
+def table(scenes=None, presets=None, timeout=TIMEOUT, progress=print):
+    """Measure every scene of ``scenes`` (default: all) at each of its presets among
+    ``presets`` (default: all of the scene's), cheapest preset first; returns the rows
+    (columns :data:`COLUMNS`).
+
+    Raises
+    ------
+    ParameterError
+        An unknown scene or preset name (before anything runs).
+    """
+    scenes = list(scenes or SCENES)
+    for name in scenes:
+        if name not in SCENES:
+            raise ParameterError(f"unknown scene {name!r}: allowed {', '.join(SCENES)}")
+    for name in presets or ():
+        if name not in PRESETS:
+            raise ParameterError(f"unknown preset {name!r}: allowed {', '.join(PRESETS)}")
+    rows = []
+    for name in scenes:
+        cls = SCENES[name]
+        runs = [p for p in cls.preset_names() if presets is None or p in presets]
+        records = {}
+        for preset in runs:
+            record, cost = measure(name, preset, timeout)
+            records[preset] = record
+            rows.append(_row(name, preset, record, cost))
+            progress(f"{name} {preset}: {rows[-1]['status']}, {cost['wall_s']} s")
+        _errors([r for r in rows if r["scene"] == name], records)
+    return rows
+
+
+def _row(scene, preset, record, cost):
+    """The row of one run (its error is filled in by :func:`_errors`)."""
+    metric = ACCURACY_METRIC[scene]
+    row = {"scene": scene, "preset": preset, "status": "done", **cost, "metric": metric}
+    if record is not None:
+        row.update(status=cost.get("status", record["status"]), ndof=record["mesh"]["ndof"],
+                   newton=sum(h["newton_iterations"] for h in record["solver"].values()),
+                   value=record["metrics"].get(metric))
+    return row
+
+
+def _errors(rows, records):
+    """|value - reference| / |reference| of each row: the closed form of the scene's metric,
+    else the value of the finest preset that ran (the last)."""
+    scene = rows[0]["scene"]
+    finest = next((r for r in reversed(rows) if r.get("value") is not None), None)
+    for row in rows:
+        record = records[row["preset"]]
+        if row.get("value") is None:
+            continue
+        if scene in CLOSED_FORMS:
+            reference, row["reference"] = CLOSED_FORMS[scene](record["metrics"]), "closed form"
+        else:
+            reference, row["reference"] = finest["value"], finest["preset"]
+        if reference:
+            row["error"] = abs(row["value"] - reference) / abs(reference)
+
+
+def main(scenes=None, presets=None, out=None, timeout=TIMEOUT):
+    """``ngincompat bench scenes``: :func:`table`; returns the lines to print (with ``out``
+    the table is also written as ``scenes.md``, ``.csv``, ``.json``)."""
+    rows = table(scenes, presets, timeout, progress=lambda line: print(line, flush=True))
+    lines = [tables.markdown(rows, list(COLUMNS), UNITS),
+             "(one process per run, NGSolve on 1 thread; load: the 1-minute load average at "
+             "its start; error: of the metric against the reference)"]
+    if out is not None:
+        tables.write(out, "scenes", rows, list(COLUMNS), UNITS)
+        lines.append(f"table written to {Path(out) / 'scenes.md'} (.csv, .json)")
+    return lines

@@ -1,0 +1,47 @@
+"""``ngincompat bench scenes``: each (scene, preset) in its own process, its cost measured and
+its accuracy metric against the closed form or the finest run."""
+
+import pytest
+
+from ngincompat.cli import main
+from ngincompat.errors import ParameterError
+from ngincompat.studies import costs
+from ngincompat.studies.bench import CUBE_ENERGY
+from ngincompat.workflow import io
+
+
+def test_the_cube_preview_row_has_its_cost_and_its_energy_error(tmp_path, capsys):
+    assert main(["bench", "scenes", "--scenes", "cube", "--presets", "preview",
+                 "--out", str(tmp_path)]) == 0
+    data = io.read_json(tmp_path / "scenes.json")
+    [row] = data["rows"]
+    assert (row["scene"], row["preset"], row["status"]) == ("cube", "preview", "done")
+    # the preview's mesh: order 3 on the 28 tetrahedra of maxh 0.5
+    assert row["ndof"] == 681 and row["newton"] >= 1
+    assert 0 < row["cpu_s"] and 0 < row["wall_s"]
+    assert row["peak_mb"] > 50                      # NGSolve alone is larger than this
+    assert row["error"] == pytest.approx(abs(row["value"] - CUBE_ENERGY) / CUBE_ENERGY)
+    assert row["reference"] == "closed form" and 1e-3 < row["error"] < 1e-1
+    assert data["units"]["peak_mb"] == "MB"
+    assert "| scene | preset | status | ndof |" in capsys.readouterr().out
+    assert (tmp_path / "scenes.md").is_file() and (tmp_path / "scenes.csv").is_file()
+
+
+def test_without_a_closed_form_the_finest_preset_is_the_reference():
+    rows = [{"scene": "disc", "preset": p, "value": v}
+            for p, v in (("preview", 1.1), ("default", 0.99), ("paper", 1.0))]
+    costs._errors(rows, {r["preset"]: {"metrics": {}} for r in rows})
+    assert [r["reference"] for r in rows] == ["paper"] * 3
+    assert [r["error"] for r in rows] == pytest.approx([0.1, 0.01, 0.0])
+
+
+def test_a_run_past_its_time_is_stopped_and_reported():
+    record, cost = costs.measure("cube", "preview", timeout=0.05)
+    assert record is None and cost["status"] == "stopped after 0.05 s"
+
+
+def test_unknown_names_are_refused_before_anything_runs():
+    with pytest.raises(ParameterError, match="unknown scene 'cubes'"):
+        costs.table(["cubes"])
+    with pytest.raises(ParameterError, match="unknown preset 'fast'"):
+        costs.table(["cube"], ["fast"])
