@@ -125,3 +125,22 @@ def test_symmetric_part_averages_a_matrix_with_its_transpose():
     lopsided = ngs.la.SparseMatrixd.CreateFromCOO([0, 0, 1], [0, 1, 1], [1.0, 1.0, 1.0], 2, 2)
     with pytest.raises(ParameterError, match="structurally symmetric"):
         SymmetricPart(lopsided)
+
+
+def test_superlu_inverse_solves_as_umfpack_does_on_the_free_dofs(unit_cube_tet):
+    """SuperLUInverse (the coupled problems' direct solver) of a non-symmetric matrix gives
+    UMFPACK's solution on the free dofs and zero on the others."""
+    from ngincompat.fem.sparse_lu import SuperLUInverse
+    fes = ngs.H1(unit_cube_tet, order=2, dirichlet="left")
+    u, v = fes.TnT()
+    form = ngs.BilinearForm(fes)
+    form += (ngs.grad(u) * ngs.grad(v) + ngs.x * u.Deriv()[0] * v) * ngs.dx
+    form.Assemble()
+    rhs = form.mat.CreateColVector()
+    rhs.FV().NumPy()[:] = np.random.default_rng(1).standard_normal(fes.ndof)
+    ours, theirs = rhs.CreateVector(), rhs.CreateVector()
+    ours.data = SuperLUInverse(form.mat, fes.FreeDofs()) * rhs
+    theirs.data = form.mat.Inverse(fes.FreeDofs(), inverse="umfpack") * rhs
+    fixed = ~np.array(list(fes.FreeDofs()), dtype=bool)
+    assert fixed.any() and np.all(ours.FV().NumPy()[fixed] == 0)
+    assert np.allclose(ours.FV().NumPy(), theirs.FV().NumPy(), rtol=1e-10, atol=1e-12)

@@ -23,14 +23,7 @@ from scipy.sparse.linalg import LinearOperator, eigsh
 
 from ngincompat import config
 from ngincompat.errors import ConvergenceError, require
-
-
-def _scipy(matrix, free):
-    rows, cols, vals = matrix.COO()
-    n = matrix.height
-    full = sp.csr_matrix((np.asarray(vals), (np.asarray(rows), np.asarray(cols))), shape=(n, n))
-    return full[free][:, free]
-
+from ngincompat.fem.sparse_lu import free_block
 
 #: The factorisations of K - sigma M tried in turn for the shift-invert operator. First
 #: SuperLU in symmetric mode (:func:`_symmetric_lu`: an LDL^T factorisation, whose D gives
@@ -206,7 +199,7 @@ def smallest_eigenpairs(problem, count=1, negative=False):
         tangent = problem.frozen_tangent()
     rows = np.zeros(tangent.height, dtype=bool)
     rows[:n] = free
-    K, M = _scipy(tangent, rows), _scipy(_mass(V), free)
+    K, M = free_block(tangent, rows), free_block(_mass(V), free)
     K = (K + K.T) / 2                    # symmetric up to round-off; ARPACK wants it exactly
     values, vectors = _smallest(K, M, count, negative)
     order = np.argsort(values)

@@ -65,7 +65,9 @@ class CoupledProblem:
     """
 
     has_energy = False
-    inverse = "umfpack"
+    #: Its tangent is not symmetric (the growth rows): SuperLU, several times faster than
+    #: UMFPACK on it (:mod:`ngincompat.fem.sparse_lu`).
+    inverse = "superlu"
 
     def __init__(self, mesh: ngs.Mesh, terms: Sequence[Term], order: int = 2,
                  dirichlet: str = "", symmetry: Mapping[str, str] | None = None,

@@ -30,6 +30,7 @@ from ngsolve.krylovspace import CGSolver, GMResSolver
 
 from ngincompat import config, parallel
 from ngincompat.errors import ConvergenceError, Interrupted, require
+from ngincompat.fem.sparse_lu import SuperLUInverse
 from ngincompat.progress import SILENT, Progress
 
 log = logging.getLogger(__name__)
@@ -74,6 +75,9 @@ class NewtonProblem(Protocol):
 
 #: Linear solvers of the Newton directions (see :class:`NewtonOptions`).
 LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres")
+#: Sparse direct solvers of the "direct" linear solver: NGSolve's, and SuperLU from SciPy
+#: (:mod:`ngincompat.fem.sparse_lu`, the coupled problems' non-symmetric tangents).
+INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 
 
 def resolve_linear_solver(name, mesh):
@@ -204,8 +208,8 @@ class NewtonOptions:
         require(self.max_iter >= 1, "max_iter", self.max_iter, ">= 1")
         require(self.steps >= 1, "steps", self.steps, ">= 1")
         require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
-        require(self.inverse in (None, "sparsecholesky", "umfpack", "pardiso"), "inverse",
-                self.inverse, "sparsecholesky, umfpack or pardiso")
+        require(self.inverse in (None, *INVERSES), "inverse", self.inverse,
+                ", ".join(INVERSES))
         require(0 < self.reuse_contraction < 1, "reuse_contraction", self.reuse_contraction,
                 "in (0, 1)")
         require(self.linear_solver in LINEAR_SOLVERS, "linear_solver", self.linear_solver,
@@ -308,8 +312,9 @@ class NewtonSolver:
         p = self.problem
         p.form.AssembleLinearization(p.state.vec)
         if self.linear_solver == "direct":
-            self._inverse = p.form.mat.Inverse(p.freedofs,
-                                               inverse=self.options.inverse or p.inverse)
+            inverse = self.options.inverse or p.inverse
+            self._inverse = (SuperLUInverse(p.form.mat, p.freedofs) if inverse == "superlu"
+                             else p.form.mat.Inverse(p.freedofs, inverse=inverse))
             return
         if self.linear_solver == "symmetric-gmres":
             if self._symmetric is None:
