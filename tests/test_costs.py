@@ -45,3 +45,13 @@ def test_unknown_names_are_refused_before_anything_runs():
         costs.table(["cubes"])
     with pytest.raises(ParameterError, match="unknown preset 'fast'"):
         costs.table(["cube"], ["fast"])
+
+
+def test_a_later_run_replaces_its_own_rows_and_keeps_the_others():
+    old = [{"scene": "disc", "preset": "default", "wall_s": 1.0},
+           {"scene": "cube", "preset": "paper", "wall_s": 2.0},
+           {"scene": "cube", "preset": "preview", "wall_s": 3.0}]
+    new = [{"scene": "cube", "preset": "preview", "wall_s": 4.0}]
+    rows = costs.merged(old, new)
+    assert [(r["scene"], r["preset"], r["wall_s"]) for r in rows] == [
+        ("cube", "preview", 4.0), ("cube", "paper", 2.0), ("disc", "default", 1.0)]

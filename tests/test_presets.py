@@ -58,3 +58,44 @@ def test_list_shows_each_scenes_presets(capsys):
         for preset in cls.preset_names():
             assert f"--preset {preset}" in text
     assert "--preset preview: maxh=0.5" in text
+
+
+#: Scenes whose preview runs in seconds; the others' previews take up to a minute each.
+QUICK_PREVIEWS = ("cube", "hemisphere", "disc", "cylinder", "custom")
+
+
+def _run_preset(name, preset, out):
+    code = main(["run", name, "--out", str(out), "--preset", preset, "--set", "outputs=none",
+                 "-q"])
+    record = json.loads((out / "results.json").read_text())
+    return code, record
+
+
+@pytest.mark.parametrize("name", QUICK_PREVIEWS)
+def test_preview_runs_converged_on_the_quick_scenes(name, tmp_path):
+    """``--preset preview`` from the command line: the run converges, records its preset and
+    has the preset's mesh settings."""
+    code, record = _run_preset(name, "preview", tmp_path / name)
+    assert code == 0 and record["status"] == "done" and record["preset"] == "preview"
+    for key, value in SCENES[name].preset_settings("preview").items():
+        assert record["params"][key] == value
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(set(SCENES) - set(QUICK_PREVIEWS)))
+def test_preview_runs_converged_on_the_coupled_scenes(name, tmp_path):
+    """The coupled scenes' previews (up to a minute each on a quiet machine)."""
+    code, record = _run_preset(name, "preview", tmp_path / name)
+    assert code == 0 and record["status"] == "done" and record["preset"] == "preview"
+
+
+def test_every_scene_has_a_preview_and_a_paper_preset_finer_than_its_preview():
+    """Each scene's presets: preview and paper besides the defaults, the preview's mesh no
+    finer and its order no higher than the default's, the paper's mesh no coarser."""
+    for name, cls in SCENES.items():
+        assert cls.preset_names() == PRESETS, name
+        default = cls()
+        preview = cls.from_settings({}, preset="preview")
+        paper = cls.from_settings({}, preset="paper")
+        assert preview.maxh >= default.maxh >= paper.maxh, name
+        assert preview.order <= default.order, name

@@ -38,7 +38,8 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
 
     name = "disc"
     summary = "section 3.3: area growth of a disc, GOH with radial or circumferential fibers"
-    presets = {"preview": dict(maxh=0.4, order=2, g_order=3)}
+    # the measurements behind them: README, "Presets and the cost of each scene"
+    presets = {"preview": dict(maxh=0.4, order=2, g_order=3), "paper": dict(order=4)}
     variant = ("fibers", "material")
     metrics = prescribed.PrescribedScene.metrics + (
         "b_eq22_error", "b_out_of_plane", "b_along_grad_theta", "sigma_r_rim_rel",)

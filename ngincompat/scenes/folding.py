@@ -212,6 +212,11 @@ class FoldingScene(Scene):
     name = "folding"
     summary = "section 3.7: cortical folding, a growing cortex on a subcortex with axon growth"
     variant = ("axons",)
+    # the measurements behind them: README, "Presets and the cost of each scene"
+    presets = {"preview": dict(length=1.0, height=0.5, maxh=0.2, dt=5.0,
+                               onset_dt=5.0, approach_dt=10.0, observe_dt=10.0,
+                               release=False),
+               "paper": dict(maxh=0.1)}
     metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude",
                "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
                "equilibrium_residual", "equilibrium_eigenvalue", "max_principal_stress",

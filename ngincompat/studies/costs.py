@@ -150,10 +150,23 @@ def _errors(rows, records):
             row["error"] = abs(row["value"] - reference) / abs(reference)
 
 
+def merged(old, new):
+    """The rows of an earlier table ``old`` with those of ``new`` in place of the same
+    (scene, preset), in the order of the scenes and presets."""
+    measured = {(r["scene"], r["preset"]) for r in new}
+    rows = [r for r in old if (r["scene"], r["preset"]) not in measured] + list(new)
+    scenes = list(SCENES)
+    return sorted(rows, key=lambda r: (scenes.index(r["scene"]), PRESETS.index(r["preset"])))
+
+
 def main(scenes=None, presets=None, out=None, timeout=TIMEOUT):
-    """``ngincompat bench scenes``: :func:`table`; returns the lines to print (with ``out``
-    the table is also written as ``scenes.md``, ``.csv``, ``.json``)."""
+    """``ngincompat bench scenes``: :func:`table`; returns the lines to print. With ``out``
+    the table is also written as ``scenes.md``, ``.csv``, ``.json``, keeping the rows of an
+    earlier table there that this run did not measure (so one scene can be measured again
+    after a change)."""
     rows = table(scenes, presets, timeout, progress=lambda line: print(line, flush=True))
+    if out is not None and (Path(out) / "scenes.json").is_file():
+        rows = merged(io.read_json(Path(out) / "scenes.json")["rows"], rows)
     lines = [tables.markdown(rows, list(COLUMNS), UNITS),
              "(one process per run, NGSolve on 1 thread; load: the 1-minute load average at "
              "its start; error: of the metric against the reference)"]
