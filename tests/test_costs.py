@@ -55,3 +55,17 @@ def test_a_later_run_replaces_its_own_rows_and_keeps_the_others():
     rows = costs.merged(old, new)
     assert [(r["scene"], r["preset"], r["wall_s"]) for r in rows] == [
         ("cube", "preview", 4.0), ("cube", "paper", 2.0), ("disc", "default", 1.0)]
+
+
+def test_a_preview_measured_alone_is_compared_with_the_earlier_default(tmp_path, monkeypatch):
+    """A run of the preview alone into a table that has the default: its error is against
+    the default's value, not against itself."""
+    earlier = [{"scene": "disc", "preset": "default", "status": "done", "value": 2.0}]
+    costs.tables.write(tmp_path, "scenes", earlier, list(costs.COLUMNS), costs.UNITS)
+    monkeypatch.setattr(costs, "measure", lambda scene, preset, timeout: (
+        {"status": "done", "mesh": {"ndof": 10}, "solver": {},
+         "metrics": {"strain_energy": 2.5}}, {"wall_s": 1.0}))
+    costs.main(["disc"], ["preview"], out=tmp_path)
+    rows = io.read_json(tmp_path / "scenes.json")["rows"]
+    assert [(r["preset"], r["reference"], r["error"]) for r in rows] == [
+        ("preview", "default", 0.25), ("default", "default", 0.0)]

@@ -115,7 +115,7 @@ class AtrophyScene(Scene):
                "faster than white")
     units = {"length": "cm", "stress": "kPa", "energy": "mJ", "time": "yr"}
     # the measurements behind them: README, "Presets and the cost of each scene"
-    presets = {"preview": dict(dt=1.0, snapshots=2), "paper": dict(maxh=0.7, dt=0.1)}
+    presets = {"preview": dict(snapshots=1), "paper": dict(maxh=0.7, dt=0.1)}
     metrics = ("volume_loss", "gray_volume_loss", "white_volume_loss", "volume_loss_theta",
                "volume_bookkeeping_error", "Je_deviation_max", "burgers_max",
                "burgers_peak_depth", "max_principal_stress", "stress_peak_depth",

@@ -106,7 +106,7 @@ class SkinExpansionScene(Elastic, Scene):
                "7 days of area growth")
     variant = ("footprint",)
     # the measurements behind them: README, "Presets and the cost of each scene"
-    presets = {"preview": dict(maxh=2.0, growth_order=1, g_order=2),
+    presets = {"preview": dict(maxh=2.0),
                "paper": dict(maxh=0.7)}
     metrics = ("volume_inflated", "volume_error_rel", "pressure_inflated",
                "pressure_end_of_hold", *CONTACT_METRICS, "theta_max", "theta_mean_footprint",
