@@ -62,6 +62,17 @@ def _ifpos(c, a, b):
     return np.where(c > 0, a, b)
 
 
+def ramp(s, eps):
+    """The ramp max(s, 0) rounded over the width ``eps`` (see the module's notes), r(s) = 0,
+    s^2 / (2 eps), s - eps / 2, and its integral R(s) = 0, s^3 / (6 eps), s^2 / 2 - eps s / 2
+    + eps^2 / 6 (s <= 0, 0 < s < eps, s >= eps); eps = 0: max(s, 0) and max(s, 0)^2 / 2."""
+    if eps == 0:
+        return _ifpos(s, s, 0 * s), _ifpos(s, s * s / 2, 0 * s)
+    inner = _ifpos(s - eps, s - eps / 2, s * s / (2 * eps))
+    integral = _ifpos(s - eps, s * s / 2 - eps * s / 2 + eps * eps / 6, s * s * s / (6 * eps))
+    return _ifpos(s, inner, 0 * s), _ifpos(s, integral, 0 * s)
+
+
 @dataclass(frozen=True)
 class Expander:
     """A rigid dome over a footprint; ``penalty`` kappa (MPa/cm) enforces the contact, its
@@ -131,14 +142,8 @@ class Expander:
         return (x[2] - height * phi) / slope
 
     def ramp(self, s):
-        """The rounded ramp r(s) (0, s^2 / (2 eps), s - eps / 2) and its integral R(s)."""
-        eps = self.width
-        if eps == 0:
-            return _ifpos(s, s, 0 * s), _ifpos(s, s * s / 2, 0 * s)
-        inner = _ifpos(s - eps, s - eps / 2, s * s / (2 * eps))
-        integral = _ifpos(s - eps, s * s / 2 - eps * s / 2 + eps * eps / 6,
-                          s * s * s / (6 * eps))
-        return _ifpos(s, inner, 0 * s), _ifpos(s, integral, 0 * s)
+        """The rounded ramp r(s) and its integral R(s) over the width (:func:`ramp`)."""
+        return ramp(s, self.width)
 
     def energy(self, x, height):
         """The penalty energy per reference area, kappa R(-g)."""

@@ -19,7 +19,8 @@ Phi in u.
 ==============================  =============================================================
 
 and :class:`~ngincompat.fem.contact.ExpanderContact`, the penalty contact with an expander
-(like :class:`VolumeConstraint` a :class:`VolumeHolder`, whose target stages drive). A term
+(like :class:`VolumeConstraint` a :class:`VolumeHolder`, whose target stages drive), and
+:class:`~ngincompat.fem.self_contact.SelfContact`, the penalty self-contact of a boundary. A term
 is one class with the methods of :class:`Term`; nothing else needs to know it.
 """
 

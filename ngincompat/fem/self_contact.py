@@ -1,0 +1,153 @@
+"""Frictionless self-contact of a boundary: the walls of a fold may touch but not pass through
+each other.
+
+Every point X of the boundary Gamma (current place x = X + u) is paired with the closest point
+Y of Gamma among the parts that face it (outward normals more than 90 degrees apart: the
+opposite wall of a fold, never the point's own neighbourhood), within the distance ``reach``.
+The gap of the pair is
+
+    g(X) = (x(Y) - x(X)) . n(X),
+
+n the outward normal at x(X): positive while the walls are apart, negative where X has passed
+through the other wall. The contact is enforced by a penalty kappa on the ramp rounded over
+the penetration ``width`` eps of :func:`~ngincompat.fem.contact.ramp` (r(s) = max(s, 0) with
+its kink smoothed so that the tangent does not jump, R its integral), with the energy
+
+    Pi_c = (kappa / 2) int_Gamma R(-g) dA       (reference area).
+
+Every touching pair is met twice, once from each wall, so the half: two flat walls pressed
+into each other by the penetration delta carry the pressure p = kappa r(delta) (= kappa delta
+with eps = 0), and the penetration of a wall under the pressure p is about p / kappa + eps / 2.
+
+The pairs and the normals are those of the state of the last :meth:`SelfContact.update` (the
+start of the step: :meth:`SelfContact.accept_step` updates them); within a step Pi_c is then
+a smooth function of u, whose residual and tangent NGSolve assembles exactly by symbolic
+differentiation. A point that comes into contact during a step is paired if it was within
+``reach`` of the other wall at the step's start, so ``reach`` must exceed the walls' approach
+per step.
+
+Why NGSolve's ``ContactBoundary``: it pairs the points of one boundary region with the same
+region (self-contact: the facing test above excludes a point's own element and its
+neighbours on a smooth surface), searches with a bounding-box tree in C++, evaluates the other
+point's displacement through ``u.Other()`` on curved elements of any order, and adds the pairs
+to the problem's form as extra elements whose energy it differentiates symbolically: the
+exact tangent of Pi_c with frozen pairs, and it takes part in the static condensation and the
+compound space of a :class:`~ngincompat.fem.coupled.CoupledProblem` (checked against the
+closed form of two blocks pressed together, tests/test_self_contact.py). Its limits, taken
+here: the pairs and normals are frozen between updates (no linearisation of the closest-point
+projection), and its gap function's evaluation keeps the displacement of the last update, so
+the measures (:meth:`SelfContact.measures`) use a second ``ContactBoundary`` updated with the
+current state. A plane strain body (a slab whose faces hold u2 = 0) is handled as the
+three-dimensional body it is meshed as: its boundary is a surface.
+"""
+
+import math
+
+import ngsolve as ngs
+import numpy as np
+
+from ngincompat.errors import require
+from ngincompat.fem.contact import ramp
+from ngincompat.fem.terms import Term
+
+#: Integration order of the pairs on each element of the boundary.
+INTORDER = 4
+
+
+def _relative_position(mesh, u):
+    """x(Y) - x(X) of a pair, u the trial displacement (``Other()``: at Y)."""
+    X = ngs.CF((ngs.x, ngs.y, ngs.z)[:mesh.dim])
+    return X.Other() + u.Other() - X - u
+
+
+class SelfContact(Term):
+    """Frictionless penalty self-contact of the ``boundary`` (a region expression), with the
+    penalty ``penalty`` kappa (stress / length), the ramp rounded over the penetration
+    ``width`` eps (length) and pairs searched within ``reach`` (length)."""
+
+    def __init__(self, boundary: str, penalty: float, width: float, reach: float):
+        require(math.isfinite(penalty) and penalty > 0, "contact_penalty", penalty,
+                "> 0 (finite)")
+        require(math.isfinite(width) and width >= 0, "contact_width", width, ">= 0 (finite)")
+        require(math.isfinite(reach) and reach > 0, "contact_reach", reach, "> 0 (finite)")
+        self.boundary, self.penalty, self.width, self.reach = boundary, penalty, width, reach
+
+    def attach(self, problem, unknowns):
+        self.mesh, self.u, self.problem = problem.mesh, problem.u, problem
+        # the pairs in the problem's form, the same pairs in a form of their own (the
+        # term's energy) and those of the measures: a ContactBoundary each (one adding its
+        # pairs to two forms leaves the first with a freed copy of the displacement)
+        self.own = ngs.BilinearForm(problem.fes)
+        self.forms = {}
+        for form in (problem.form, self.own):
+            self.forms[self.pairing(problem.displacement.trial)] = form
+        region = self.mesh.Boundaries(self.boundary)
+        self.probe = ngs.ContactBoundary(region, region)
+        self.update()
+        return None
+
+    def pairing(self, trial):
+        """A ContactBoundary of the boundary with itself carrying the energy Pi_c of the
+        trial displacement ``trial``."""
+        region = self.mesh.Boundaries(self.boundary)
+        contact = ngs.ContactBoundary(region, region)
+        gap = _relative_position(self.mesh, trial) * contact.normal
+        contact.AddEnergy(self.penalty / 2 * ramp(-gap, self.width)[1])
+        return contact
+
+    def update(self):
+        """Pair the boundary's points in the current state (the pairs and normals the energy
+        uses until the next update)."""
+        for contact, form in self.forms.items():
+            contact.Update(self.u, form, INTORDER, self.reach)
+
+    def accept_step(self):
+        self.update()
+
+    def restore(self, data):
+        self.update()
+
+    def energy(self):
+        """Pi_c with the pairs of the last update, at the current state."""
+        return self.own.Energy(self.problem.state.vec)
+
+    def gap(self):
+        """The gap g of the current state, freshly paired (a CF on the boundary; +inf where
+        no facing point is within ``reach``)."""
+        self.probe.Update(self.u, maxdist=self.reach)
+        to_pair = self.probe.gap          # x(Y) - x(X) of the probe's update
+        found = ngs.IfPos(self.reach - ngs.Norm(to_pair), 1.0, 0.0)
+        return ngs.IfPos(found, to_pair * self.probe.normal, 1e300)
+
+    def measures(self):
+        """``self_contact_area``: the reference area of the boundary where it penetrates the
+        other wall (g < 0, where the pressure acts) and ``self_contact_penetration_max``, the
+        largest -g at the integration points of the boundary (0 without contact)."""
+        return measure(self.mesh, self.boundary, self.gap())
+
+
+def measure(mesh, boundary, gap, order=2 * INTORDER):
+    """The contact area (reference area where ``gap`` < 0) and the largest penetration -gap
+    over the points of NGSolve's rule of ``order`` on the ``boundary``."""
+    region = mesh.Boundaries(boundary)
+    area = ngs.Integrate(ngs.IfPos(-gap, 1.0, 0.0), mesh, ngs.BND, definedon=region,
+                         order=order)
+    values = boundary_values(mesh, boundary, gap, order)
+    return {"self_contact_area": float(area),
+            "self_contact_penetration_max": max(0.0, -float(np.min(values)))}
+
+
+def boundary_values(mesh, boundary, cf, order):
+    """The values of the scalar ``cf`` at the points of NGSolve's rule of ``order`` on every
+    (triangular) element of the ``boundary``, placed by the element's vertices."""
+    region = mesh.Boundaries(boundary)
+    rule = ngs.IntegrationRule(ngs.TRIG, order)
+    weights = np.array([[1 - p[0] - p[1], p[0], p[1]] for p in rule.points])
+    corners = np.array([[mesh[v].point for v in element.vertices]
+                        for element in mesh.Elements(ngs.BND)
+                        if region.Mask()[element.index]])
+    if not len(corners):
+        return np.zeros(0)
+    points = np.einsum("qk,ekd->eqd", weights, corners).reshape(-1, mesh.dim)
+    where = mesh(*points.T, ngs.BND)
+    return np.asarray(cf(where)).ravel()
