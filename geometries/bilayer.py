@@ -8,7 +8,7 @@ from ._common import check_mesh_args, mesh_shape
 
 
 def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_order=1,
-            cortex_maxh=None):
+            cortex_maxh=None, top_maxh=None):
     """A thin bilayer slab (cm): X1 in [0, length], X2 in [0, depth] (out of plane),
     X3 in [0, height]; the top ``cortex`` of it is the cortex, the rest the subcortex.
 
@@ -26,6 +26,9 @@ def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_or
         Mesh size in the cortex and on the interface (default ``maxh``); the mesh grades
         from it to ``maxh`` below, so a fine cortex (buckling needs several elements across
         it) does not refine the whole subcortex.
+    top_maxh : float, optional
+        Mesh size on the top surface (default ``cortex_maxh``), graded to ``cortex_maxh``
+        below it: finer where the folds crease.
 
     Returns
     -------
@@ -40,6 +43,9 @@ def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_or
     check_mesh_args(maxh, curve_order, max(length, height))
     cortex_maxh = maxh if cortex_maxh is None else cortex_maxh
     require(0 < cortex_maxh <= maxh, "cortex_maxh", cortex_maxh, f"in (0, maxh = {maxh:g}]")
+    top_maxh = cortex_maxh if top_maxh is None else top_maxh
+    require(0 < top_maxh <= cortex_maxh, "top_maxh", top_maxh,
+            f"in (0, cortex_maxh = {cortex_maxh:g}]")
     split = height - cortex
     sub = Box(Pnt(0, 0, 0), Pnt(length, depth, split))
     top = Box(Pnt(0, 0, split), Pnt(length, depth, height))
@@ -54,4 +60,5 @@ def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_or
     top.faces.Min(Z).name = "interface"
     top.solids.maxh = cortex_maxh
     sub.faces.Max(Z).maxh = cortex_maxh
+    top.faces.Max(Z).maxh = top_maxh
     return mesh_shape(Glue([sub, top]), maxh, curve_order)

@@ -75,9 +75,12 @@ def skin_patch_elements(side=SIDE, thickness=THICKNESS, maxh=1.0, **_):
 
 
 def bilayer_elements(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05,
-                     cortex_maxh=None, **_):
+                     cortex_maxh=None, top_maxh=None, **_):
     fine = maxh if cortex_maxh is None else cortex_maxh
-    top = tets((length, depth, cortex), fine)
+    finest = fine if top_maxh is None else top_maxh
+    # the cortex graded from the top face's size: as if all of it were meshed at the
+    # average of the two (an overestimate when the grading reaches ``fine`` within it)
+    top = tets((length, depth, cortex), (fine + finest) / 2)
     below = tets((length, depth, max(height - cortex, 0.0)), maxh)
     # graded from the fine interface: per unit length, the integral of the cells across
     # the depth (at least one) per cell height, (h0 + g z)^-2 dz

@@ -144,3 +144,16 @@ def test_superlu_inverse_solves_as_umfpack_does_on_the_free_dofs(unit_cube_tet):
     fixed = ~np.array(list(fes.FreeDofs()), dtype=bool)
     assert fixed.any() and np.all(ours.FV().NumPy()[fixed] == 0)
     assert np.allclose(ours.FV().NumPy(), theirs.FV().NumPy(), rtol=1e-10, atol=1e-12)
+
+
+def test_symmetric_part_follows_a_matrix_of_another_pattern():
+    """A matrix whose pattern grew (a contact pair coupling new dofs) gets its own (A + A^T)
+    / 2, not the old pattern's."""
+    first = ngs.la.SparseMatrixd.CreateFromCOO([0, 1, 2], [0, 1, 2], [1.0, 2.0, 3.0], 3, 3)
+    grown = ngs.la.SparseMatrixd.CreateFromCOO([0, 0, 1, 2, 2], [0, 2, 1, 0, 2],
+                                               [1.0, 4.0, 2.0, 2.0, 3.0], 3, 3)
+    part = SymmetricPart(first)
+    assert np.allclose(_dense(part.of(first)), np.diag([1.0, 2.0, 3.0]))
+    expected = (_dense(grown) + _dense(grown).T) / 2
+    assert np.allclose(_dense(part.of(grown)), expected, rtol=0, atol=1e-15)
+    assert _dense(part.of(grown))[0, 2] == 3.0

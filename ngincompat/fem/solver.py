@@ -89,11 +89,13 @@ def resolve_linear_solver(name, mesh):
 
 
 class SymmetricPart:
-    """The symmetric part (A + A^T) / 2 of sparse matrices A of one structurally symmetric
+    """The symmetric part (A + A^T) / 2 of sparse matrices A of a structurally symmetric
     sparsity pattern, as an NGSolve sparse matrix of that pattern.
 
-    The pattern's transpose permutation (entry (i, j) -> entry (j, i)) is found once, from
-    the first matrix; :meth:`of` then only averages the values.
+    The pattern's transpose permutation (entry (i, j) -> entry (j, i)) is found from the
+    first matrix and kept while the matrices have its pattern; :meth:`of` then only averages
+    the values. A matrix of another pattern (e.g. a contact term's pairs coupled new dofs)
+    makes it find the permutation anew.
 
     Raises
     ------
@@ -102,6 +104,9 @@ class SymmetricPart:
     """
 
     def __init__(self, matrix):
+        self._adopt(matrix)
+
+    def _adopt(self, matrix):
         rows, cols, _ = matrix.COO()
         rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
         n = matrix.height
@@ -111,10 +116,15 @@ class SymmetricPart:
         self.transpose = order[where]
         require(np.array_equal(key[self.transpose], key_t), "matrix", "its sparsity pattern",
                 "a structurally symmetric one")
+        self.key = key
         self.matrix = matrix.CreateMatrix()
 
     def of(self, matrix):
-        """(A + A^T) / 2 of ``matrix`` A (of the pattern this was made for)."""
+        """(A + A^T) / 2 of ``matrix`` A."""
+        rows, cols, _ = matrix.COO()
+        key = np.asarray(rows, np.int64) * matrix.height + np.asarray(cols, np.int64)
+        if not np.array_equal(key, self.key):
+            self._adopt(matrix)
         values = matrix.AsVector().FV().NumPy()
         self.matrix.AsVector().FV().NumPy()[:] = 0.5 * (values + values[self.transpose])
         return self.matrix

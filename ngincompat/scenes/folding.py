@@ -120,6 +120,7 @@ from ngincompat.errors import require
 from ngincompat.fem import buckling, postprocess
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import pin_reactions
+from ngincompat.fem.self_contact import SelfContact
 from ngincompat.fem.shape import circle_curvature
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import CoupledStage, RelaxationStage, UnloadingStage
@@ -218,6 +219,8 @@ class FoldingScene(Scene):
                                release=False),
                "paper": dict(maxh=0.1)}
     metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude",
+               "t_reached", "theta_c_reached", "Je_min", "self_contact_area",
+               "self_contact_penetration_max", "burgers_interface_mean",
                "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
                "equilibrium_residual", "equilibrium_eigenvalue", "max_principal_stress",
                "max_principal_stress_released", "top_curvature_released",
@@ -227,6 +230,9 @@ class FoldingScene(Scene):
                          "max_principal_stress_released": "stress",
                          "onset_wavelength": "length",
                          "fold_amplitude": "length", "onset_time": "time",
+                         "t_reached": "time", "self_contact_area": "length",
+                         "self_contact_penetration_max": "length",
+                         "burgers_interface_mean": "1/length",
                          "burgers_max_depth": "length", "burgers_max_X1": "length",
                          "equilibrium_eigenvalue": "stress/length^2",
                          "top_curvature_released": "1/length",
@@ -239,6 +245,8 @@ class FoldingScene(Scene):
     cortex_maxh: float = param(0.025, "mesh size in the cortex and on the interface "
                                       "(>= 2 quadratic elements across the cortex)", "length",
                                range="> 0")
+    top_maxh: float = param(0.025, "mesh size on the top surface, graded to cortex_maxh "
+                                   "below (where the folds crease)", "length", range="> 0")
     g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
     growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 10]")
@@ -280,6 +288,11 @@ class FoldingScene(Scene):
                                "folds to t_end (false: end at the onset)")
     release: bool = param(True, "at the end remove the supports but the rigid-motion pins "
                                 "(growth frozen)")
+    contact_penalty: float = param(1e4, "penalty kappa of the top surface's self-contact "
+                                        "(pressure per penetration)", "stress/length",
+                                   range="> 0")
+    contact_width: float = param(0.0005, "penetration over which the contact penalty's ramp "
+                                         "is rounded", "length", range=">= 0")
     viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
                                    "(eta in stress x time / length^2)", "time/length^2",
                              range="> 0")
@@ -292,6 +305,8 @@ class FoldingScene(Scene):
                 self.cortex_thickness, f"in (0, height = {self.height:g})")
         require(self.cortex_maxh <= self.maxh, "cortex_maxh", self.cortex_maxh,
                 f"in (0, maxh = {self.maxh:g}]")
+        require(self.top_maxh <= self.cortex_maxh, "top_maxh", self.top_maxh,
+                f"in (0, cortex_maxh = {self.cortex_maxh:g}]")
         require(self.cortex_maxh <= self.cortex_thickness / 2, "cortex_maxh",
                 self.cortex_maxh, f"<= cortex_thickness / 2 = {self.cortex_thickness / 2:g} "
                 "(two quadratic elements across the cortex)")
@@ -320,13 +335,14 @@ class FoldingScene(Scene):
     def mesh_estimate(self):
         return (estimate.bilayer_elements(length=self.length, height=self.height,
                                           depth=self.depth, cortex=self.cortex_thickness,
-                                          maxh=self.maxh, cortex_maxh=self.cortex_maxh),
+                                          maxh=self.maxh, cortex_maxh=self.cortex_maxh,
+                                          top_maxh=self.top_maxh),
                 False)
 
     def build(self):
         mesh = bilayer(length=self.length, height=self.height, depth=self.depth,
                        cortex=self.cortex_thickness, maxh=self.maxh,
-                       cortex_maxh=self.cortex_maxh)
+                       cortex_maxh=self.cortex_maxh, top_maxh=self.top_maxh)
         return FoldingCase(self, mesh)
 
 
@@ -345,7 +361,8 @@ class FoldingCase:
     mesh: ngs.Mesh
     noted: dict = field(default_factory=dict)
     series: dict = field(default_factory=lambda: {
-        branch: {"t": [], "theta_c": [], "eigenvalue": [], "amplitude": [], "stretch": []}
+        branch: {"t": [], "theta_c": [], "eigenvalue": [], "amplitude": [], "stretch": [],
+                 "Je_min": [], "contact_length": [], "penetration": []}
         for branch in ("perfect", "buckling")})
 
     def __post_init__(self):
@@ -361,24 +378,28 @@ class FoldingCase:
                                           "subcortex": axons}, "f0")
         self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
                                       "subcortex": scene.axon_law()})
-        self.problem, self.growth, self.viscous, _ = self.coupled(GROWING)
-        self.released = self.released_growth = None
+        self.problem, self.growth, self.viscous, _, self.contact = self.coupled(GROWING)
+        self.released = self.released_growth = self.released_contact = None
         self.reactions = float("nan")
         self.mode = None
         self.pairs = None
 
     def coupled(self, symmetry, traction=None):
         """The viscous coupled bilayer with the symmetry planes ``symmetry`` (and a dead
-        traction on the boundaries ``traction``), its rigid motions pinned: the problem and
-        its growth, viscous and traction (or None) terms."""
+        traction on the boundaries ``traction``), the top surface in self-contact
+        (:class:`~ngincompat.fem.self_contact.SelfContact`, pairs within one cortex
+        thickness), its rigid motions pinned: the problem and its growth, viscous, traction
+        (or None) and contact terms."""
         scene = self.scene
         growth = GrowthEnergy("fiber", self.f0, self.law, self.material,
                               growth_order=scene.growth_order)
         viscous = ViscousRegularisation()
         load = DeadTraction(traction) if traction else None
-        terms = [growth, viscous, *([load] if load else []), RigidPins()]
+        contact = SelfContact("top", scene.contact_penalty, scene.contact_width,
+                              reach=scene.cortex_thickness)
+        terms = [growth, viscous, *([load] if load else []), contact, RigidPins()]
         problem = CoupledProblem(self.mesh, terms, order=scene.order, symmetry=symmetry)
-        return problem, growth, viscous, load
+        return problem, growth, viscous, load, contact
 
     def _along_top(self, cf, n):
         """X1 and the values of ``cf`` at ``n`` points along the middle of the top surface."""
@@ -408,18 +429,41 @@ class FoldingCase:
         return float(np.nanmin(values)) / theta_c
 
     def _observe(self, branch, t, negative=False):
-        """Append the time, cortex growth, smallest eigenvalue, fold amplitude and smallest
-        top stretch of the current state to ``series[branch]``; return the eigenpairs
-        (:data:`EIGENPAIRS` smallest; with ``negative`` at least every negative one)."""
+        """Append the time, cortex growth, smallest eigenvalue, fold amplitude, smallest
+        top stretch, smallest Je and the self-contact (:meth:`contact_measures`) of the
+        current state to ``series[branch]``; return the eigenpairs (:data:`EIGENPAIRS`
+        smallest; with ``negative`` at least every negative one)."""
         values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS,
                                                      negative=negative)
         _, u3 = self.top_profile(self.problem.u)
         theta_c = 1 + self.scene.cortex_rate * t
+        contact = self.contact_measures(self.contact)
         for key, value in (("t", t), ("theta_c", theta_c),
                            ("eigenvalue", values[0]), ("amplitude", np.ptp(u3) / 2),
-                           ("stretch", self.top_stretch(self.problem.u, theta_c))):
+                           ("stretch", self.top_stretch(self.problem.u, theta_c)),
+                           ("Je_min", self.elastic_jacobian_min(self.growth, self.problem.u)),
+                           ("contact_length", contact["self_contact_area"]),
+                           ("penetration", contact["self_contact_penetration_max"])):
             self.series[branch][key].append(float(value))
         return values, modes
+
+    def _reached(self, t):
+        """Note ``t`` and its cortex growth as the furthest the growth has gone."""
+        self.noted.update(t_reached=float(t),
+                          theta_c_reached=float(1 + self.scene.cortex_rate * t))
+
+    def contact_measures(self, contact):
+        """The self-contact of the top surface (:meth:`SelfContact.measures`) with its area
+        as the length of the top line in contact (plane strain: divided by the depth)."""
+        measured = contact.measures()
+        measured["self_contact_area"] /= self.scene.depth
+        return measured
+
+    def elastic_jacobian_min(self, growth, u):
+        """The smallest Je = det F / Jg (Jg = theta for fiber growth) over the integration
+        points and vertices of the mesh: > 0 where no element has inverted."""
+        Je = ngs.Det(kinematics.deformation_gradient(u)) / growth.theta
+        return float(np.min(np.asarray(Je(element_points(self.mesh, 4))).ravel()))
 
     def _observe_perfect(self, t):
         """Record the step; at the first negative eigenvalue measure the onset and stop.
@@ -435,6 +479,7 @@ class FoldingCase:
         state is perturbed by (:meth:`perturb`), as a combination of the modes of this
         step. At the first step (no step before) the onset is not bracketed: only the
         most negative mode and its wavelength are kept."""
+        self._reached(t)
         values, modes = self._observe("perfect", t, negative=True)
         previous, self.pairs = self.pairs, (values, modes)
         if values[0] >= 0:
@@ -456,6 +501,7 @@ class FoldingCase:
         Newton iteration and more) at its first step, then once at least ``observe_dt`` of
         growth has passed since the last record, and at ``t_end``."""
         series, scene = self.series["buckling"], self.scene
+        self._reached(t)
         if (not series["t"] or t >= series["t"][-1] + scene.observe_dt - 1e-9
                 or t >= scene.t_end - 1e-9 * max(1.0, scene.t_end)):
             self._observe("buckling", t)
@@ -542,10 +588,12 @@ class FoldingCase:
         """The stages of the release from the current state, growth frozen: the bilayer
         without the supports (:data:`RELEASED`) held by their reactions as a dead traction,
         which ``unloading`` removes, then the relaxation to the released equilibrium."""
-        self.released, self.released_growth, viscous, load = self.coupled(
+        (self.released, self.released_growth, viscous, load,
+         self.released_contact) = self.coupled(
             RELEASED, traction="|".join(sorted(set(GROWING) - set(RELEASED))))
         self.released.state.vec.data = self.problem.state.vec
         self.released_growth.theta_old.vec.data = self.growth.theta.vec
+        self.released_contact.update()
         self.reactions = load.hold()
         unloading = newton(line_search=True, min_step=1e-6, rtol=FLOW_RTOL)
         return [UnloadingStage("unloading", self.released, viscous, load, self.eta,
@@ -629,6 +677,7 @@ class FoldingCase:
             results.metrics["top_stretch_min"] = min(stretches)
         flds = {"u": self.problem.u, "theta": self.growth.theta,
                 **self._stresses(self.growth, self.problem.u, "", results.metrics)}
+        results.metrics.update(self._contact_metrics(solution))
         if self.released is not None and solution.converged:
             flds["u_released"] = self.released.u
             flds.update(self._stresses(self.released_growth, self.released.u, "_released",
@@ -641,6 +690,7 @@ class FoldingCase:
         with progress.phase("incompatibility"), timed(results.timings, "incompatibility"):
             flds.update(self.incompatibility())
             results.metrics.update(self.burgers_metrics(flds["|b|"]))
+            results.metrics["burgers_interface_mean"] = self.interface_mean(flds["|b|"])
         mesh = self.mesh
         results.metrics["theta_a_max"] = sampling.maximum(flds["theta_a"], mesh)
         with progress.phase("sampling"), timed(results.timings, "sampling"):
@@ -649,6 +699,33 @@ class FoldingCase:
         results.fields = flds
         results.figures = _figures(self.scene, results.profiles)
         return results
+
+    def _contact_metrics(self, solution):
+        """``Je_min`` over the records of the growth and the final states (grown and, if
+        released, released), the final grown state's ``self_contact_area`` (length of the
+        top line in contact) and the largest ``self_contact_penetration_max`` of the records
+        and that state."""
+        final = self.contact_measures(self.contact)
+        jacobians = [self.elastic_jacobian_min(self.growth, self.problem.u)]
+        penetrations = [final["self_contact_penetration_max"]]
+        for series in self.series.values():
+            jacobians += series["Je_min"]
+            penetrations += series["penetration"]
+        if self.released is not None and solution.converged:
+            jacobians.append(self.elastic_jacobian_min(self.released_growth, self.released.u))
+            penetrations.append(self.contact_measures(
+                self.released_contact)["self_contact_penetration_max"])
+        return {"Je_min": min(jacobians), "self_contact_area": final["self_contact_area"],
+                "self_contact_penetration_max": max(penetrations)}
+
+    def interface_mean(self, cf):
+        """The mean of ``cf`` over the band of one cortex thickness centred on the interface
+        (reference X3 within cortex_thickness / 2 of it)."""
+        s = self.scene
+        interface = s.height - s.cortex_thickness
+        band = ngs.IfPos(s.cortex_thickness / 2 - ngs.sqrt((ngs.z - interface) ** 2), 1.0, 0.0)
+        return float(ngs.Integrate(band * cf, self.mesh, order=6)
+                     / (s.cortex_thickness * s.length * s.depth))
 
     def incompatibility(self):
         """theta_a, G (eq. 10, projected path), b on the plane normal to e2 (eq. 11), |b| and

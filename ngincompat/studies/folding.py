@@ -3,9 +3,13 @@ one summary table and the figure of Fig. 7 a-c, one row per axon field.
 
 Each axon field runs into its own folder ``out/<axons>`` (:mod:`ngincompat.studies.variants`); the
 summary (``summary.md``, ``.csv``, ``.json``) has one row per axon field with the onset
-(growth and wavelength), the fold amplitude at the end, the largest |b| on the plane normal
-to the paper's e3 and its depth below the top, and, for runs that were released, the
-largest principal stress and the curvature of the top after the release. An axon field whose
+(growth and wavelength), how far the growth went (time and cortex growth), the smallest
+elastic Jacobian, the self-contact of the top surface (length in contact, largest
+penetration), the fold amplitude at the end, the largest axon growth, the largest |b| on the
+plane normal to the paper's e3 and its depth below the top, the mean |b| in the band of one
+cortex thickness around the interface, and, for runs that were released, the largest
+principal stress and the curvature of the top after the release: side by side, the three
+axon fields' measures of the paper's finding. An axon field whose
 run fails is a row with its status; the others still run. ``fields.png`` has one row per
 axon field and one column per field of :data:`ngincompat.scenes.folding.PANELS` that every
 row has, on one colour scale per column.
@@ -23,8 +27,10 @@ from ngincompat.workflow import plots, tables
 AXON_FIELDS = fields.AXONS
 
 #: The metrics of the summary, after the axon field and the columns every driver has.
-METRICS = ("onset_growth", "onset_wavelength", "fold_amplitude", "burgers_max",
-           "burgers_max_depth", "max_principal_stress_released", "top_curvature_released")
+METRICS = ("onset_growth", "onset_wavelength", "t_reached", "theta_c_reached", "Je_min",
+           "self_contact_area", "self_contact_penetration_max", "fold_amplitude",
+           "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_interface_mean",
+           "max_principal_stress_released", "top_curvature_released")
 COLUMNS = ("axons", *COMMON, *METRICS)
 #: The columns that only a released run fills: in the summary when a row has them.
 RELEASED = METRICS[-2:]
