@@ -418,6 +418,15 @@ def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path
     below = s < scene.height - scene.cortex_thickness - scene.maxh
     np.testing.assert_allclose(values["b"][below], 0.0, atol=1e-9)
     assert rows[0]["burgers_max"] == pytest.approx(r.metrics["burgers_max"])
+    # grown to t_end on the flat branch: nothing inverted, the top nowhere in contact, and
+    # the band of one cortex thickness about the interface holds part of int |b| dX3
+    m = r.metrics
+    assert m["t_reached"] == pytest.approx(scene.t_end)
+    assert m["theta_c_reached"] == pytest.approx(theta_c)
+    assert m["Je_min"] > 0.5
+    assert m["self_contact_area"] == 0 and m["self_contact_penetration_max"] == 0
+    band = m["burgers_interface_mean"] * scene.cortex_thickness
+    assert 0.25 * (theta_c - 1) / theta_c < band <= theta_c - 1 + 1e-3
     assert abs(rows[0]["burgers_max_depth"] - scene.cortex_thickness) <= scene.cortex_maxh
     section = r.profiles["section"]
     assert section["u"].shape == (len(section["X3"]), len(section["X1"]), 2)
@@ -551,3 +560,19 @@ def test_folded_bilayer_released_is_self_equilibrated_and_bent():
     assert metrics["top_curvature_released"] > 0
     assert 0 < metrics["max_principal_stress_released"] < metrics["max_principal_stress"]
     assert metrics["peak_tension_depth_released"] >= scene.cortex_thickness - 1e-6
+
+
+def test_the_refined_top_is_meshed_finer_than_the_cortex_below():
+    """``top_maxh`` refines the top surface: its triangles are smaller than those of the
+    interface by about (cortex_maxh / top_maxh)^2, and a size above cortex_maxh is refused."""
+    def mean_area(mesh, name):
+        areas = [ngs.Integrate(1.0, mesh, ngs.BND, definedon=mesh.Boundaries(name))]
+        count = sum(1 for el in mesh.Elements(ngs.BND) if mesh.GetBoundaries()[el.index] == name)
+        return areas[0] / count
+
+    mesh = bilayer(length=0.4, height=0.2, cortex=0.05, maxh=0.1, cortex_maxh=0.025,
+                   top_maxh=0.00625)
+    assert mean_area(mesh, "interface") > 8 * mean_area(mesh, "top")
+    with pytest.raises(ParameterError, match="top_maxh"):
+        bilayer(length=0.4, height=0.2, cortex=0.05, maxh=0.1, cortex_maxh=0.025,
+                top_maxh=0.05)

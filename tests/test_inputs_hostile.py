@@ -113,6 +113,10 @@ MESHES = [
      lambda: estimate.skin_patch_elements(maxh=1.0)),
     ("bilayer", lambda: bilayer(maxh=0.3, cortex_maxh=0.05),
      lambda: estimate.bilayer_elements(maxh=0.3, cortex_maxh=0.05)),
+    ("bilayer refined top", lambda: bilayer(length=1.0, height=0.6, cortex=0.1, maxh=0.3,
+                                            cortex_maxh=0.05, top_maxh=0.0125),
+     lambda: estimate.bilayer_elements(length=1.0, height=0.6, cortex=0.1, maxh=0.3,
+                                       cortex_maxh=0.05, top_maxh=0.0125)),
 ]
 
 #: The estimate only has to tell a mesh that fits from one that does not.

@@ -123,6 +123,23 @@ def test_open_gap_carries_nothing(blocks):
                                   "self_contact_penetration_max": 0.0}
 
 
+def test_a_bent_wall_is_not_in_contact_with_itself():
+    """A slab's top bent into crowns and troughs (curvature up to 3.2 / cm), pairs sought
+    within 0.3: neither the energy's pairs nor the measures' find contact (the neighbours of
+    a point on one smooth wall are not its pairs)."""
+    slab = Box(Pnt(0, 0, 0), Pnt(1, 1, 0.2))
+    slab.faces.name = "sides"
+    slab.faces.Max(Z).name = "wall"
+    mesh = ngs.Mesh(OCCGeometry(slab).GenerateMesh(maxh=0.1))
+    contact = SelfContact("wall", 1e3, 0.0, reach=0.3)
+    problem = CoupledProblem(mesh, [contact], order=2)
+    problem.u.Set(ngs.CF((0, 0, 0.02 * ngs.cos(2 * math.pi * ngs.x / 0.5) * ngs.z / 0.2)))
+    contact.update()
+    assert contact.energy() == 0.0
+    assert contact.measures() == {"self_contact_area": 0.0,
+                                  "self_contact_penetration_max": 0.0}
+
+
 @pytest.mark.parametrize("width", [0.0, 0.01])
 def test_energy_residual_and_tangent_agree_by_finite_differences(blocks, width):
     """At a state with the upper block sunk into the lower one and sheared, the residual is

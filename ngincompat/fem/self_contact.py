@@ -112,12 +112,22 @@ class SelfContact(Term):
         return self.own.Energy(self.problem.state.vec)
 
     def gap(self):
-        """The gap g of the current state, freshly paired (a CF on the boundary; +inf where
+        """The gap g of the current state, freshly paired (a CF on the boundary; 1e300 where
         no facing point is within ``reach``)."""
         self.probe.Update(self.u, maxdist=self.reach)
         to_pair = self.probe.gap          # x(Y) - x(X) of the probe's update
-        found = ngs.IfPos(self.reach - ngs.Norm(to_pair), 1.0, 0.0)
-        return ngs.IfPos(found, to_pair * self.probe.normal, 1e300)
+        gap = to_pair * self.probe.normal
+        distance = ngs.Norm(to_pair)
+        # the gap function's own search (unlike the pairs of the energy) also pairs points
+        # of one smooth wall, beyond their common vertices: measured in NGSolve 6.2.2608, a
+        # flat top paired 97 % of its points in-plane, and the crowns of folds of
+        # curvature 32 / cm were seen to penetrate themselves 0.024 cm. Such a pair lies
+        # along the surface (|g| / |x(Y) - x(X)| about the curvature times half their
+        # distance), a facing one along the normal: only pairs within 25.8 degrees of it
+        # (cos = 0.9) count.
+        facing = ngs.IfPos(self.reach - distance, 1.0, 0.0) * ngs.IfPos(
+            gap * gap - 0.81 * distance * distance, 1.0, 0.0)
+        return ngs.IfPos(facing, gap, 1e300)
 
     def measures(self):
         """``self_contact_area``: the reference area of the boundary where it penetrates the
