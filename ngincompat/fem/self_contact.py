@@ -36,9 +36,12 @@ compound space of a :class:`~ngincompat.fem.coupled.CoupledProblem` (checked aga
 closed form of two blocks pressed together, tests/test_self_contact.py). Its limits, taken
 here: the pairs and normals are frozen between updates (no linearisation of the closest-point
 projection), and its gap function's evaluation keeps the displacement of the last update, so
-the measures (:meth:`SelfContact.measures`) use a second ``ContactBoundary`` updated with the
-current state. A plane strain body (a slab whose faces hold u2 = 0) is handled as the
-three-dimensional body it is meshed as: its boundary is a surface.
+the measures (:meth:`SelfContact.measures`) use a third ``ContactBoundary`` updated with the
+current state, whose gap function, unlike the energy's pairs, also pairs neighbours on one
+smooth wall: the measures count a pair only along the normal, and evaluate it at NGSolve's
+own mapped points (points located by coordinates missed pairs of the two blocks' test).
+A plane strain body (a slab whose faces hold u2 = 0) is handled as the three-dimensional
+body it is meshed as: its boundary is a surface.
 """
 
 import math
@@ -136,28 +139,30 @@ class SelfContact(Term):
         return measure(self.mesh, self.boundary, self.gap())
 
 
-def measure(mesh, boundary, gap, order=2 * INTORDER):
-    """The contact area (reference area where ``gap`` < 0) and the largest penetration -gap
-    over the points of NGSolve's rule of ``order`` on the ``boundary``."""
-    region = mesh.Boundaries(boundary)
-    area = ngs.Integrate(ngs.IfPos(-gap, 1.0, 0.0), mesh, ngs.BND, definedon=region,
-                         order=order)
-    values = boundary_values(mesh, boundary, gap, order)
-    return {"self_contact_area": float(area),
-            "self_contact_penetration_max": max(0.0, -float(np.min(values)))}
+def measure(mesh, boundary, gap, order=2):
+    """The contact area (reference area where ``gap`` < 0) and the largest penetration -gap,
+    both over the points of NGSolve's rule of ``order`` on the ``boundary`` (each point a
+    search for its pair: the cost of the measures)."""
+    values, weights = boundary_values(mesh, boundary, gap, order)
+    return {"self_contact_area": float(np.sum(weights[values < 0])),
+            "self_contact_penetration_max": max(0.0, -float(np.min(values, initial=0.0)))}
 
 
 def boundary_values(mesh, boundary, cf, order):
     """The values of the scalar ``cf`` at the points of NGSolve's rule of ``order`` on every
-    (triangular) element of the ``boundary``, placed by the element's vertices."""
-    region = mesh.Boundaries(boundary)
+    (flat, triangular) element of the ``boundary``, and the points' reference areas (the
+    rule's weights times twice the triangle's area)."""
     rule = ngs.IntegrationRule(ngs.TRIG, order)
-    weights = np.array([[1 - p[0] - p[1], p[0], p[1]] for p in rule.points])
-    corners = np.array([[mesh[v].point for v in element.vertices]
-                        for element in mesh.Elements(ngs.BND)
-                        if region.Mask()[element.index]])
-    if not len(corners):
-        return np.zeros(0)
-    points = np.einsum("qk,ekd->eqd", weights, corners).reshape(-1, mesh.dim)
-    where = mesh(*points.T, ngs.BND)
-    return np.asarray(cf(where)).ravel()
+    elements = list(mesh.Elements(ngs.BND))
+    if any(element.type != ngs.ET.TRIG for element in elements):
+        raise ValueError("boundary_values needs a boundary of triangles")
+    mask = np.array(mesh.Boundaries(boundary).Mask())
+    inside = np.array([mask[element.index] for element in elements])
+    if not inside.any():
+        return np.zeros(0), np.zeros(0)
+    corners = np.array([[mesh[v].point for v in element.vertices] for element in elements])
+    areas = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
+                                    corners[:, 2] - corners[:, 0]), axis=1) / 2
+    weights = 2 * areas[:, None] * np.array(rule.weights)[None, :]
+    values = np.asarray(cf(mesh.MapToAllElements(rule, ngs.BND))).reshape(len(elements), -1)
+    return values[inside].ravel(), weights[inside].ravel()
