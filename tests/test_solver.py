@@ -8,7 +8,8 @@ import pytest
 from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.fem.solver import NewtonOptions, SymmetricPart, solve_growth
+from ngincompat.fem.solver import NewtonOptions, solve_growth
+from ngincompat.fem.symmetric import SymmetricPart
 
 
 def _orders(residuals):
