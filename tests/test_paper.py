@@ -7,7 +7,7 @@ from conftest import FOLDING_COARSE
 
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
-from ngincompat.scenes import CubeScene, SkinExpansionScene
+from ngincompat.scenes import AtrophyScene, CubeScene, FoldingScene, SkinExpansionScene
 from ngincompat.studies import figures, paper
 
 
@@ -66,13 +66,10 @@ def test_overwrite_replaces_the_runs(idealized):
 
 
 def test_resolutions_take_the_scenes_presets():
-    assert paper.resolution_settings(CubeScene, "preview") == CubeScene.preset_settings(
-        "preview")
-    assert paper.resolution_settings(CubeScene, "paper") == (
-        CubeScene.preset_settings("paper") if "paper" in CubeScene.preset_names() else {})
-    if "preview" not in SkinExpansionScene.preset_names():
-        assert (paper.resolution_settings(SkinExpansionScene, "preview")
-                == paper.PREVIEW_WITHOUT_PRESET["skin"])
+    for cls in (CubeScene, SkinExpansionScene):
+        for resolution in ("preview", "paper"):
+            assert (paper.resolution_settings(cls, resolution)
+                    == cls.preset_settings(resolution))
     with pytest.raises(ParameterError, match="--only 3.9: allowed sections 3.1"):
         paper.sections(["3.9"])
     with pytest.raises(ParameterError, match="--resolution 'fine'"):
@@ -86,12 +83,13 @@ def test_the_biomedical_sections_run_into_one_report(tmp_path, monkeypatch):
     figures and Fig. 7 are drawn and the report has the three sections (8 min 22 s at load
     7)."""
     folding = dict(pair.split("=") for pair in FOLDING_COARSE[1::2])
-    monkeypatch.setattr(paper, "PREVIEW_WITHOUT_PRESET", {
-        "atrophy": dict(semi_axes="3,2.5,2", gray_thickness=0.5, seed="0,0,-1.5",
-                        t_end=10.0, dt=1.0, snapshots=1, maxh=1.0),
-        "skin": dict(expander="pressure", maxh=2.5, growth_order=2, g_order=3,
-                     hold_days=0.0),
-        "folding": {**folding, "release": "false"}})
+    coarse = {AtrophyScene: dict(semi_axes="3,2.5,2", gray_thickness=0.5, seed="0,0,-1.5",
+                                 t_end=10.0, dt=1.0, snapshots=1, maxh=1.0),
+              SkinExpansionScene: dict(expander="pressure", maxh=2.5, growth_order=2,
+                                       g_order=3, hold_days=0.0),
+              FoldingScene: {**folding, "release": "false"}}
+    for cls, settings in coarse.items():
+        monkeypatch.setattr(cls, "presets", {**cls.presets, "preview": settings})
     rows = paper.run_all(tmp_path, resolution="preview", only=["3.5", "3.6", "3.7"])
     assert [r["status"] for r in rows] == ["done"] * 8
     assert (tmp_path / figures.case_files("skin-circle")[0]).stat().st_size > 0

@@ -10,12 +10,12 @@ writes its own folder ``DIR/<case>``; the job writes the field figures of the pa
 ``.csv``, ``.json``, one row per case) and ``report.html`` (:mod:`ngincompat.studies.report`).
 
 ``resolution`` chooses the settings: ``preview`` (the default; each scene's ``preview``
-preset, or for a scene without one yet the settings of :data:`PREVIEW_WITHOUT_PRESET`) or
-``paper`` (each scene's ``paper`` preset, else its defaults, which are the paper's parameters
-where the paper gives them). The job resumes: a case whose folder holds a finished run of the
-same settings (and whose field figure exists) is read back, not recomputed, unless
-``overwrite``; so an interrupted job continues where it stopped, and ``only`` runs some
-sections into a folder that holds the others.
+preset) or ``paper`` (each scene's ``paper`` preset: the resolution of the paper's figures,
+with the scene's defaults, which are the paper's parameters where the paper gives them).
+The job resumes: a case whose folder holds a finished run of the same settings (and whose
+field figure exists) is read back, not recomputed, unless ``overwrite``; so an interrupted
+job continues where it stopped, and ``only`` runs some sections into a folder that holds the
+others.
 """
 
 from __future__ import annotations
@@ -41,32 +41,13 @@ RESOLUTIONS = ("preview", "paper")
 #: instead of 10-24 s.
 HEMISPHERE = dict(model="quarter", centre_maxh=0.04)
 
-#: Preview settings of the scenes that have no ``preview`` preset yet (scene name ->
-#: settings), chosen to keep the whole preview job within minutes on two cores; a scene's own
-#: ``preview`` preset replaces its entry here as soon as it has one. The skin's patch meshes
-#: to the same 550-890 elements from maxh = 2 up (its thickness and footprint bound them);
-#: its hold is taken in two steps of 3.5 days. Folding's default bilayer (3 x 1 cm, a
-#: 0.05 cm cortex meshed at 0.025) takes 6 minutes or more per axon field to its onset
-#: alone, so the preview grows the notebook's smaller bilayer (1 x 0.6 cm, a 0.1 cm cortex)
-#: just past its onset, without the release (Fig. 7c is then not drawn).
-PREVIEW_WITHOUT_PRESET = {
-    "atrophy": dict(maxh=1.5, dt=1.0, snapshots=2),
-    "skin": dict(maxh=2.0, growth_order=2, g_order=3, inflation_steps=5, dt=3.5),
-    "folding": dict(length=1.0, height=0.6, cortex_thickness=0.1, cortex_maxh=0.05,
-                    maxh=0.3, t_end=42.0, dt=10.0, onset_dt=10.0, release=False),
-}
-
-
-
 
 def resolution_settings(cls, resolution):
     """The settings of ``cls`` at ``resolution`` (see the module docstring)."""
     if resolution not in RESOLUTIONS:
         raise ParameterError(f"--resolution {resolution!r}: allowed "
                              + " or ".join(RESOLUTIONS))
-    if resolution in cls.preset_names():
-        return cls.preset_settings(resolution)
-    return dict(PREVIEW_WITHOUT_PRESET.get(cls.name, {})) if resolution == "preview" else {}
+    return cls.preset_settings(resolution)
 
 
 def sections(only=None):
