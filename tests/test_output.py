@@ -239,9 +239,10 @@ def test_vtk_holds_the_tensors_and_their_kinematics_agree(tmp_path):
     assert scale > 0
     np.testing.assert_allclose(T["sigma"], T["P"] @ F.transpose(0, 2, 1) / J[:, None, None],
                                atol=2e-2 * scale)
-    # isotropic growth, Jg = det Fg = theta: Fg = theta^(1/3) I
+    # isotropic growth, Jg = det Fg = theta: Fg = theta^(1/3) I, up to the interpolation of
+    # the cube root (theta, linear, is interpolated exactly)
     theta = data["theta"].ravel()
-    np.testing.assert_allclose(T["Fg"], np.cbrt(theta)[:, None, None] * np.eye(3), atol=1e-6)
+    np.testing.assert_allclose(T["Fg"], np.cbrt(theta)[:, None, None] * np.eye(3), atol=1e-5)
     units = json.loads((tmp_path / "results.json").read_text())["field_units"]
     assert units["sigma"] == units["P"] == units["S11"] == "MPa"
     assert units["u"] == "mm" and units["G"] == "1/mm" and units["Fe"] == "-"

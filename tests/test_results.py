@@ -14,7 +14,7 @@ from ngincompat.workflow.results import Results
 @pytest.fixture(scope="module")
 def cube():
     """A coarse cube, run without an output folder."""
-    return CubeScene(order=2, maxh=0.5).run()
+    return CubeScene(order=2, maxh=0.5, elements="hex").run()
 
 
 def test_a_run_without_folder_returns_results_with_fields(cube):

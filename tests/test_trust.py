@@ -51,9 +51,9 @@ def test_the_mixed_formulation_on_low_order_tetrahedra_warns_near_incompressibil
                                               (4, 0.499, True), (4, 0.49999, True),
                                               (2, 0.45, False), (2, 0.49, True)])
 def test_the_displacement_formulation_warns_of_locking(order, nu, warns):
-    scene = CubeScene(nu=nu, order=order)
+    scene = CubeScene(nu=nu, order=order, elements="hex")
     assert bool(scene.trust(None)) == warns
-    assert not CubeScene(nu=nu, order=order, formulation="mixed").trust(None)
+    assert not CubeScene(nu=nu, order=order, formulation="mixed", elements="hex").trust(None)
 
 
 def test_the_coarse_atrophy_run_warns_and_still_writes_its_results(tmp_path, caplog):

@@ -107,7 +107,7 @@ def mechanics(maxh, order, solver=None):
     it for ``solver`` (one of :data:`SOLVERS`: BDDC needs the energy form on VectorH1)."""
     from ngincompat.scenes import CubeScene
 
-    case = CubeScene(maxh=maxh, order=order).build()
+    case = CubeScene(maxh=maxh, order=order, elements="hex").build()
     case.time.Set(1.0)
     return case.mechanics("cg" if solver == "bddc" else "direct")
 
