@@ -18,13 +18,23 @@ the logistic ODE of its own value, so a spatially uniform c follows the backward
 logistic map exactly, and the consistent-mass undershoot below c = 0 at a steep seed is gone.
 K is made an M-matrix where the mesh has obtuse elements (see :class:`FisherKPP`), so
 0 <= c <= 1 holds on any mesh; the minimum of c is reported all the same.
+
+On a mesh distributed over MPI ranks (:mod:`ngincompat.parallel`) each rank holds the part of
+M and K that its elements assemble, and c at its vertices (the same value on every rank that
+shares a vertex). The upwinding then asks for the sign of the *summed* entry k_ij (an edge
+between two ranks holds a part on each; the parts are summed through a space with one dof per
+edge), and removes every rank's part of an entry whose sum is positive, so the ranks' parts
+add up to the serial K. The Newton tangent is solved by CG with NGSolve's Jacobi on the
+ranks' parts (:class:`ngsolve.la.ParallelMatrix`), GMRES where it is not positive definite.
 """
 
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
+from ngsolve.krylovspace import CGSolver, GMResSolver
 
+from ngincompat import parallel
 from ngincompat.errors import ConvergenceError, require
 
 #: Vertex rules (exact for linear, and on hexahedra trilinear, functions): the lumped mass
@@ -85,10 +95,11 @@ class FisherKPP:
         self.mesh = mesh
         self.fes = ngs.H1(mesh, order=1)
         self.c = ngs.GridFunction(self.fes, name="c")
-        pts = np.array([v.point for v in mesh.vertices]).T
-        pts = np.vstack([pts, np.zeros((3 - len(pts), pts.shape[1]))])[:mesh.dim]
-        # P1: the dof of vertex k is k; nodal interpolation keeps 0 <= c0 <= 1
-        self.c.vec.FV().NumPy()[:] = np.asarray(ngs.CF(c0)(mesh(*pts))).ravel()
+        if mesh.nv:           # (rank 0 of a distributed mesh holds no vertices)
+            pts = np.array([v.point for v in mesh.vertices]).T
+            pts = np.vstack([pts, np.zeros((3 - len(pts), pts.shape[1]))])[:mesh.dim]
+            # P1: the dof of vertex k is k; nodal interpolation keeps 0 <= c0 <= 1
+            self.c.vec.FV().NumPy()[:] = np.asarray(ngs.CF(c0)(mesh(*pts))).ravel()
         self.alpha = alpha
         u, v = self.fes.TnT()
         mass = ngs.BilinearForm(u * v * ngs.dx(intrules=dict(_VERTEX_RULES))).Assemble()
@@ -96,7 +107,7 @@ class FisherKPP:
         stiffness = ngs.BilinearForm(ngs.InnerProduct(D * ngs.grad(u), ngs.grad(v)) * ngs.dx)
         K = _csr(stiffness.Assemble().mat)
         if monotone:
-            K = _upwind(K)
+            K = _upwind(K, _summed_over_ranks(mesh, K))
         self.K = K
         self.t = 0.0
 
@@ -118,9 +129,10 @@ class FisherKPP:
         for it in range(1, max_iter + 1):
             r = m * (c - c_old) / dt + self.K @ c - self.alpha * m * c * (1 - c)
             diagonal = m / dt - self.alpha * m * (1 - 2 * c)
-            dc = _solve(self.K + sp.diags(diagonal), r, spd=bool(np.all(diagonal > 0)))
+            spd = parallel.total(self.mesh, np.count_nonzero(diagonal <= 0)) == 0
+            dc = self._solve(self.K + sp.diags(diagonal), r, spd)
             c -= dc
-            if np.max(np.abs(dc)) < rtol:
+            if parallel.maximum(self.mesh, np.max(np.abs(dc), initial=0.0)) < rtol:
                 self.c.vec.FV().NumPy()[:] = c
                 self.t += dt
                 return it
@@ -129,15 +141,37 @@ class FisherKPP:
 
     def minimum(self):
         """The smallest nodal value of c."""
-        return float(np.min(self.c.vec.FV().NumPy()))
+        return -parallel.maximum(self.mesh, np.max(-self.c.vec.FV().NumPy(), initial=-np.inf))
 
     def maximum(self):
         """The largest nodal value of c."""
-        return float(np.max(self.c.vec.FV().NumPy()))
+        return parallel.maximum(self.mesh, np.max(self.c.vec.FV().NumPy(), initial=-np.inf))
 
     def integral(self):
         """int c dV with the lumped mass (the quantity the scheme balances)."""
-        return float(self.mass @ self.c.vec.FV().NumPy())
+        return parallel.total(self.mesh, self.mass @ self.c.vec.FV().NumPy())
+
+    def _solve(self, A, b, spd):
+        """A^-1 b for the tangent A (scipy; on a distributed mesh this rank's part of it and
+        of b, and the result is c's update at this rank's vertices)."""
+        if not parallel.distributed(self.mesh):
+            return _solve(A, b, spd)
+        pardofs, op = self.fes.ParallelDofs(), ngs.la.ParallelMatrix.PARALLEL_OP
+        matrix = ngs.la.ParallelMatrix(_sparse(A), pardofs, pardofs, op.C2D)
+        diagonal = self.c.vec.CreateVector()
+        diagonal.FV().NumPy()[:] = A.diagonal()
+        diagonal.SetParallelStatus(ngs.la.PARALLEL_STATUS.DISTRIBUTED)
+        diagonal.Cumulate()                 # the summed diagonal at this rank's vertices
+        jacobi = ngs.la.ParallelMatrix(_sparse(sp.diags(1.0 / diagonal.FV().NumPy())),
+                                       pardofs, pardofs, op.C2C)
+        rhs, x = self.c.vec.CreateVector(), self.c.vec.CreateVector()
+        rhs.FV().NumPy()[:] = b
+        rhs.SetParallelStatus(ngs.la.PARALLEL_STATUS.DISTRIBUTED)
+        krylov = CGSolver if spd else GMResSolver
+        solver = krylov(matrix, jacobi, tol=1e-13, maxiter=10 * self.fes.ndofglobal)
+        x.data = solver * rhs
+        x.Cumulate()
+        return x.FV().NumPy().copy()
 
 
 def _solve(A, b, spd):
@@ -153,17 +187,45 @@ def _solve(A, b, spd):
 
 
 def _csr(matrix):
-    """An assembled NGSolve sparse matrix as scipy CSR."""
+    """An assembled NGSolve sparse matrix as scipy CSR (of a parallel one: this rank's part)."""
+    matrix = getattr(matrix, "local_mat", matrix)
     values, cols, rows = matrix.CSR()
     return sp.csr_matrix((np.array(values), np.array(cols), np.array(rows)),
                          shape=(matrix.height, matrix.width))
 
 
-def _upwind(K):
-    """K plus the discrete diffusion that removes its positive off-diagonal entries, keeping
-    symmetry and zero row sums."""
+def _summed_over_ranks(mesh, K):
+    """The entries of K's upper triangle (in the order of ``sp.triu(K, k=1).tocoo()``),
+    summed over the ranks that share their edge; K's own entries on a serial mesh."""
     off = sp.triu(K, k=1).tocoo()
-    bad = off.data > 0
+    if not parallel.distributed(mesh):
+        return off.data
+    edges = ngs.H1(mesh, order=2)            # one dof per edge: where the parts are summed
+    summed = ngs.GridFunction(edges).vec
+    summed[:] = 0.0
+    numbers = {tuple(sorted(v.nr for v in e.vertices)):
+               edges.GetDofNrs(ngs.NodeId(ngs.EDGE, e.nr))[-1] for e in mesh.edges}
+    at = np.array([numbers[(min(i, j), max(i, j))] for i, j in zip(off.row, off.col,
+                                                                     strict=True)], dtype=int)
+    summed.FV().NumPy()[at] = off.data
+    summed.SetParallelStatus(ngs.la.PARALLEL_STATUS.DISTRIBUTED)
+    summed.Cumulate()
+    return summed.FV().NumPy()[at]
+
+
+def _sparse(A):
+    """A scipy sparse matrix as an NGSolve one."""
+    A = sp.coo_matrix(A)
+    return ngs.la.SparseMatrixd.CreateFromCOO(A.row.tolist(), A.col.tolist(), A.data.tolist(),
+                                              *A.shape)
+
+
+def _upwind(K, summed):
+    """K plus the discrete diffusion that removes its off-diagonal entries whose ``summed``
+    value (over the ranks, :func:`_summed_over_ranks`) is positive, keeping symmetry and zero
+    row sums."""
+    off = sp.triu(K, k=1).tocoo()
+    bad = summed > 0
     i, j, k = off.row[bad], off.col[bad], off.data[bad]
     n = K.shape[0]
     fix = sp.coo_matrix((np.concatenate([-k, -k, k, k]),
