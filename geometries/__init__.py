@@ -9,7 +9,7 @@ brain).
 """
 
 from .bilayer import bilayer
-from .brain import brain
+from .brain import brain, brain_geometry
 from .cube import cube
 from .cylinder import cylinder
 from .disc import disc
@@ -19,5 +19,5 @@ from .skin_patch import FOOTPRINTS, footprint_area, footprint_size, skin_patch
 BUILDERS = {"cube": cube, "hemisphere": hemisphere, "disc": disc, "cylinder": cylinder,
             "skin_patch": skin_patch, "bilayer": bilayer, "brain": brain}
 
-__all__ = ["BUILDERS", "FOOTPRINTS", "bilayer", "brain", "cube", "cylinder", "disc",
-           "footprint_area", "footprint_size", "hemisphere", "skin_patch"]
+__all__ = ["BUILDERS", "FOOTPRINTS", "bilayer", "brain", "brain_geometry", "cube", "cylinder",
+           "disc", "footprint_area", "footprint_size", "hemisphere", "skin_patch"]

@@ -93,6 +93,36 @@ def distribute(build):
     return ngs.Mesh(ngmesh)
 
 
+def distribute_geometry(geometry, maxh, curve_order=1):
+    """The tetrahedral mesh of an OCC ``geometry`` (built on every rank) of size ``maxh``,
+    curved to ``curve_order``, distributed over the ranks if this is an MPI run (as
+    :func:`distribute`).
+
+    A curved mesh cannot be distributed (the ranks crash): rank 0 distributes the straight
+    mesh, and every rank curves its part with the geometry, which the received parts lack.
+    """
+    import netgen.meshing
+    import ngsolve as ngs
+
+    comm = world()
+    if comm is None:
+        ngmesh = geometry.GenerateMesh(netgen.meshing.MeshingParameters(maxh=maxh))
+    else:
+        from ngincompat import config
+
+        config.configure(threads=1)    # as in distribute
+        if comm.rank == 0:
+            ngmesh = geometry.GenerateMesh(netgen.meshing.MeshingParameters(maxh=maxh))
+            ngmesh.Distribute(comm)
+        else:
+            ngmesh = netgen.meshing.Mesh.Receive(comm)
+            ngmesh.SetGeometry(geometry)
+    mesh = ngs.Mesh(ngmesh)
+    if curve_order > 1:
+        mesh.Curve(curve_order)
+    return mesh
+
+
 def total(mesh, value: float) -> float:
     """The sum over the ranks of a rank-local number (e.g. ``BilinearForm.Energy``)."""
     return mesh.comm.Sum(float(value)) if distributed(mesh) else float(value)

@@ -18,10 +18,13 @@ import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ngincompat import parallel
+
 
 def boundary_points(mesh, name, per_edge=8):
     """Points spread over the faces of boundary ``name`` (triangles; quadrilaterals cut in
-    two): a barycentric grid of ``per_edge`` intervals per edge on each."""
+    two): a barycentric grid of ``per_edge`` intervals per edge on each (of every rank's faces
+    on a distributed mesh)."""
     points = np.array([v.point for v in mesh.vertices])
     triangles = []
     for el in mesh.Elements(ngs.BND):
@@ -33,15 +36,16 @@ def boundary_points(mesh, name, per_edge=8):
             triangles.append([corners[0], corners[2], corners[3]])
     k = per_edge
     grid = np.array([(i, j, k - i - j) for i in range(k + 1) for j in range(k + 1 - i)]) / k
-    corners = points[np.array(triangles)]                       # (m, 3, 3)
-    return np.einsum("gc,mcx->mgx", grid, corners).reshape(-1, 3)
+    corners = points.reshape(-1, 3)[np.array(triangles, dtype=int).reshape(-1, 3)]  # (m, 3, 3)
+    return parallel.gather_rows(mesh, np.einsum("gc,mcx->mgx", grid, corners).reshape(-1, 3))
 
 
 def distance(mesh, name, per_edge=8):
     """The distance from boundary ``name`` as a piecewise linear GridFunction."""
     tree = cKDTree(boundary_points(mesh, name, per_edge))
     gf = ngs.GridFunction(ngs.H1(mesh, order=1))
-    gf.vec.FV().NumPy()[:] = tree.query(np.array([v.point for v in mesh.vertices]))[0]
+    if mesh.nv:
+        gf.vec.FV().NumPy()[:] = tree.query(np.array([v.point for v in mesh.vertices]))[0]
     return gf
 
 

@@ -104,7 +104,8 @@ def sample_plane(mesh, cfs, origin, e_u, e_v, u, v):
     -------
     dict
         Name -> array of shape (len(v), len(u)) for a scalar, (len(v), len(u), k) for a
-        field of k components; NaN at points the mesh does not hold (serial meshes).
+        field of k components; NaN at points the mesh does not hold. On a distributed mesh,
+        each point's values are those of the lowest rank whose part holds it, on every rank.
     """
     U, V = np.meshgrid(np.asarray(u, float), np.asarray(v, float))
     pts = (np.asarray(origin, float) + np.multiply.outer(U.ravel(), np.asarray(e_u, float))
@@ -117,6 +118,7 @@ def sample_plane(mesh, cfs, origin, e_u, e_v, u, v):
         values = np.full((U.size, size), np.nan)
         if inside.any():
             values[inside] = np.asarray(cf(mips[inside])).reshape(-1, size)
+        values = parallel.first_found(mesh, values)
         out[name] = values.reshape(U.shape + ((size,) if size > 1 else ()))
     return out
 
@@ -125,18 +127,25 @@ def _locatable(mesh, pts):
     """Move points that lie on or just outside a curved boundary (the mesh approximates it)
     towards the centre of the set, by at most 3 % of their distance, until the mesh finds them;
     None for a point still outside (a coarse straight-sided mesh of a curved body): its
-    values are NaN."""
+    values are NaN. On a distributed mesh a point is moved only until some rank finds it (the
+    same point on every rank); None on the ranks whose part does not hold it."""
     centre = pts.mean(axis=0)
-    out = []
-    for p in pts:
-        for shift in (1e-9, 1e-4, 1e-3, 1e-2, 3e-2):
-            q = p + shift * (centre - p)
-            try:
-                ngs.x(mesh(*q))
-            except NgException:
-                continue
-            out.append(q)
-            break
-        else:
-            out.append(None)
+    out = [None] * len(pts)
+    todo = np.arange(len(pts))
+    for shift in (1e-9, 1e-4, 1e-3, 1e-2, 3e-2):
+        moved = pts[todo] + shift * (centre - pts[todo])
+        here = np.array([_holds(mesh, q) for q in moved], dtype=bool)
+        for i, q in zip(todo[here], moved[here], strict=True):
+            out[i] = q
+        anywhere = np.isfinite(parallel.first_found(mesh, np.where(here, 1.0, np.nan)))
+        todo = todo[~anywhere]
     return out
+
+
+def _holds(mesh, q):
+    """Whether the mesh (this rank's part) finds the point q."""
+    try:
+        ngs.x(mesh(*q))
+    except NgException:
+        return False
+    return True

@@ -49,10 +49,10 @@ from typing import Literal
 import ngsolve as ngs
 import numpy as np
 
-from geometries import brain, estimate
+from geometries import brain, brain_geometry, estimate
 from geometries import fsaverage_brain as fsaverage
 from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
-from ngincompat import config, sampling
+from ngincompat import config, parallel, sampling
 from ngincompat.errors import ParameterError, require
 from ngincompat.fem import depth, postprocess
 from ngincompat.fem.problem import GrowthMechanics, check_formulation
@@ -111,6 +111,7 @@ class AtrophyScene(Scene):
     """Brain atrophy driven by the spreading of misfolded protein (section 3.5)."""
 
     name = "atrophy"
+    distributed = True
     summary = ("section 3.5: misfolded protein spreads (Fisher-KPP) and shrinks gray matter "
                "faster than white")
     units = {"length": "cm", "stress": "kPa", "energy": "mJ", "time": "yr"}
@@ -118,7 +119,7 @@ class AtrophyScene(Scene):
     presets = {"preview": dict(snapshots=1), "paper": dict(maxh=0.7, dt=0.1)}
     metrics = ("volume_loss", "gray_volume_loss", "white_volume_loss", "volume_loss_theta",
                "volume_bookkeeping_error", "Je_deviation_max", "burgers_max",
-               "burgers_peak_depth", "max_principal_stress", "stress_peak_depth",
+               "burgers_peak_depth", "max_principal_stress", "stress_peak_depth", "strain_energy",
                "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
                "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
                "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error",
@@ -127,6 +128,7 @@ class AtrophyScene(Scene):
                "cortex_thickness", "burgers_interface_fraction",
                "interface_band_volume_fraction", "stress_interface_over_surface")
     metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
+                         "strain_energy": "energy",
                          "G_norm_L2": "length^(1/2)", "front_radius": "length",
                          "burgers_peak_depth": "length", "stress_peak_depth": "length",
                          "c_integral": "length^3", "gray_volume": "length^3",
@@ -208,6 +210,10 @@ class AtrophyScene(Scene):
 
     def __post_init__(self):
         super().__post_init__()
+        require(self.geometry != "fsaverage" or parallel.world() is None, "geometry",
+                self.geometry, "idealized, mni152 or a file on several MPI ranks (the "
+                "fsaverage brain's cortex measures are not distributed yet: run it without "
+                "mpiexec)")
         if self.geometry == "fsaverage" and self.seed == IDEALIZED_SEED:
             object.__setattr__(self, "seed", "entorhinal")     # the default, outside it
         require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
@@ -289,25 +295,35 @@ class AtrophyScene(Scene):
         return estimate.brain_elements(semi_axes=self.axes(), maxh=self.maxh), False
 
     def build(self):
-        mesh = self.mesh()
+        mesh = self.distributed_mesh()
         missing = set(TISSUES) - set(mesh.GetMaterials())
         if missing:
             raise ParameterError(f"geometry = {self.geometry}: the brain mesh lacks the "
                                  f"materials {', '.join(sorted(missing))}")
         centre = self.seed_centre()
-        if centre is not None and mesh(*centre).nr < 0:
-            box = np.array([v.point for v in mesh.vertices])
+        if centre is not None and parallel.maximum(mesh, mesh(*centre).nr) < 0:
+            low, high = bounding_box(mesh)
             raise ParameterError(
                 f"seed = {self.seed} is outside the body: allowed uniform, or X,Y,Z inside "
-                f"it (bounding box {np.round(box.min(axis=0), 2).tolist()} to "
-                f"{np.round(box.max(axis=0), 2).tolist()})")
-        if "curvature" in self.output_set() and any(
-                el.type != ngs.ET.TET for el in mesh.Elements(ngs.VOL)):
+                f"it (bounding box {np.round(low, 2).tolist()} to "
+                f"{np.round(high, 2).tolist()})")
+        if "curvature" in self.output_set() and parallel.total(mesh, sum(
+                el.type != ngs.ET.TET for el in mesh.Elements(ngs.VOL))):
             raise ParameterError(f"outputs = {self.outputs}: the curvature of the growth metric "
                                  f"(Regge elements) needs a tetrahedral mesh; geometry = "
                                  f"{self.geometry} is meshed with hexahedra (a voxel brain "
                                  f"takes --set elements=tet)")
         return AtrophyCase(self, mesh)
+
+    def distributed_mesh(self):
+        """The brain of :meth:`mesh`, distributed over the ranks of an MPI run
+        (:mod:`ngincompat.parallel`; the ellipsoid curved on every rank)."""
+        if parallel.world() is None:
+            return self.mesh()
+        if self.geometry == "idealized":
+            return parallel.distribute_geometry(
+                brain_geometry(self.axes(), self.gray_thickness), self.maxh, self.order)
+        return parallel.distribute(self.mesh)
 
     def mesh(self):
         """The brain: the ellipsoid, the MNI152 template, or the user's file (cm)."""
@@ -369,10 +385,10 @@ class AtrophyCase:
         self.volume0 = {k: ngs.Integrate(1.0, mesh, definedon=mesh.Materials(k))
                         for k in TISSUES}
         self.volume0["total"] = sum(self.volume0.values())
-        self.vertices = np.array([v.point for v in mesh.vertices])
+        self.vertices = np.array([v.point for v in mesh.vertices]).reshape(-1, 3)
         #: Centre and half-sizes of the body's bounding box: the sections pass through the
         #: centre, the profile starts there.
-        low, high = self.vertices.min(axis=0), self.vertices.max(axis=0)
+        low, high = bounding_box(mesh)
         self.centre, self.extent = (low + high) / 2, (high - low) / 2
         self.c_extremes = [self.transport.minimum(), self.transport.maximum()]
         self._record(0.0)
@@ -392,8 +408,8 @@ class AtrophyCase:
             self.transport.step(dt)
             c = self.transport.c.vec.FV().NumPy()
             self.exposure.vec.FV().NumPy()[:] += exposure_increment(c, dt)
-            self.c_extremes = [min(self.c_extremes[0], float(c.min())),
-                               max(self.c_extremes[1], float(c.max()))]
+            self.c_extremes = [min(self.c_extremes[0], self.transport.minimum()),
+                               max(self.c_extremes[1], self.transport.maximum())]
             self._record(self.transport.t)
 
     def _record(self, t):
@@ -405,7 +421,7 @@ class AtrophyCase:
         centre = self.scene.seed_centre()
         if centre is not None:
             reached = self.transport.c.vec.FV().NumPy() >= 0.5
-            row["front_radius"] = float(np.max(np.linalg.norm(
+            row["front_radius"] = parallel.maximum(self.mesh, np.max(np.linalg.norm(
                 self.vertices[reached] - centre, axis=1), initial=0.0))
         for key, value in row.items():
             self.series.setdefault(key, []).append(value)
@@ -587,6 +603,7 @@ class AtrophyCase:
             "Je_deviation_max": max(sampling.maximum(J / self.theta - 1, mesh),
                                     sampling.maximum(1 - J / self.theta, mesh)),
             "max_principal_stress": sampling.maximum(fields["sigma_max_principal"], mesh),
+            "strain_energy": problem.strain_energy(),
             "equilibrium_residual_rel": float(np.linalg.norm(np.array(total))) / size,
         }
 
@@ -626,14 +643,26 @@ class AtrophyCase:
                 corners = [v.nr for v in el.vertices]
                 triangles += [corners[:3]] + ([[corners[0], corners[2], corners[3]]]
                                               if len(corners) == 4 else [])
-        triangles = np.array(triangles)
+        triangles = np.array(triangles, dtype=int).reshape(-1, 3)
         used, local = np.unique(triangles, return_inverse=True)
         points = self.vertices[used]
-        at = mesh(*points.T)
-        out = {"points": points, "triangles": local.reshape(-1, 3)}
-        for key in ("c", "theta", "sigma_max_principal", "u"):
-            values = np.asarray(fields[key](at))
-            out[key] = values[:, 0] if values.shape[1] == 1 else values
+        keys = ("c", "theta", "sigma_max_principal", "u")
+        values = [np.asarray(fields[k](mesh(*points.T))).reshape(len(points), -1)
+                  if len(points) else np.empty((0, fields[k].dim)) for k in keys]
+        # on a distributed mesh: every rank's triangles, a vertex shared by ranks once
+        rows = parallel.gather_rows(mesh, np.column_stack([points, *values]))
+        corners = parallel.gather_rows(mesh, points[local.reshape(-1, 3)].reshape(-1, 9))
+        rows = rows[np.sort(np.unique(rows[:, :3], axis=0, return_index=True)[1])]
+        index = {tuple(p): k for k, p in enumerate(rows[:, :3])}
+        out = {"points": rows[:, :3],
+               "triangles": np.array([index[tuple(p)] for p in corners.reshape(-1, 3)],
+                                     dtype=int).reshape(-1, 3)}
+        column = 3
+        for key, v in zip(keys, values, strict=True):
+            width = v.shape[1]
+            part = rows[:, column:column + width]
+            out[key] = part[:, 0] if width == 1 else part
+            column += width
         return out
 
     def _line(self, fields, metrics):
@@ -699,6 +728,15 @@ class AtrophyStage:
                 and self.last < case.scene.n_steps()):    # the end's frame: see measure
             case.take_frame(self.last * self.dt)
         return history
+
+
+def bounding_box(mesh):
+    """The lowest and highest coordinates of the mesh's vertices (of all its ranks)."""
+    points = np.array([v.point for v in mesh.vertices]).reshape(-1, 3)
+    corners = (np.array([points.min(axis=0), points.max(axis=0)]) if len(points)
+               else np.empty((0, 3)))
+    corners = parallel.gather_rows(mesh, corners)
+    return corners.min(axis=0), corners.max(axis=0)
 
 
 def _larger(a, b):
