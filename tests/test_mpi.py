@@ -175,6 +175,13 @@ def test_distributed_atrophy_matches_serial(tmp_path):
     for step in parallel["solver"]["t=10"]["steps"]:
         assert all(n >= 3 for n in step["linear_iterations"])      # CG, not a direct solve
     assert {"fields.pvd", "fields_proc1.vtu", "fields_proc2.vtu"} <= set(parallel["files"])
+    # the time series: a frame per equilibrium (t = 5, 10), each in two parts
+    series = (out / "fields_series.pvd").read_text()
+    for k, t in enumerate((5.0, 10.0)):
+        for rank in (1, 2):
+            name = f"fields_{k:03d}_proc{rank}.vtu"
+            assert (out / name).is_file() and name in parallel["files"]
+            assert f'timestep="{t!r}" group="" part="{rank - 1}" file="{name}"' in series
 
 
 def test_fsaverage_refuses_mpi_naming_the_setting(tmp_path):

@@ -185,12 +185,13 @@ def incomplete(final):
 
 def write_pvd(path, datasets):
     """Write a ParaView collection (``path`` ends in ``.pvd``) atomically: a time series of
-    VTK files given as (time, file name relative to the collection's folder)."""
+    VTK files given as (time, file name relative to the collection's folder), or as (time,
+    file name, part) where a time has one file per part of a distributed mesh."""
     lines = ['<?xml version="1.0"?>',
              '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
              "  <Collection>",
-             *(f'    <DataSet timestep="{float(t)!r}" group="" part="0" file="{name}"/>'
-               for t, name in datasets),
+             *(f'    <DataSet timestep="{float(t)!r}" group="" part="{part}" file="{name}"/>'
+               for t, name, part in ((*d, 0) if len(d) == 2 else d for d in datasets)),
              "  </Collection>", "</VTKFile>"]
     with atomic_path(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n")

@@ -243,6 +243,7 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
             if distributed:
                 files += io.write_vtk_parallel(out / "fields", results.domain, vtk,
                                                subdivision=subdivision)
+                files += _write_frames_parallel(out, results, subdivision)
             else:
                 io.write_vtk(out / "fields.vtu", results.domain, vtk, subdivision=subdivision)
                 files.append("fields.vtu")
@@ -284,6 +285,25 @@ def _write_frames(out: Path, results: Results, subdivision: int) -> list[str]:
         return []
     io.write_pvd(out / "fields.pvd", datasets)
     return [name for _, name in datasets] + ["fields.pvd"]
+
+
+def _write_frames_parallel(out: Path, results: Results, subdivision: int) -> list[str]:
+    """The time series of ``results.frames`` on a distributed mesh: per frame
+    ``fields_NNN.pvd`` and its parts ``fields_NNN_procK.vtu`` (every rank writes its own),
+    and the collection ``fields_series.pvd`` of every frame's parts by time (rank 0, last).
+    Collective: call on every rank."""
+    datasets, files = [], []
+    for k, (t, fields) in enumerate(results.frames):
+        written = io.write_vtk_parallel(out / f"fields_{k:03d}", results.domain, fields,
+                                        subdivision=subdivision)
+        files += written
+        parts = sorted(name for name in written if name.endswith(".vtu"))
+        datasets += [(t, name, part) for part, name in enumerate(parts)]
+    if not datasets:
+        return []
+    if parallel.is_root():
+        io.write_pvd(out / "fields_series.pvd", datasets)
+    return [*files, "fields_series.pvd"]
 
 
 #: Highest order of the interpolants in the VTK file. A stress of the hemisphere (436 curved
