@@ -23,6 +23,7 @@ from pathlib import Path
 
 from ngincompat.errors import ParameterError
 from ngincompat.parameters import PRESETS
+from ngincompat.progress import SILENT, Progress
 from ngincompat.scenes import SCENES
 from ngincompat.studies.bench import CUBE_ENERGY
 from ngincompat.workflow import io, tables
@@ -91,7 +92,7 @@ def _wait(proc, deadline):
         time.sleep(0.05)
 
 
-def table(scenes=None, presets=None, timeout=TIMEOUT, progress=print):
+def table(scenes=None, presets=None, timeout=TIMEOUT, progress=SILENT):
     """Measure every scene of ``scenes`` (default: all) at each of its presets among
     ``presets`` (default: all of the scene's), cheapest preset first; returns the rows
     (columns :data:`COLUMNS`).
@@ -117,7 +118,7 @@ def table(scenes=None, presets=None, timeout=TIMEOUT, progress=print):
             record, cost = measure(name, preset, timeout)
             records[preset] = record
             rows.append(_row(name, preset, record, cost))
-            progress(f"{name} {preset}: {rows[-1]['status']}, {cost['wall_s']} s")
+            progress.line(f"{name} {preset}: {rows[-1]['status']}, {cost['wall_s']} s")
         _errors([r for r in rows if r["scene"] == name], records)
     return rows
 
@@ -165,7 +166,7 @@ def main(scenes=None, presets=None, out=None, timeout=TIMEOUT):
     the table is also written as ``scenes.md``, ``.csv``, ``.json``, keeping the rows of an
     earlier table there that this run did not measure (so one scene can be measured again
     after a change)."""
-    rows = table(scenes, presets, timeout, progress=lambda line: print(line, flush=True))
+    rows = table(scenes, presets, timeout, progress=Progress())
     if out is not None and (Path(out) / "scenes.json").is_file():
         rows = merged(io.read_json(Path(out) / "scenes.json")["rows"], rows)
         # the finest run of a scene may be one of the earlier table's
