@@ -6,7 +6,7 @@ The pial and the white surface of a hemisphere share their triangulation, vertex
 (FreeSurfer grows the pial surface out of the white one). The cortex (gray matter) is the
 volume between them, the white matter the volume inside the white surface.
 
-Meshing (measured choices, see the README's atrophy section):
+Meshing (measured choices: ``docs/measurements/atrophy.md``, the fsaverage brain):
 
 * **resolution**: the fsaverage triangulations are nested icosahedra (the first 2562,
   10242 vertices are those of subdivision 4, 5), so a coarser brain takes the first

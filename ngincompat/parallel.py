@@ -74,7 +74,7 @@ def distribute(build):
     -----
     A distributed run uses one NGSolve thread per rank: with a rank per core, more threads
     oversubscribe the cores, and BDDC's many short parallel loops then cost a hundred times
-    their work (measured on a loaded 2-core machine).
+    their work on a loaded machine (``docs/measurements/solver-costs.md``, the cube's tangent).
     """
     comm = world()
     if comm is None:

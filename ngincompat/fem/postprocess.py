@@ -44,7 +44,7 @@ def largest_principal_value(T):
         lambda_max = q + 2 p cos(arccos(r) / 3),
 
     and q where p = 0 (T = q I). A few dozen flops per point against the iterative ``Eig``
-    (0.1 s instead of 3.5 s for the stress field of the disc); the two agree to round-off
+    (``docs/measurements/solver-costs.md``, the prescribed scenes); the two agree to round-off
     amplified by arccos near double eigenvalues (1e-8 relative to p at worst)."""
     q = ngs.Trace(T) / 3
     D = T - q * ngs.Id(3)

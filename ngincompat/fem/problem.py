@@ -61,10 +61,10 @@ def ensure_heap(order):
 
 
 #: Size (ndof) from which a :class:`~ngincompat.fem.coupled.CoupledProblem` compiles its
-#: residual to machine code by default. On the skin at its defaults (27k dofs, 1100
-#: tetrahedra) the tangent assembly then takes 1.3 s instead of 3.1 s, after 8 s of
-#: compilation in every run (measured): worth it from about five tangents at that size, and
-#: not for the small problems of the tests.
+#: residual to machine code by default: the tangent assembly then takes less than half the
+#: time, after some seconds of compilation in every run, which pays from a few tangents at
+#: this size and not for the small problems of the tests (measured on the skin:
+#: ``docs/measurements/solver-costs.md``, "The coupled residual").
 REALCOMPILE_NDOF = 20000
 
 
@@ -88,10 +88,10 @@ def compiled(cf, realcompile):
 
     ``cf`` is a residual, linear in the test function: it is evaluated, and linearised in the
     trial function for the tangent, never differentiated twice. The C++ is therefore generated
-    up to first derivatives (``maxderiv=1``, NGSolve's default is 2): on the rectangle
-    expander the compilation takes 7.6 s instead of 14.7 s, with the same tangents (measured,
-    quiet machine); with ``maxderiv=0`` it takes 5.7 s but the tangent falls back to the
-    interpreted derivative and the run takes 137 s instead of 53 s.
+    up to first derivatives (``maxderiv=1``, NGSolve's default is 2): half the compilation
+    time, the same tangents; with ``maxderiv=0`` the tangent falls back to the interpreted
+    derivative and a run takes more than twice as long (``docs/measurements/solver-costs.md``,
+    "The coupled residual").
     """
     if realcompile:
         find_compiler()
@@ -152,7 +152,7 @@ class GrowthMechanics:
         energy, residual and tangent as on VectorH1, the tangent in half the time. False
         assembles it on VectorH1, as NGSolve's BDDC preconditioner (the iterative linear
         solvers) needs: built on the component spaces, its coarse problem is singular
-        (measured: GMRES then stalls on the cube).
+        (GMRES then stalls on the cube).
     quadrature : {"gauss", "symmetric", "auto"}
         The rule of energy, residual and tangent (:mod:`ngincompat.fem.quadrature`): NGSolve's
         Gauss rule of degree 2 order - 2, or on tetrahedra the symmetric rule of that degree
@@ -367,7 +367,7 @@ def component_space(space, rest=()):
     energy is the same matrix, but NGSolve assembles it per pair of components, skipping
     the zero blocks of Grad u's derivative with respect to the dofs, which VectorH1's
     tangent multiplies through: half the time of the element matrices on the cube's
-    tetrahedra of order 6 (measured 0.12 s against 0.24 s per tangent).
+    tetrahedra of order 6 (``docs/measurements/solver-costs.md``, "The cube's tangent").
     """
     scalar = ngs.H1(space.mesh, order=space.globalorder)
     compound = ngs.FESpace([scalar] * 3 + list(rest))

@@ -2,14 +2,11 @@
 
 The coupled problems (skin, folding) have non-symmetric tangents, which NGSolve factorises
 with UMFPACK. SciPy's SuperLU with its COLAMD column ordering factorises the same matrices
-several times faster, side by side in one process (README, "The coupled scenes: where the
-time goes"): the skin's condensed tangent at its defaults (29,088 dofs, 5,587 free coupling
-dofs) in 0.35-0.50 s against 1.5-1.8 s, plus 0.03-0.09 s to copy the free block out of
-NGSolve; the folding bilayer's (61,634 dofs, 29,883 coupling) in 3.6 s against 28.9 s. The
-solutions agree to 3e-13 relative. Both bodies are thin (a patch, a slab); on the
-atrophying brain's symmetric tangent, a solid (77,990 dofs, 41,304 coupling), COLAMD fills
-in 2.3e8 entries and SuperLU takes 138 s against the sparse Cholesky's 8 s, which
-:class:`~ngincompat.fem.problem.GrowthMechanics` keeps.
+several times faster, side by side in one process, with solutions that agree to round-off.
+Both bodies are thin (a patch, a slab); on the atrophying brain's symmetric tangent, a
+solid, COLAMD fills in far more than the sparse Cholesky factorisation, which
+:class:`~ngincompat.fem.problem.GrowthMechanics` keeps. The measurements: documentation,
+``docs/measurements/solver-costs.md``, "The coupled scenes: where the time goes".
 
     K_ff du_f = r_f,  du = 0 on the other dofs,
 

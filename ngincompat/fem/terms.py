@@ -152,8 +152,8 @@ class GrowthEnergy(Term):
         rate = euler_residual(self.law, th, self.theta_old, problem.growing * problem.dt,
                               stretch)
         # dW/du . v as P : Grad v with P = dW/dF: the same residual and tangent, the tangent's
-        # element matrices in about 0.4 of the time of the symbolic Diff of W by u (measured:
-        # 0.30 s against 0.81 s, order 3, 0.4-cube, area growth)
+        # element matrices in about 0.4 of the time of the symbolic Diff of W by u
+        # (docs/measurements/solver-costs.md, "The coupled residual")
         stress = W.Diff(F)
         return compiled(ngs.InnerProduct(stress, ngs.Grad(v)) + rate * eta,
                         problem.realcompile) * ngs.dx

@@ -115,7 +115,7 @@ class AtrophyScene(Scene):
     summary = ("section 3.5: misfolded protein spreads (Fisher-KPP) and shrinks gray matter "
                "faster than white")
     units = {"length": "cm", "stress": "kPa", "energy": "mJ", "time": "yr"}
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(snapshots=1), "paper": dict(maxh=0.7, dt=0.1)}
     metrics = ("volume_loss", "gray_volume_loss", "white_volume_loss", "volume_loss_theta",
                "volume_bookkeeping_error", "Je_deviation_max", "burgers_max",

@@ -34,7 +34,7 @@ class CubeScene(prescribed.PrescribedScene):
 
     name = "cube"
     summary = "section 3.1: isotropic growth theta = 1 + X1 t / 4 of a 1 mm cube"
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.5, order=3, g_order=3),
                "paper": dict(elements="hex", maxh=0.25, order=4)}
     variant = ("model", "formulation")

@@ -58,7 +58,7 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
     name = "custom"
     summary = "your own geometry, growth kind, theta(X, t) and material"
     variant = ("geometry", "growth", "material")
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.5, order=2, g_order=3), "paper": dict(order=5)}
 
     geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(BUILDERS)),

@@ -30,7 +30,7 @@ class CylinderScene(prescribed.PrescribedScene):
 
     name = "cylinder"
     summary = "section 3.4: fiber growth of a cylinder, relieved by a stress-free rotation"
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.5, order=2, g_order=3), "paper": dict(order=4)}
     metrics = prescribed.PrescribedScene.metrics + (
         "b_eq27_error", "Fe_rotation_deviation", "rotation_rate", "rotation_rate_expected",)

@@ -38,7 +38,7 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
 
     name = "disc"
     summary = "section 3.3: area growth of a disc, GOH with radial or circumferential fibers"
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.4, order=2, g_order=3), "paper": dict(order=4)}
     variant = ("fibers", "material")
     metrics = prescribed.PrescribedScene.metrics + (

@@ -62,7 +62,7 @@ faces of the slab (plane strain). Stages:
    contact, and ``self_contact_penetration_max``). Where its steps are cut until it gives
    up, its error says where the stretch fell below the threshold. On the default bilayer
    that is at 42.5 days (theta_c = 1.34), so the default ``t_end`` is 40 days, not the
-   paper's 75 (README, "Cortical folding": how far the coarse bilayer gets with the
+   paper's 75 (``docs/measurements/folding.md``: how far the coarse bilayer gets with the
    contact and the refined top).
 3. **equilibrium**: the viscous march's end is not an equilibrium (residual without the
    viscosity 5.4e-5 on the small bilayer of the tests), and plain Newton without the
@@ -158,18 +158,17 @@ EIGENPAIRS = 6
 CREASE_STRETCH = 0.65
 
 #: The self-contact's pairs are sought within this many cortex thicknesses of a point. The
-#: search costs about the number of boundary elements within reach per point: on the coarse
-#: bilayer with the top refined 4 times (25,736 dofs) one update of the pairs took 16.6 s
-#: within one cortex thickness (load 9 on the 2 cores), against 0.2 s unrefined. The walls
-#: of a sulcus approach by far less than a quarter thickness per step.
+#: search costs about the number of boundary elements within reach per point, which on a
+#: refined top is most of a step (``docs/measurements/folding.md``, "Past the creasing
+#: threshold"). The walls of a sulcus approach by far less than a quarter thickness per step.
 CONTACT_REACH = 0.25
 
 #: Newton's linear solver in every stage (:class:`~ngincompat.fem.solver.NewtonOptions`): GMRES
 #: preconditioned by the sparse Cholesky factorisation of the tangent's symmetric part. The
 #: coupled tangent (growth condensed) is symmetric but for the stretch-driven axons' coupling
-#: (0.56 % of its norm at the first step); on the default bilayer (61,634 dofs) GMRES takes
-#: 7 iterations per direction and a Newton step of the perfect branch 7-10 s against 16 s
-#: with UMFPACK's LU (4.4-4.7 s per factorisation against 0.5 s), with the same residuals.
+#: (under 1 % of its norm); on the default bilayer GMRES takes a few iterations per direction
+#: and a Newton step costs about half of one with UMFPACK's LU, with the same residuals
+#: (``docs/measurements/folding.md``, "Where the time goes").
 #: At most ``KRYLOV_MAXITER`` iterations: where the preconditioner is poor the step is cut.
 LINEAR_SOLVER = "symmetric-gmres"
 KRYLOV_MAXITER = 100
@@ -228,7 +227,7 @@ class FoldingScene(Scene):
     name = "folding"
     summary = "section 3.7: cortical folding, a growing cortex on a subcortex with axon growth"
     variant = ("axons",)
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(length=1.0, height=0.5, maxh=0.2, dt=5.0,
                                onset_dt=5.0, approach_dt=10.0, observe_dt=10.0,
                                release=False),
@@ -555,10 +554,10 @@ class FoldingCase:
         scene = self.scene
         # Plain Newton steps: the residual norm mixes the growth residual (small: dt r times
         # element volumes) with forces, and the first full step, quadratically convergent
-        # after it, raises it; a line search on it backtracks to 1/16 steps (measured: 17
-        # iterations against 3 for a step of dt = 5). A failed step is cut instead. Steps
-        # start from the extrapolation of the last two states (the flat branch is smooth in
-        # t): on the default bilayer 18 iterations to the onset against 25.
+        # after it, raises it; a line search on it backtracks to 1/16 steps and takes several
+        # times the iterations. A failed step is cut instead. Steps start from the
+        # extrapolation of the last two states (the flat branch is smooth in t), which saves
+        # Newton iterations to the onset (docs/measurements/folding.md, "Where the time goes").
         options = newton(max_step=scene.onset_dt, line_search=False, extrapolate=True)
         near = self.approach_end()
         perfect = CoupledStage("perfect", self.problem, t_end=scene.t_end,
@@ -589,9 +588,9 @@ class FoldingCase:
         (2.5 days) failed, a full Newton step from the growing folds inverting an element
         after about six iterations. Newton's steps are line-searched (a trial state with an
         inverted element, non-finite, is shortened instead of failing the step): on the
-        coarse bilayer with the graded top (README, "Cortical folding") full steps cut the
-        march's steps to 0.04 days at 47.4 days, line-searched ones went on with steps of
-        0.6 days to 49.8 days."""
+        coarse bilayer with the graded top full steps cut the march's steps far sooner than
+        line-searched ones (``docs/measurements/folding.md``, "Past the creasing
+        threshold")."""
         step = min(self.viscous_step(), self.scene.onset_dt)
         options = newton(max_step=step, line_search=True, min_step=1e-6)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,

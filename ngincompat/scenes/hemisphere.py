@@ -43,7 +43,7 @@ class HemisphereScene(prescribed.PrescribedScene):
 
     name = "hemisphere"
     summary = "section 3.2: radial isotropic growth of a half ball (linear/concave/convex)"
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.5, centre_maxh=0.25, order=2, g_order=3),
                "paper": dict(maxh=0.4)}
     variant = ("profile", "flat_face", "model")

@@ -35,11 +35,10 @@ from ngincompat.workflow.results import Figure
 
 #: Contraction a reused tangent must achieve per Newton iteration. A reused iteration costs a
 #: residual and two triangular solves, about a thirtieth of assembling and factorising a fresh
-#: tangent at order 5 (0.15 s against 4 s on the hemisphere), so a tangent that only halves
-#: the residual is still worth keeping. Tangents for Newton iterations on the full free
-#: hemisphere at 0.1: linear 8 for 14, convex 9 for 16; at 0.5: linear 6 for 18, convex 6 for
-#: 20, concave 4 for 14; at 0.8 the concave one stalls at a contraction of 0.6 and runs out of
-#: iterations.
+#: tangent at order 5, so a tangent that only halves the residual is still worth keeping; at
+#: 0.8 the concave hemisphere stalls and runs out of iterations (the tangents per Newton
+#: iteration at each contraction: ``docs/measurements/solver-costs.md``, the prescribed
+#: scenes).
 REUSE_CONTRACTION = 0.5
 
 
@@ -183,8 +182,8 @@ class PrescribedScene(Elastic, Scene):
 
         * displacement at nu = 0.499: 0.00317 MPa against the mixed form's 0.00288, in 233
           Newton iterations over 32 load steps against 10 in one; at 0.49999: 0.52 MPa
-          after 4619 iterations; below order 4 already at nu = 0.49 (the README's sweep
-          examples/sweeps/cube_poisson.toml, maxh 0.5: 0.0114 MPa at order 2 and 0.0059 at
+          after 4619 iterations; below order 4 already at nu = 0.49 (the sweep of the user
+          guide, examples/sweeps/cube_poisson.toml, maxh 0.5: 0.0114 MPa at order 2 and 0.0059 at
           order 3, against 0.00285 at order 4);
         * mixed on tetrahedra (maxh 0.25) below order 4, whose discontinuous pressure of
           order - 1 is not inf-sup stable there: at order 2, 0.0057 MPa at nu = 0.49 and
@@ -284,8 +283,7 @@ def _mechanics(case, problem, fields):
     stress = postprocess.stresses(problem.energy_density, problem.u)
     F = deformation_gradient(problem.u)
     Fg = case.growth.Fg
-    # compiled: the stress is evaluated once per point for the VTK interpolants (the disc's
-    # sigma_r in 0.03 s instead of 0.4 s)
+    # compiled: the stress is evaluated once per point for the VTK interpolants
     fields.update({"u": problem.u, "Psi": (stress["W"] / case.growth.Jg).Compile(),
                    "sigma_max_principal": postprocess.largest_principal_value(stress["sigma"]),
                    **{k: stress[k].Compile() for k in ("P", "S", "sigma")},

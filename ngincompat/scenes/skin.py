@@ -105,7 +105,7 @@ class SkinExpansionScene(Elastic, Scene):
     summary = ("section 3.6: skin expansion, an expander dome in contact inflated to 50 cc, "
                "7 days of area growth")
     variant = ("footprint",)
-    # the measurements behind them: README, "Presets and the cost of each scene"
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=2.0),
                "paper": dict(maxh=0.7)}
     metrics = ("volume_inflated", "volume_error_rel", "pressure_inflated",

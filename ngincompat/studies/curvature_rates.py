@@ -114,7 +114,8 @@ def rates(rows, measure):
 
 
 def rate_summary(rows):
-    """Rows (body, k, measure, measured rates, published rate) for the README table."""
+    """Rows (body, k, measure, measured rates, published rate) for the table of rates
+    (``docs/measurements/curvature.md``)."""
     summary = []
     for measure in ("pairing", "lift", "elementwise"):
         for (body, k), values in rates(rows, measure).items():

@@ -4,8 +4,8 @@ the reason and the effect: the table of the report (:mod:`ngincompat.studies.rep
 Each entry was found by reading the paper's sections 3.1-3.7 beside the scene's parameters
 (``ngincompat list -v``). ``paper`` quotes the paper ("not given" where it names no value),
 ``ours`` is the scene's default, read from the scene class itself (so the table cannot
-disagree with the code); the effect is measured where the README or the accuracy studies
-measured it, otherwise said to be unmeasured.
+disagree with the code); the effect is measured where the documentation's measurement logs
+or the accuracy studies measured it, otherwise said to be unmeasured.
 """
 
 from __future__ import annotations
@@ -51,7 +51,8 @@ DEVIATIONS = (
               "tetrahedra of order 6 on a symmetric rule (the paper preset keeps hexahedra of "
               "order 4): the closed form of G (eq. 16) and the stresses converge at far fewer "
               "unknowns than trilinear elements",
-              "G against eq. (16) to round-off; stresses converged (README, Verification)"),
+              "G against eq. (16) to round-off; stresses converged "
+              "(docs/measurements/paper-job.md)"),
     Deviation("3.2", HemisphereScene, "order, centre_maxh",
               "1,920 C3D8, 2,300 nodes, the whole half ball",
               "order 5, refined at the centre where theta has a cone point; ngincompat paper "
@@ -97,7 +98,7 @@ DEVIATIONS = (
               "the expander of ref. [59] (shape not modelled in the text)",
               "a rigid dome in contact, volume-controlled to 50 cc",
               "growth peaks at the apex as in Fig. 6a; a uniform pressure puts it at the "
-              "footprint's edge instead (README, Skin expansion)"),
+              "footprint's edge instead (docs/measurements/skin.md)"),
     Deviation("3.6", SkinExpansionScene, "order, maxh", "3,200 C3D8, 5,043 nodes",
               "quadratic tetrahedra of 1 cm", "not measured against the paper's mesh"),
     Deviation("3.7", FoldingScene, "t_end",
@@ -107,14 +108,14 @@ DEVIATIONS = (
     Deviation("3.7", FoldingScene, "cortex_rate",
               "0.008/hour", "read as 0.008 per day: per hour theta_c would reach 15.4 in 75 "
               "days, far past any folding model",
-              "the onset falls within the run (README, Cortical folding)"),
+              "the onset falls within the run (docs/measurements/folding.md)"),
     Deviation("3.7", FoldingScene, "mu_white, lam_ratio",
               "mu_gray / mu_white = 3, no absolute values",
               "mu_white = 1 kPa (stresses in units of it), lambda / mu = 100 (nearly "
               "incompressible)", "onset and folds depend on the ratio only"),
     Deviation("3.7", FoldingScene, "order, maxh, cortex_maxh",
               "6,000 C3D8, 12,462 nodes", "quadratic tetrahedra, two across the cortex",
-              "onset growth converged to 1e-2 (README, Cortical folding)"),
+              "onset growth converged to 1e-2 (docs/measurements/folding.md)"),
 )
 
 

@@ -57,9 +57,8 @@ each case is recorded (``load``): when other processes occupy the cores, the tas
 threads wait for each other at every parallel loop, and the small cases, CG above all, become
 many times slower. BDDC's element Schur complements call LAPACK inside the task manager's tasks,
 and OpenBLAS then starts threads of its own: with one of two cores busy elsewhere, the BDDC
-setup of order 4 at 107811 dofs took 204 s instead of 3.6 s with ``OPENBLAS_NUM_THREADS=1``
-(the cases inherit the environment; the direct solvers lose 10-30 % with it on an idle
-machine).
+setup became fifty times slower than with ``OPENBLAS_NUM_THREADS=1`` (the cases inherit the
+environment; ``docs/measurements/solver-costs.md``, "Choosing the linear solver").
 """
 
 import contextlib

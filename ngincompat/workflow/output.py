@@ -306,9 +306,9 @@ def _write_frames_parallel(out: Path, results: Results, subdivision: int) -> lis
     return [*files, "fields_series.pvd"]
 
 
-#: Highest order of the interpolants in the VTK file. A stress of the hemisphere (436 curved
-#: elements) costs 0.87 s at order 5 and 0.21 s at order 4, which is within 1.4e-4 of it in
-#: relative L2 (3.5e-5 at order 5; measured): the difference cannot be seen in a plot.
+#: Highest order of the interpolants in the VTK file: order 4 costs a quarter of order 5 on
+#: the hemisphere's stresses and stays within 1.4e-4 of the field in relative L2, which
+#: cannot be seen in a plot (``docs/measurements/solver-costs.md``, the prescribed scenes).
 VTK_ORDER = 4
 
 
@@ -318,10 +318,10 @@ def interpolated(fields: dict, mesh, order: int, copy: bool = False) -> dict:
     its element-wise (L2) interpolant of ``order``.
 
     VTK output evaluates a CoefficientFunction point by point; the interpolant evaluates it
-    once at the integration points, vectorised. For a stress from the symbolic derivative of
-    the GOH energy on the disc (750 elements, order 3, subdivision 2) that is 0.5 s instead of
-    5.1 s per field (measured), and the file differs from the field by its interpolation error
-    (3e-4 relative there). Metrics and profiles never read the file."""
+    once at the integration points, vectorised: a tenth of the time for a stress from the
+    symbolic derivative of the GOH energy on the disc (``docs/measurements/solver-costs.md``,
+    the prescribed scenes), and the file differs from the field by its interpolation error.
+    Metrics and profiles never read the file."""
     out = {}
     for name, cf in fields.items():
         if isinstance(cf, ngs.GridFunction):
