@@ -1,14 +1,20 @@
-"""Every command the README shows runs, on coarse settings, as a user would follow it.
+"""Every command the README and the hand-written documentation pages show runs, on coarse
+settings, as a user would follow them.
 
-The README's ``bash`` blocks are read line by line (a trailing ``\\`` continues a line); every
-``ngincompat`` command in them, also after ``&&``, environment settings or a ``.venv/bin/``
-prefix, and every inline
-command of the text that names an output folder (`` `ngincompat ... --out ...` ``), is run in
-order in one scratch folder (so a command can use what an earlier one wrote, as in the README),
+The pages (the README, then ``docs/getting-started.md``, ``docs/theory.md``, the user guide
+``docs/guide/*.md`` and the measurement logs ``docs/measurements/*.md``) are read in that
+order. Their ``bash`` blocks are read line by line (a trailing ``\\`` continues a line), and
+so are the ``$ `` lines of ``console`` blocks; every ``ngincompat`` command in them, also
+after ``&&``, environment settings or a ``.venv/bin/`` prefix, and every inline command of
+the text that names an output folder (`` `ngincompat ... --out ...` ``), is run in order in
+one scratch folder (so a command can use what an earlier one wrote, as in the pages),
 through the command line's ``main``, with coarse settings appended by the rules below. Each
 must exit 0 without a traceback and print its summary line. A command whose subcommand (or
-scene, or benchmark) has no rule here fails the test: a new README example cannot go
-untested. The README's Python blocks are executed too.
+scene, or benchmark) has no rule here fails the test: a new documented example cannot go
+untested. A command shown on several pages runs once. The commands of the README and the
+guide run in the default tier, those only in the measurement logs are marked slow (their
+scenes are the coupled ones, each a few seconds to minutes even on coarse settings). The
+pages' Python blocks are executed too.
 """
 
 import re
@@ -24,6 +30,11 @@ from ngincompat.workflow import io
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
+DOCS = ROOT / "docs"
+#: The hand-written pages, in the order a reader meets them; the measurement logs last.
+GUIDE = [DOCS / "getting-started.md", DOCS / "theory.md", *sorted((DOCS / "guide").glob("*.md"))]
+MEASUREMENTS = sorted((DOCS / "measurements").glob("*.md"))
+PAGES = [README, *GUIDE, *MEASUREMENTS]
 
 #: Coarse settings appended to ``ngincompat run SCENE``, by scene.
 RUN = {
@@ -73,14 +84,17 @@ SUMMARY = {
     "folding": "summary written to",
     "bench": "|",
     "sweep": "written to",
+    "--version": "ngincompat",
 }
 
 
 def readme_commands(text):
-    """The ngincompat command lines of the README's bash blocks, then its inline commands
-    with an output folder, each in the order of the README and once."""
+    """The ngincompat command lines of a page's bash blocks and console prompts, then its
+    inline commands with an output folder, each in the order of the page and once."""
     commands = []
     blocks = re.findall(r"```bash\n(.*?)```", text, flags=re.S)
+    blocks += ["\n".join(line[2:] for line in block.splitlines() if line.startswith("$ "))
+               for block in re.findall(r"```console\n(.*?)```", text, flags=re.S)]
     prose = re.sub(r"```.*?```", "", text, flags=re.S)
     blocks += [span for span in re.findall(r"`([^`\n]+)`", prose)
                if span.startswith("ngincompat ") and "--out" in span.split()]
@@ -124,7 +138,7 @@ def coarse(argv, scheduler=None):
         if argv[1] != "run":
             return argv
         return [*argv, *_sweep_coarse(argv[2]), "-q"]
-    if command == "list":
+    if command in ("list", "--version"):
         return argv
     raise KeyError(command)
 
@@ -154,7 +168,18 @@ def expected_code(argv, scratch):
     return EXIT_FAILED_CASES if failed else 0
 
 
-COMMANDS = readme_commands(README.read_text())
+def documented_commands(pages):
+    """(argv, page) of every command of ``pages``, in their order, each argv once (on the
+    first page that shows it)."""
+    first = {}
+    for page in pages:
+        for argv in readme_commands(page.read_text()):
+            first.setdefault(tuple(argv), (argv, page))
+    return list(first.values())
+
+
+DOCUMENTED = documented_commands(PAGES)
+COMMANDS = [argv for argv, _ in DOCUMENTED]
 
 
 def test_make_runs_the_two_commands_of_the_readme():
@@ -188,7 +213,31 @@ def test_the_readmes_output_folders_are_ignored_by_git():
     assert {f"{top}/" for top in tops} <= ignored, tops
 
 
-def test_the_readme_shows_commands_of_every_kind():
+def test_the_readme_is_short_and_undated():
+    """The README is a front page (at most 200 lines) with nothing that goes stale: no
+    dates, no commit hashes, no timings; measurements live in docs/measurements/."""
+    text = README.read_text()
+    assert len(text.splitlines()) <= 200
+    assert not re.search(r"\b20\d\d-\d\d-\d\d\b", text)
+    assert not re.search(r"\b(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])[0-9a-f]{7,40}\b", text)
+    assert not re.search(r"\b\d+(\.\d+)? ?(s|min|seconds|minutes)\b", text)
+
+
+def test_the_pages_the_readme_links_exist():
+    links = re.findall(r"\]\(((?:docs/|CHANGELOG)[^)#]*)", README.read_text())
+    assert len(links) > 10
+    missing = [link for link in links if not (ROOT / link).exists()]
+    assert not missing, missing
+
+
+def test_the_documentation_pages_link_only_to_existing_files():
+    """Relative links between the hand-written pages (and to their figures) resolve."""
+    for page in [*GUIDE, *MEASUREMENTS]:
+        for link in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", page.read_text()):
+            assert (page.parent / link).exists(), (page.name, link)
+
+
+def test_the_docs_show_commands_of_every_kind():
     kinds = {argv[0] for argv in COMMANDS}
     assert {"list", "run", "paper", "expansion", "folding", "bench", "sweep"} <= kinds
     assert {argv[1] for argv in COMMANDS if argv[0] == "run"} == set(RUN)
@@ -214,8 +263,14 @@ def dask_scheduler():
         yield cluster.scheduler_address
 
 
-@pytest.mark.parametrize("index", range(len(COMMANDS)),
-                         ids=[" ".join(argv[:3]) for argv in COMMANDS])
+def _tier(page):
+    """The measurement logs' own commands are slow; the README's and the guide's are not."""
+    return [pytest.mark.slow] if page in MEASUREMENTS else []
+
+
+@pytest.mark.parametrize("index", [pytest.param(i, marks=_tier(page))
+                                   for i, (_, page) in enumerate(DOCUMENTED)],
+                         ids=[f"{page.stem}: {' '.join(argv[:3])}" for argv, page in DOCUMENTED])
 def test_readme_command_runs(index, scratch, monkeypatch, capsys, request):
     argv = COMMANDS[index]
     scheduler = request.getfixturevalue("dask_scheduler") if "--scheduler" in argv else None
@@ -229,9 +284,21 @@ def test_readme_command_runs(index, scratch, monkeypatch, capsys, request):
     assert SUMMARY[argv[0]] in captured.out, captured.out[-2000:]
 
 
-def test_readme_python_blocks_run(monkeypatch, tmp_path):
+PYTHON_PAGES = [page for page in PAGES if "```python" in page.read_text()]
+
+
+@pytest.mark.parametrize("page", [pytest.param(p, marks=_tier(p)) for p in PYTHON_PAGES],
+                         ids=[p.stem for p in PYTHON_PAGES])
+def test_readme_python_blocks_run(page, monkeypatch, tmp_path):
+    """Each Python block of a page runs on its own (its imports included), in a scratch
+    folder, in the order of the page."""
     monkeypatch.chdir(tmp_path)
-    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(), flags=re.S)
     assert blocks
     for block in blocks:
-        exec(compile(block, "README.md", "exec"), {})
+        exec(compile(block, str(page.relative_to(ROOT)), "exec"), {})
+
+
+def test_the_readme_and_the_python_guide_have_python_examples():
+    for page in (README, DOCS / "guide" / "python.md"):
+        assert re.search(r"```python\n", page.read_text()), page
