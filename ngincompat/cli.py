@@ -22,9 +22,12 @@ import contextlib
 import errno
 import logging
 import os
+import resource
+import shlex
 import signal
 import sys
 import threading
+import time
 
 from ngincompat import parallel
 from ngincompat.errors import (
@@ -174,7 +177,17 @@ def _cmd_folding(args):
 
 
 def _cmd_bench(args):
-    from ngincompat.studies import bench, costs, curvature_rates, peer, scaling, stability
+    start, load = time.perf_counter(), os.getloadavg()[0]
+    from ngincompat.studies import (
+        bench,
+        costs,
+        curvature_rates,
+        peer,
+        scaling,
+        stability,
+        validation,
+    )
+    from ngincompat.workflow import tables
     if args.case == "scenes":
         lines = costs.main(args.scenes, args.presets, out=args.out, timeout=args.timeout)
     elif args.case == "peer":
@@ -185,6 +198,8 @@ def _cmd_bench(args):
         lines = bench.accuracy_main(out=args.out, quick=args.quick)
     elif args.case == "curvature":
         lines = curvature_rates.main(out=args.out, quick=args.quick)
+    elif args.case == "validation":
+        lines = validation.main(out=args.out, quick=args.quick, progress=Progress())
     elif args.case == "stability":
         lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
     else:
@@ -192,6 +207,13 @@ def _cmd_bench(args):
                              timeout=args.timeout, memory_limit=args.memory_limit,
                              out=args.out)
     print("\n".join(lines))
+    if args.out is not None:
+        usage = [resource.getrusage(who) for who in (resource.RUSAGE_SELF,
+                                                     resource.RUSAGE_CHILDREN)]
+        tables.write_made_by(args.out, shlex.join(["ngincompat", *args.argv]),
+                             time.perf_counter() - start,
+                             sum(u.ru_utime + u.ru_stime for u in usage),
+                             (load, os.getloadavg()[0]))
     return EXIT_OK
 
 
@@ -216,8 +238,8 @@ def _cmd_sweep_plot(args):
 
 
 def _add_bench(sub):
-    """``bench scenes | cube | accuracy | curvature | peer | stability | scaling`` and their
-    options."""
+    """``bench scenes | cube | accuracy | curvature | validation | peer | stability |
+    scaling`` and their options."""
     from ngincompat.studies.scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
@@ -253,6 +275,12 @@ def _add_bench(sub):
                           "exact one: errors, cost and rates under h- and p-refinement")
     p.add_argument("--quick", action="store_true",
                    help="only the coarse hemisphere, k = 1, 2 (seconds)")
+    p = case("validation", "closed forms and independent solutions no other benchmark "
+                           "tabulates: G and b of sections 3.1-3.4, folding's onset against "
+                           "the Stroh analysis, atrophy against the logistic closed form, "
+                           "its volume bookkeeping (see ngincompat.studies.validation)")
+    p.add_argument("--quick", action="store_true",
+                   help="coarse settings (about a minute)")
     p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
                      "alternate runs, the ratio of solve times and both energy errors")
     p.add_argument("--peer", metavar="DIR",
@@ -445,6 +473,8 @@ def main(argv=None):
         args = parser.parse_args(argv)
     except SystemExit as exit:
         return exit.code
+    # the arguments as given, for the records of what a command wrote
+    args.argv = list(sys.argv[1:] if argv is None else argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
     with _terminate_as_interrupt():

@@ -35,7 +35,8 @@ def test_accuracy_study_writes_table_and_plots(tmp_path):
     assert "| case | target [-] | setting | solve_s [s] |" in lines
     assert any(line.startswith("| cube | 0.01 |") for line in lines)
     assert (tmp_path / "accuracy_cheapest.csv").is_file()
-    assert (tmp_path / "cube_maxh1.0_order2" / "results.json").is_file()
+    assert (tmp_path / "runs" / "cube_maxh1.0_order2" / "results.json").is_file()
+    assert not (tmp_path / "cube_maxh1.0_order2").exists()
 
 
 def test_bench_cube_measures_the_error_against_the_converged_energy(tmp_path, capsys):
@@ -57,4 +58,9 @@ def test_bench_cube_measures_the_error_against_the_converged_energy(tmp_path, ca
     out = capsys.readouterr().out
     assert "| maxh [mm] | order | ndof | newton | solve_s [s] | strain_energy [N mm] |" in out
     assert (tmp_path / "bench.md").is_file() and (tmp_path / "bench.csv").is_file()
-    assert (tmp_path / "cube_h1_p3" / "results.json").is_file()
+    # the folder says what made it: the command, its date, its CPU time and the load
+    made_by = (tmp_path / "made_by.md").read_text()
+    assert made_by.startswith(f"Made by `ngincompat bench cube --maxh 1 --orders 2 3 --out "
+                              f"{tmp_path}` on 20")
+    assert "s of CPU time" in made_by and "load average of" in made_by
+    assert (tmp_path / "runs" / "cube_h1_p3" / "results.json").is_file()

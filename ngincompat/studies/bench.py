@@ -9,7 +9,8 @@ iterations, solve time, the strain energy, its relative error against the conver
 symmetry mode and the cylinder, each against its own reference (:func:`error`), with the
 cheapest setting that meets each target error and a plot of error against solve time.
 
-The runs write only results.json (``outputs = "none"``) and only when a folder is given, so
+The runs write only results.json (``outputs = "none"``) and only when a folder is given, into
+its subfolder ``runs`` (apart from the tables and plots, which the documentation includes), so
 the times are those of the computation. Every table is written by
 :func:`ngincompat.workflow.tables.write`
 (markdown, CSV, JSON) with units.
@@ -34,9 +35,13 @@ UNITS = {"maxh": CubeScene.units["length"], "solve_s": "s",
          "error": "-", "target": "-"}
 
 
+#: The subfolder of a benchmark's ``out`` that holds its runs' results.json.
+RUNS = "runs"
+
+
 def _run(scene, out, label):
-    """Run ``scene`` into ``out/label`` (nowhere without ``out``); returns its Results."""
-    return scene.run(None if out is None else Path(out) / label, overwrite=True)
+    """Run ``scene`` into ``out/runs/label`` (nowhere without ``out``); returns its Results."""
+    return scene.run(None if out is None else Path(out) / RUNS / label, overwrite=True)
 
 
 def cube_table(maxhs, orders, out=None, elements="hex"):
@@ -50,7 +55,8 @@ def cube_table(maxhs, orders, out=None, elements="hex"):
     orders : sequence of int
         Polynomial orders.
     out : path-like, optional
-        Folder for the runs' results.json (``cube_h<maxh>_p<order>``), replaced if present.
+        Folder whose ``runs`` subfolder takes the runs' results.json
+        (``cube_h<maxh>_p<order>``), replaced if present.
 
     Returns
     -------
@@ -132,7 +138,7 @@ def error(scene, results):
 def accuracy_table(out=None, study=None):
     """Run every setting of the accuracy ``study`` (default :data:`ACCURACY`); returns rows
     with the columns :data:`ACCURACY_COLUMNS`. With ``out`` each run writes its results.json
-    into ``out/<case>_<settings>``."""
+    into ``out/runs/<case>_<settings>``."""
     rows = []
     for case, (name, grid) in (ACCURACY if study is None else study).items():
         for settings in grid:

@@ -38,7 +38,11 @@ PEER_SCRIPT, PEER_ENV = "fenicsx_growth.py", "env_dolfinx.sh"
 PEER_ARGS = ("--N", "4", "--degree", "4")
 #: Columns of the table, one row per run.
 COLUMNS = ("pair", "code", "setting", "ndof", "newton", "solve_s", "strain_energy",
-           "energy_error")
+           "energy_error", "load")
+#: Columns of the summary table (``peer_ratio``): the median ratio, its range over the
+#: pairs, the largest energy errors, the range of the load averages.
+RATIO_COLUMNS = ("ours", "pairs", "ratio", "ratio_min", "ratio_max", "our_error",
+                 "peer_error", "equal_or_better", "load")
 
 
 def peer_folder(folder=None) -> Path:
@@ -126,7 +130,8 @@ def compare(folder=None, settings=None, pairs: int = 3, peer_args=PEER_ARGS):
     Returns
     -------
     rows : list of dict
-        One row per run, columns :data:`COLUMNS`.
+        One row per run, columns :data:`COLUMNS` (``load``: the machine's 1-minute load
+        average at the run's start).
     summary : dict
         ``ratios`` (peer solve time over ours, per pair), ``ratio`` (their median),
         ``peer_error`` and ``our_error`` (largest energy errors over the pairs) and
@@ -139,7 +144,9 @@ def compare(folder=None, settings=None, pairs: int = 3, peer_args=PEER_ARGS):
     ours_label = ", ".join(f"{k}={v}" for k, v in settings.items()) or "defaults"
     rows, ratios = [], []
     for pair in range(1, pairs + 1):
+        peer_load = os.getloadavg()[0]
         peer = run_peer(path, peer_args)
+        our_load = os.getloadavg()[0]
         ours = run_ours(settings)
         p = ours["params"]
         solve = sum(ours["timings"].get(stage, 0.0) for stage in ours["solver"])
@@ -148,14 +155,15 @@ def compare(folder=None, settings=None, pairs: int = 3, peer_args=PEER_ARGS):
                                 f"{peer['solver']}",
                      "ndof": peer["dofs"], "newton": peer["newton_its"],
                      "solve_s": peer["t_solve"], "strain_energy": peer["W"],
-                     "energy_error": energy_error(peer["W"])})
+                     "energy_error": energy_error(peer["W"]), "load": round(peer_load, 1)})
         rows.append({"pair": pair, "code": "ngincompat",
                      "setting": f"{p['elements']} order {p['order']}, maxh {p['maxh']:g}, "
                                 f"{p['model']}",
                      "ndof": ours["mesh"]["ndof"],
                      "newton": sum(h["newton_iterations"] for h in ours["solver"].values()),
                      "solve_s": solve, "strain_energy": ours["metrics"]["strain_energy"],
-                     "energy_error": energy_error(ours["metrics"]["strain_energy"])})
+                     "energy_error": energy_error(ours["metrics"]["strain_energy"]),
+                     "load": round(our_load, 1)})
         ratios.append(peer["t_solve"] / solve)
     peer_errors = [r["energy_error"] for r in rows if r["code"] != "ngincompat"]
     our_errors = [r["energy_error"] for r in rows if r["code"] == "ngincompat"]
@@ -167,11 +175,19 @@ def compare(folder=None, settings=None, pairs: int = 3, peer_args=PEER_ARGS):
 
 def main(folder=None, settings=None, pairs: int = 3, out=None):
     """``ngincompat bench peer``: :func:`compare`; returns the lines to print (with ``out``
-    the table is also written as ``peer.md``, ``.csv``, ``.json``)."""
+    the table is also written as ``peer.md``, ``.csv``, ``.json``, and its summary, one row
+    with :data:`RATIO_COLUMNS`, as ``peer_ratio``)."""
     rows, summary = compare(folder, settings, pairs)
     units = {**UNITS, "solve_s": "s"}
     verdict = ("at equal or better energy error" if summary["equal_or_better"] else
                "BUT our energy error is larger than the peer's: not a like-for-like ratio")
+    loads = [r["load"] for r in rows]
+    ratio_row = {"ours": summary["ours"], "pairs": len(summary["ratios"]),
+                 "ratio": summary["ratio"], "ratio_min": min(summary["ratios"]),
+                 "ratio_max": max(summary["ratios"]), "our_error": summary["our_error"],
+                 "peer_error": summary["peer_error"],
+                 "equal_or_better": summary["equal_or_better"],
+                 "load": f"{min(loads):g}-{max(loads):g}"}
     lines = [tables.markdown(rows, list(COLUMNS), units), "",
              f"solve-time ratio FEniCSx / ngincompat ({summary['ours']}): "
              f"{summary['ratio']:.2f} (median of "
@@ -181,5 +197,8 @@ def main(folder=None, settings=None, pairs: int = 3, out=None):
     if out is not None:
         tables.write(out, "peer", rows, list(COLUMNS), units, reference_energy=CUBE_ENERGY,
                      **summary)
-        lines.append(f"table written to {Path(out) / 'peer.md'} (.csv, .json)")
+        tables.write(out, "peer_ratio", [ratio_row], list(RATIO_COLUMNS),
+                     {"our_error": "-", "peer_error": "-"}, reference_energy=CUBE_ENERGY)
+        lines.append(f"tables written to {Path(out) / 'peer.md'} and peer_ratio.md "
+                     "(.csv, .json)")
     return lines

@@ -467,7 +467,8 @@ def main(maxhs=None, orders=None, quick=False, solvers=None, timeout=TIMEOUT,
         Resident-set limit of one case's process [GiB].
     out : path-like, optional
         Folder of ``scaling.json``, rewritten atomically after every case so that a long run
-        keeps what it measured.
+        keeps what it measured, and at the end of the tables as markdown, ``scaling.md`` (per
+        size and solver) and ``scaling_rows.md`` (every row).
 
     Returns
     -------
@@ -496,7 +497,9 @@ def main(maxhs=None, orders=None, quick=False, solvers=None, timeout=TIMEOUT,
         lines.append(f"pardiso skipped: {pardiso[1]}")
     lines.append(f"{len(rows)} rows in {_time.perf_counter() - start:.0f} s")
     if path is not None:
-        lines.append(f"written to {path}")
+        tables.write_markdown(Path(out) / "scaling.md", lines[2])
+        tables.write_markdown(Path(out) / "scaling_rows.md", lines[0])
+        lines.append(f"written to {path} (and scaling.md, scaling_rows.md)")
     return lines
 
 

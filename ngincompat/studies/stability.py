@@ -417,7 +417,8 @@ def main(quick=False, threads=1, out=None):
         NGSolve threads (default 1: the cells are small, and times on a shared machine stay
         comparable); None leaves NGSolve's setting.
     out : path-like, optional
-        Folder of ``stability.json`` (the rows of both, written atomically).
+        Folder of ``stability.json`` (the rows of both) and of the two tables as markdown,
+        ``stability.md`` and ``locking.md``, written atomically.
 
     Returns
     -------
@@ -435,5 +436,7 @@ def main(quick=False, threads=1, out=None):
         path = io.write_json(Path(out) / "stability.json",
                              {"quick": quick, "threads": threads, "seconds": seconds,
                               "rows": rows, "locking": lock, **io.provenance()})
-        lines.append(f"written to {path}")
+        tables.write_markdown(Path(out) / "stability.md", f"{lines[0]}\n\n{summary}")
+        tables.write_markdown(Path(out) / "locking.md", lines[2])
+        lines.append(f"written to {path} (and stability.md, locking.md)")
     return lines

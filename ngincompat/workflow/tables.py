@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import csv
 import io as _io
+import os
 from pathlib import Path
 
 from ngincompat.atomic import atomic_path
@@ -67,10 +68,36 @@ def write(out, name: str, rows, columns=None, units=None, **record) -> list[str]
     """
     out = Path(out)
     columns = columns or columns_of(rows)
-    with atomic_path(out / f"{name}.md") as tmp:
-        tmp.write_text(markdown(rows, columns, units) + "\n")
+    write_markdown(out / f"{name}.md", markdown(rows, columns, units))
     with atomic_path(out / f"{name}.csv") as tmp:
         tmp.write_text(csv_text(rows, columns, units))
     io.write_json(out / f"{name}.json", {"columns": columns, "units": units or {},
                                          "rows": rows, **record, **io.provenance()})
     return [f"{name}.md", f"{name}.csv", f"{name}.json"]
+
+
+def write_markdown(path, text: str) -> Path:
+    """Write markdown ``text`` (a table a study formats itself) to ``path`` atomically, for
+    the documentation pages that include it."""
+    with atomic_path(Path(path)) as tmp:
+        tmp.write_text(text + "\n")
+    return Path(path)
+
+
+def write_made_by(out, command: str, seconds: float, cpu_seconds: float, loads) -> Path:
+    """Write ``made_by.md`` into ``out``: one paragraph saying which command wrote the files
+    of the folder, when, from which commit and versions, in how much wall and CPU time, and
+    at which load of the machine (``loads``: the 1-minute load averages at the start and at
+    the end), so that a page including the folder's tables names what made them."""
+    record = io.run_record()
+    git = record.get("git")
+    commit = (f"commit {git['commit'][:10]}{' with local changes' if git['dirty'] else ''}"
+              if git else "not from a git checkout")
+    versions = io.versions()
+    text = (f"Made by `{command}` on {record['date'][:16].replace('T', ' ')} UTC "
+            f"({commit}; ngincompat {versions['ngincompat']}, NGSolve {versions['ngsolve']}), "
+            f"in {seconds:.0f} s of wall time and {cpu_seconds:.0f} s of CPU time (user and "
+            f"system, with the processes it started), NGSolve on {record['threads']} "
+            f"thread(s), at a load average of {loads[0]:.1f} at the start and "
+            f"{loads[1]:.1f} at the end on {os.cpu_count()} cores.")
+    return write_markdown(Path(out) / "made_by.md", text)
