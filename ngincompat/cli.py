@@ -197,7 +197,8 @@ def _cmd_bench(args):
     elif args.case == "accuracy":
         lines = bench.accuracy_main(out=args.out, quick=args.quick)
     elif args.case == "curvature":
-        lines = curvature_rates.main(out=args.out, quick=args.quick)
+        lines = curvature_rates.main(out=args.out, quick=args.quick, names=args.bodies,
+                                     orders=args.orders)
     elif args.case == "validation":
         lines = validation.main(out=args.out, quick=args.quick, progress=Progress())
     elif args.case == "stability":
@@ -275,6 +276,10 @@ def _add_bench(sub):
                           "exact one: errors, cost and rates under h- and p-refinement")
     p.add_argument("--quick", action="store_true",
                    help="only the coarse hemisphere, k = 1, 2 (seconds)")
+    p.add_argument("--bodies", nargs="+", metavar="BODY",
+                   help="among hemisphere, disc (default: both)")
+    p.add_argument("--orders", type=int, nargs="+", metavar="K",
+                   help="Regge degrees k (default: 1 2 3)")
     p = case("validation", "closed forms and independent solutions no other benchmark "
                            "tabulates: G and b of sections 3.1-3.4, folding's onset against "
                            "the Stroh analysis, atrophy against the logistic closed form, "

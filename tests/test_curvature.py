@@ -265,3 +265,15 @@ def test_curvature_benchmark_writes_error_against_cost(tmp_path):
         assert rows[1][measure] < 0.5 * rows[0][measure]
     assert (tmp_path / "curvature_hemisphere.png").stat().st_size > 0
     assert lines[-1] == f"plots and tables written to {tmp_path}"
+
+
+def test_curvature_benchmark_runs_the_bodies_and_degrees_asked_for(tmp_path, capsys):
+    """``--bodies`` and ``--orders`` choose the grid (over ``--quick``'s one level); an
+    unknown body is refused before anything runs, in one line."""
+    from ngincompat.cli import main
+    assert main(["bench", "curvature", "--quick", "--orders", "1", "--out",
+                 str(tmp_path)]) == 0
+    rows = json.loads((tmp_path / "curvature_rates.json").read_text())["rows"]
+    assert [(r["body"], r["k"], r["level"]) for r in rows] == [("hemisphere", 1, 0)]
+    assert main(["bench", "curvature", "--bodies", "sphere"]) == 2
+    assert "--bodies 'sphere': allowed hemisphere, disc" in capsys.readouterr().err

@@ -26,6 +26,7 @@ import numpy as np
 
 from geometries import disc, hemisphere
 from ngincompat import config
+from ngincompat.errors import ParameterError
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import regge
 from ngincompat.mechanics import fields
@@ -126,12 +127,21 @@ def rate_summary(rows):
     return summary
 
 
-def main(out=None, quick=False):
+def main(out=None, quick=False, names=None, orders=None):
     """``ngincompat bench curvature``: the error of the discrete path against its cost, and
     the rates against the published ones; returns the lines to print. With ``out``: the
     tables ``curvature_rates`` and ``curvature_rate_summary`` (markdown, CSV, JSON) and one
-    plot per body of the lifted Einstein tensor's error against computing time per k."""
-    rows = rate_table(**QUICK) if quick else rate_table()
+    plot per body of the lifted Einstein tensor's error against computing time per k.
+
+    ``names``, ``orders``: the bodies (of :func:`bodies`) and Regge degrees k of
+    :func:`rate_table` (default: all of them, or those of :data:`QUICK`)."""
+    grid = dict(QUICK) if quick else {}
+    grid.update({key: tuple(value) for key, value in (("names", names), ("orders", orders))
+                 if value})
+    for name in grid.get("names", ()):
+        if name not in bodies():
+            raise ParameterError(f"--bodies {name!r}: allowed {', '.join(bodies())}")
+    rows = rate_table(**grid)
     summary = rate_summary(rows)
     lines = [tables.markdown(rows, list(COLUMNS), UNITS)]
     if any(row["rates"] for row in summary):
