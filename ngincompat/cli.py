@@ -187,7 +187,10 @@ def _cmd_bench(args):
         stability,
         validation,
     )
-    from ngincompat.workflow import tables
+    from ngincompat.workflow import io, tables
+    # the checkout's state before the benchmark rewrites its own (possibly committed) tables:
+    # asked once per process, so the records of every file it writes say the same
+    io.git_state()
     if args.case == "scenes":
         lines = costs.main(args.scenes, args.presets, out=args.out, timeout=args.timeout)
     elif args.case == "peer":
