@@ -115,6 +115,9 @@ def test_benchmark_writes_rows_with_per_process_peak_memory(tmp_path):
         assert pardiso["status"] == "skipped" and data["pardiso"]["reason"]
         assert any(line.startswith("pardiso skipped:") for line in lines)
     assert any("| 6591 | 2 |" in line for line in lines)
+    # the tables as markdown too, for the performance page
+    assert "| 6591 | 2 |" in (tmp_path / "scaling.md").read_text()
+    assert "sparsecholesky" in (tmp_path / "scaling_rows.md").read_text()
 
 
 def test_a_process_over_its_time_becomes_an_error_row(tmp_path):

@@ -145,4 +145,10 @@ def test_main_writes_stability_json(tmp_path, monkeypatch):
     data = json.loads((tmp_path / "stability.json").read_text())
     assert [r["status"] for r in data["rows"]] == ["converged", "error"]
     assert [r["order"] for r in data["locking"]] == [1, 2]
-    assert [p.name for p in tmp_path.iterdir()] == ["stability.json"]
+    # the two tables as markdown too, for the validation page
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["locking.md", "stability.json",
+                                                         "stability.md"]
+    matrix = (tmp_path / "stability.md").read_text()
+    assert "| order | order 1, one hex | converged |" in matrix
+    assert "2 cells: 1 converged, 1 error, 0 unexpected" in matrix
+    assert (tmp_path / "locking.md").read_text().startswith("| order | ndof |")
