@@ -16,6 +16,7 @@ from .disc import disc
 from .hemisphere import hemisphere
 from .skin_patch import FOOTPRINTS, footprint_area, footprint_size, skin_patch
 
+#: The geometry builders by name.
 BUILDERS = {"cube": cube, "hemisphere": hemisphere, "disc": disc, "cylinder": cylinder,
             "skin_patch": skin_patch, "bilayer": bilayer, "brain": brain}
 

@@ -8,6 +8,7 @@ from ngincompat.errors import require
 
 from ._common import check_mesh_args, mesh_shape
 
+#: The shapes of the expander's footprint, marked on the patch's bottom face.
 FOOTPRINTS = ("rectangle", "circle", "square", "crescent")
 #: The paper's patch: 10 x 10 cm, 0.3 cm thick.
 SIDE, THICKNESS = 10.0, 0.3

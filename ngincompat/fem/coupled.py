@@ -58,8 +58,10 @@ class CoupledProblem:
     u : ngsolve.GridFunction
         The displacement, first component of ``state``; ``displacement`` its
         :class:`~ngincompat.fem.terms.Unknown`, ``space`` its space.
-    dt, growing : ngsolve.Parameter
-        The step (0) and the growth's share of it (1).
+    dt : ngsolve.Parameter
+        The step (0: growth frozen).
+    growing : ngsolve.Parameter
+        The growth's share of the step (1).
     pinned : tuple of int
         Dofs held fixed besides the Dirichlet ones (:meth:`pin`).
     """

@@ -8,14 +8,13 @@ Einstein = 0. Two paths lead to the curvature:
 * **exact** (:func:`curvature_exact`): for an analytic Fg, the Christoffel symbols, Riemann,
   Ricci, scalar curvature and Einstein tensor of Cg by symbolic differentiation (``CF.Diff``);
   exact to round-off;
-* **discrete** (:mod:`ngincompat.incompatibility.regge`): Cg interpolated into the Regge space and
-its
-  distributional Einstein tensor; the path for computed growth fields.
+* **discrete** (:mod:`ngincompat.incompatibility.regge`): Cg interpolated into the Regge
+  space and its distributional Einstein tensor; the path for computed growth fields.
 
 Conventions
 -----------
 Cartesian reference coordinates X, metric g = Cg, and the sign convention of Lee,
-*Introduction to Riemannian manifolds*, which NGSolve's ``HCurlCurl`` operators use:
+*Introduction to Riemannian manifolds*, which NGSolve's ``HCurlCurl`` operators use::
 
     Gamma_ijk   = 1/2 (d_i g_jk + d_j g_ik - d_k g_ij)                (first kind)
     Gamma_ij^k  = g^kl Gamma_ijl                                       (second kind)
@@ -53,6 +52,10 @@ _COORDS = (ngs.x, ngs.y, ngs.z)
 class Curvature:
     """The curvature of a metric g on a 3-D body, as CoefficientFunctions.
 
+    The Riemann tensor (81 components) is built only when asked for (:attr:`riemann`); the
+    scene outputs need S and Ein alone, which the 3-D curvature operator gives at a fraction
+    of the cost.
+
     Attributes
     ----------
     metric : CF (3x3)
@@ -69,10 +72,6 @@ class Curvature:
     einstein : CF (3x3)
         Ein = -g Q g = g (inc(g) + E) g / (2 det g), covariant components in reference
         coordinates; equal to Ric - S/2 g.
-
-    The Riemann tensor (81 components) is built only when asked for (:attr:`riemann`); the
-    scene outputs need S and Ein alone, which the 3-D curvature operator gives at a fraction
-    of the cost.
     """
 
     metric: ngs.CoefficientFunction

@@ -5,7 +5,7 @@ The growth metric Cg = Fg^T Fg is interpolated into the Regge space (NGSolve's
 components are continuous across facets) by its canonical interpolant. A Regge metric is
 smooth inside elements only; its curvature is a distribution with three parts (Gawlik &
 Neunteufel, "Finite element approximation of the Einstein tensor", IMA J. Numer. Anal. 2025,
-doi:10.1093/imanum/draf004), acting on a symmetric matrix field phi:
+doi:10.1093/imanum/draf004), acting on a symmetric matrix field phi::
 
     G~(phi) = sum_T int_T <Ein, phi> omega_T                      (element term)
             + sum_F int_F <[[II - H g_F]], phi|_F> omega_F        (jump of the trace-reversed

@@ -24,10 +24,10 @@ import numpy as np
 
 from ngincompat.mechanics.expressions import syntax_tree
 
-#: How many times a box may be bisected before :func:`positive_on` gives up on it, and how
-#: many boxes it may hold at once: 24 halvings shrink a box's extent in each of the four
-#: variables by 2**6, and about 10**5 boxes are a few megabytes.
+#: How many times a box may be bisected before :func:`positive_on` gives up on it: 24
+#: halvings shrink a box's extent in each of the four variables by 2**6.
 MAX_ROUNDS = 24
+#: How many boxes :func:`positive_on` may hold at once: about 10**5 boxes are a few megabytes.
 MAX_BOXES = 100_000
 
 #: Outward rounding after each operation, in units in the last place.
@@ -280,10 +280,11 @@ def enclosure(text, lo, hi, name="theta"):
 def positive_on(text, lo, hi, name="theta", evaluate=None):
     """Prove ``text`` > 0 on every box, or find a point where it is not positive and finite.
 
-    (That theta is finite is for the sampling of :func:`ngincompat.mechanics.growth.
-    check_positive` to find: an enclosure cannot tell ``1 + X1**1e308`` near X1 = 1 from
-    infinity.) Boxes whose enclosure does not prove it positive are halved across their widest side
-    (measured against the box they came from) and their centres evaluated, for at most
+    (That theta is finite is for the sampling of
+    :func:`ngincompat.mechanics.growth.check_positive` to find: an enclosure cannot tell
+    ``1 + X1**1e308`` near X1 = 1 from infinity.) Boxes whose enclosure does not prove it
+    positive are halved across their widest side (measured against the box they came from)
+    and their centres evaluated, for at most
     :data:`MAX_ROUNDS` rounds and :data:`MAX_BOXES` boxes.
 
     Parameters

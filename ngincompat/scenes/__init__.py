@@ -10,6 +10,7 @@ from ngincompat.scenes.folding import FoldingScene
 from ngincompat.scenes.hemisphere import HemisphereScene
 from ngincompat.scenes.skin import SkinExpansionScene
 
+#: The scene classes by name (``ngincompat run NAME``).
 SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, CylinderScene,
                                     SkinExpansionScene, FoldingScene, CustomScene,
                                     AtrophyScene)}

@@ -115,6 +115,7 @@ QUICK_ACCURACY = {
                                 reuse_tangent=True)]),
     "cylinder": ("cylinder", [dict(maxh=0.5, order=2)]),
 }
+#: Relative errors of the accuracy study's targets: the cheapest setting meeting each.
 TARGETS = (1e-2, 1e-4, 1e-6)
 #: Columns of the accuracy study and of its cheapest settings.
 ACCURACY_COLUMNS = ("case", "maxh", "order", "ndof", "newton", "tangents", "solve_s", "error")

@@ -39,6 +39,7 @@ ACCURACY_METRIC = {"cube": "strain_energy", "hemisphere": "strain_energy",
 #: Exact values of a scene's accuracy metric, from the run's metrics.
 CLOSED_FORMS = {"cube": lambda metrics: CUBE_ENERGY,
                 "cylinder": lambda metrics: metrics.get("rotation_rate_expected")}
+#: Columns of the cost table, one row per scene and preset.
 COLUMNS = ("scene", "preset", "status", "ndof", "newton", "wall_s", "cpu_s", "peak_mb",
            "load", "metric", "value", "error", "reference")
 UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB"}

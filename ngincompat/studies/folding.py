@@ -31,6 +31,7 @@ METRICS = ("onset_growth", "onset_wavelength", "t_reached", "theta_c_reached", "
            "self_contact_area", "self_contact_penetration_max", "fold_amplitude",
            "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_interface_mean",
            "max_principal_stress_released", "top_curvature_released")
+#: Columns of the summary: the axon field, the columns every driver has, the metrics.
 COLUMNS = ("axons", *COMMON, *METRICS)
 #: The columns that only a released run fills: in the summary when a row has them.
 RELEASED = METRICS[-2:]

@@ -56,9 +56,10 @@ log = logging.getLogger(__name__)
 
 #: Shear modulus of every cell [MPa] (the paper's idealized scenes).
 MU = 0.55
-#: Fiber stiffness k1 [MPa] and dispersion of the GOH cells (aligned fibers: the Macaulay
-#: bracket acts on the full fiber strain).
+#: Fiber stiffness k1 [MPa] of the GOH cells.
 GOH_K1 = 1.0
+#: Fiber dispersion kappa of the GOH cells: 0, aligned fibers (the Macaulay bracket acts on
+#: the full fiber strain).
 GOH_KAPPA = 0.0
 #: The cube's growth: theta = 1 + X1 t / 4 (section 3.1).
 CUBE_THETA = "1 + 0.25*X1*t"
@@ -400,8 +401,9 @@ def locking_table(rows=None):
     return "\n".join(lines)
 
 
-#: Orders of the locking study: full and ``--quick``.
+#: Orders of the locking study.
 LOCKING_ORDERS = (1, 2, 3, 4, 5)
+#: Orders of the locking study with ``--quick``.
 LOCKING_ORDERS_QUICK = (1, 2, 3)
 
 

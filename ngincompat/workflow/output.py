@@ -219,12 +219,14 @@ def wanted(results: Results) -> set[str]:
 
 
 def write(results: Results, out, outputs: set[str] | None = None) -> Results:
-    """Write a run into the folder ``out``: results.json always; ``fields.vtu`` (every field:
-    scalars, vectors, and tensors as 9 components in row order, their units in results.json's
-    ``field_units``; with ``results.frames`` also ``fields_NNN.vtu`` per frame and their time
-    series ``fields.pvd``), the figures and ``mesh.vol`` + ``growth.npz`` (the growth field as data,
-    for a later run's ``--set mesh=... --set theta_file=...``) as the scene's ``outputs``
-    ask. ``results.files`` lists what was written; results.json is written last.
+    """Write a run into the folder ``out``, as the scene's ``outputs`` ask.
+
+    results.json always; ``fields.vtu`` (every field: scalars, vectors, and tensors as 9
+    components in row order, their units in results.json's ``field_units``; with
+    ``results.frames`` also ``fields_NNN.vtu`` per frame and their time series
+    ``fields.pvd``), the figures and ``mesh.vol`` + ``growth.npz`` (the growth field as
+    data, for a later run's ``--set mesh=... --set theta_file=...``). ``results.files`` lists
+    what was written; results.json is written last.
 
     On a distributed mesh every rank writes its part of the VTK output (``fields.pvd`` and
     one ``.vtu`` per part); rank 0 alone writes results.json and the figures; the growth

@@ -49,7 +49,7 @@ class Panel:
 
 
 def boundary_triangles(mesh, subdivision: int):
-    """Corners of the boundary's triangles, each face cut into ``subdivision``^2 triangles.
+    """Corners of the boundary's triangles, each face cut into ``subdivision**2`` triangles.
 
     Returns an array of shape (n, 3, 3): n triangles, three corners, three coordinates."""
     k = subdivision
