@@ -1,0 +1,1 @@
+../../notebooks/getting_started.py
