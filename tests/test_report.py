@@ -60,13 +60,16 @@ window.addEventListener('load', () => {
 
 
 def browse(page, tmp_path, screenshot=None):
-    """Open ``page`` (HTML text) with :data:`PROBE` in headless Chromium; returns the probe's
-    record and the console lines Chromium logged."""
+    """Open ``page`` (HTML text) with :data:`PROBE` in headless Chromium, from the folder
+    ``tmp_path`` (its relative links resolve there); returns the probe's record and the
+    console lines Chromium logged."""
     probed = tmp_path / "probed.html"
     probed.write_text(page.replace("<head>", "<head>" + PROBE, 1), encoding="utf-8")
+    # files beside the page are of its origin (the documentation site's images; without
+    # this, Chromium would not let the probe read their pixels from a file:// page)
     flags = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
              "--enable-logging=stderr", "--v=0", "--virtual-time-budget=10000",
-             "--window-size=1400,3000"]
+             "--window-size=1400,3000", "--allow-file-access-from-files"]
     done = subprocess.run([*flags, "--dump-dom", probed.as_uri()], capture_output=True,
                           text=True, timeout=180)
     if screenshot is not None:
