@@ -27,10 +27,13 @@
 # %%
 import os
 
+from IPython.display import display
 from ngsolve.webgui import Draw
 
 from ngincompat.scenes import CustomScene
+from ngincompat.workflow import plots
 
+# %matplotlib inline
 maxh, order = (0.5, 2) if os.environ.get("NGINCOMPAT_COARSE") == "1" else (0.2, 3)
 
 # %% [markdown]
@@ -64,6 +67,14 @@ bump_view = Draw(results.fields["|b_n3|"], results.domain, "|b| on n3",
 
 # %%
 print(", ".join(results.fields))
+
+# %% [markdown]
+# The scene's own figures, drawn from `results.figures`: here |b| on the three planes along
+# the X1 centre line (X2 = X3 = 0.5 mm), below the bump.
+
+# %%
+figures = {spec.file: spec for spec in results.figures}
+display(plots.figure(results, figures["burgers.png"]))
 
 # %% [markdown]
 # G against its closed form for isotropic growth, eq. (16), with the gradient of your theta
