@@ -75,6 +75,9 @@ nb_execution_show_tb = True
 # what the notebooks write to stderr is the environment's (tqdm without ipywidgets, kernel
 # notices); their results are printed or displayed
 nb_output_stderr = "remove"
+# the notebooks' tables are Markdown outputs (display(Markdown(...))): read them as MyST,
+# which has tables (CommonMark, the default, has none)
+nb_render_markdown_format = "myst"
 # ngsolve.webgui's 3D views are Jupyter widgets whose script comes from a CDN: offline they
 # cannot show, so the gallery leaves them out (in Jupyter they are interactive; the pages
 # keep the matplotlib figures); _ext/webgui_views.py puts a note in their place.

@@ -110,6 +110,7 @@ def test_gallery_page_holds_the_executed_notebook_with_its_figures(site, noteboo
         path = (site / "gallery" / src).resolve()
         assert path.is_file() and path.stat().st_size > 1000, src
     assert "Traceback" not in page and "WebGuiWidget" not in page
+    assert "|---" not in page              # the notebooks' Markdown tables are tables
 
 
 @pytest.fixture
