@@ -2,7 +2,7 @@
 # `make demo` installs the core dependencies only (the main job needs no extra) and replaces
 # the results of an earlier `make demo`; `make test` installs the test extra. `make docs` installs
 # the docs extra and builds the site into docs/_build/html, offline, with warnings as errors
-# (-W) and every cross-reference checked (-n); the gallery's notebooks run on preview settings
+# (-W) and every cross-reference checked (-n); the gallery's notebooks run on coarse settings
 # (a notebook is run again only when it changed: docs/_build/.jupyter_cache).
 
 .PHONY: demo test docs bench lint

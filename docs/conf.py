@@ -4,8 +4,8 @@ The site builds offline with warnings as errors (``-W``) and every cross-referen
 (``-n``):
 
 - pages are MyST markdown (myst-parser); the gallery's pages are the jupytext notebooks of
-  ``notebooks/`` (symbolic links in ``gallery/``), executed by myst-nb on the scenes'
-  ``preview`` settings (``NGINCOMPAT_COARSE=1``, as the notebooks' test tier runs them);
+  ``notebooks/`` (symbolic links in ``gallery/``), executed by myst-nb on their
+  coarse settings (``NGINCOMPAT_COARSE=1``, as the notebooks' test tier runs them);
 - the API reference is generated from the docstrings: one page per public module
   (``_ext/api_pages.py``: autodoc, with autosummary tables; numpy-style sections read by
   napoleon, ``_ext/numpy_sections.py``); the parameters of every scene are generated from
@@ -24,7 +24,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path[:0] = [str(HERE / "_ext"), str(ROOT)]
 
-# The notebooks take the scenes' preview settings (what the notebooks' test tier runs); the
+# The notebooks take their coarse settings (what the notebooks' test tier runs); the
 # executing kernels inherit the environment, and find the package of this checkout first.
 os.environ["NGINCOMPAT_COARSE"] = "1"
 os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT),
