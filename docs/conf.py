@@ -52,11 +52,10 @@ extensions = [
 ]
 
 # --------------------------------------------------------------------------- sources
-# Not pages: the extension's code; the scene cost table `ngincompat bench scenes` writes
-# (docs/scenes.md, beside its .csv and .json) and the fragments under _generated/, which the
-# validation and performance pages include; the build itself.
-exclude_patterns = ["_build", "_ext", "conf.py", "scenes.md", "_generated",
-                    "**/.ipynb_checkpoints", "**/__pycache__"]
+# Not pages: the extensions' code; the files the benchmarks write under _generated/ (tables,
+# figures, made_by.md), which the validation and performance pages include; the build itself.
+exclude_patterns = ["_build", "_ext", "conf.py", "_generated", "**/.ipynb_checkpoints",
+                    "**/__pycache__"]
 root_doc = "index"
 # quotes as written: the parameters' help texts and the notebooks' outputs are the program's
 smartquotes = False
