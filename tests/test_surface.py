@@ -2,12 +2,13 @@
 evaluated where the triangles are, the body is drawn moved by its displacement, and a signed
 field gets a scale centred at zero."""
 
+import matplotlib
 import ngsolve as ngs
 import numpy as np
 import pytest
 from netgen.occ import Box, OCCGeometry, Pnt
 
-from ngincompat.workflow import surface
+from ngincompat.workflow import style, surface
 
 
 @pytest.fixture(scope="module")
@@ -44,10 +45,43 @@ def test_the_body_is_drawn_moved_and_signed_fields_centred(mesh):
     fig = surface.surface_figure(mesh, u, panels, "t", "mm", subdivision=1)
     axes = [ax for ax in fig.axes if hasattr(ax, "get_zlim")]
     assert axes[0].get_xlim() == pytest.approx((0.0, 1.5), abs=1e-6)
-    norm, cmap = surface.colour_scale(np.array([-0.25, 1.0]), signed=True)
+    norm, cmap = style.colour_scale(np.array([-0.25, 1.0]), signed=True)
     assert (norm.vmin, norm.vmax, cmap) == (-1.0, 1.0, "RdBu_r")
-    norm, cmap = surface.colour_scale(np.array([1.0, 3.0]))
+    norm, cmap = style.colour_scale(np.array([1.0, 3.0]))
     assert (norm.vmin, norm.vmax, cmap) == (1.0, 3.0, "viridis")
     # round-off around a constant is drawn flat: the scale is widened, not magnified
-    norm, _ = surface.colour_scale(0.0625 + 1e-12 * np.arange(3))
-    assert norm.vmax - norm.vmin >= surface.RELATIVE_FLOOR * 0.0625
+    norm, _ = style.colour_scale(0.0625 + 1e-12 * np.arange(3))
+    assert norm.vmax - norm.vmin >= style.RELATIVE_FLOOR * 0.0625
+
+
+def test_a_triangulated_surface_is_drawn_moved_with_values_at_its_points():
+    """The unit corner tetrahedron's four faces, f = X1 - X2 at its points, drawn on the
+    reference and on the surface moved by u = (X1, 0, 0) (X1 in [0, 2]); each triangle takes
+    the mean of its corners; f takes both signs, so the automatic scale is diverging."""
+    points = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    triangles = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    f = points[:, 0] - points[:, 1]
+    u = np.column_stack([points[:, 0], np.zeros(4), np.zeros(4)])
+    panels = [surface.Panel("f", f, signed=None), surface.Panel("f moved", f, u=u)]
+    fig = surface.triangulated_figure(points, triangles, panels, "t", "cm")
+    axes = [ax for ax in fig.axes if hasattr(ax, "get_zlim")]
+    assert axes[0].get_xlim() == pytest.approx((0.0, 2.0))        # both panels' extent
+    assert axes[0].get_xlabel() == "X1 [cm]"
+    reference, moved = (ax.collections[0] for ax in axes)
+    means = f[triangles].mean(axis=1)
+
+    def same(drawn, expected):      # the triangles as a set (matplotlib sorts them by depth)
+        np.testing.assert_allclose(sorted(map(tuple, drawn)), sorted(map(tuple, expected)))
+
+    same(reference.get_facecolor(),
+         matplotlib.colormaps["RdBu_r"](means / abs(means).max() / 2 + 0.5))
+    low, high = means.min(), means.max()                             # signed=False: viridis
+    same(moved.get_facecolor(), matplotlib.colormaps["viridis"]((means - low) / (high - low)))
+
+
+def test_a_clipped_scale_leaves_a_peak_beyond_its_end():
+    values = np.concatenate([np.linspace(0, 1, 999), [100.0]])
+    norm, cmap = style.colour_scale(values, clip=0.5)
+    assert cmap == "viridis" and norm.vmax < 1.01
+    norm, cmap = style.colour_scale(np.array([-1.0, 2.0]))          # both signs: diverging
+    assert (norm.vmin, norm.vmax, cmap) == (-2.0, 2.0, "RdBu_r")

@@ -774,7 +774,7 @@ def _figures(scene, mechanics):
         ]
     if mechanics:
         figures.append(Figure(
-            "brain.png", "points", "", {"reference: c [-] at the end": "c",
+            "brain.png", "points", L, {"reference: c [-] at the end": "c",
                                         "atrophied: theta [-]": "theta",
                                         f"atrophied: max principal stress [{stress}]":
                                             "sigma_max_principal"},

@@ -13,43 +13,22 @@ the discretisation error of a stress-free body is drawn flat, not magnified into
 oscillation.
 """
 
-import textwrap
 from itertools import cycle
 
 import numpy as np
-from matplotlib import cm, colormaps, colors
 from matplotlib.figure import Figure
-from matplotlib.ticker import FormatStrFormatter
 
 from ngincompat.atomic import atomic_path
-
-#: Smallest range of an axis relative to its largest absolute value.
-RELATIVE_FLOOR = 1e-4
+from ngincompat.workflow import surface
+from ngincompat.workflow.style import RELATIVE_FLOOR, colour_scale, tick_format, wrapped
 
 #: Curves of at most this many points get a marker at every point.
 FEW = 25
 
-def tick_format(lo, hi):
-    """Tick labels for the range [lo, hi]: enough significant digits to tell ticks a tenth
-    of the range apart (three at least), no offset or multiplier printed over the axis."""
-    big = max(abs(lo), abs(hi))
-    digits = 3
-    if hi > lo and big > 0:
-        digits = int(np.clip(np.ceil(np.log10(big / (hi - lo))) + 2, 3, 12))
-    return FormatStrFormatter(f"%.{digits}g")
-
-
-def wrapped(title, width_inches, fontsize=10):
-    """``title`` broken into lines that fit ``width_inches`` at ``fontsize`` points, never
-    inside a formula $...$ (an average character is taken as 0.62 of the font size, a
-    margin for wide ones)."""
-    if not title:
-        return title
-    chars = max(int(width_inches * 72 / (0.62 * fontsize)), 20)
-    # never break inside $...$ (mathtext is parsed line by line)
-    kept = "$".join(p.replace(" ", "\0") if i % 2 else p
-                    for i, p in enumerate(title.split("$")))
-    return "\n".join(textwrap.wrap(kept, chars)).replace("\0", " ")
+#: Per cent of the values beyond each end of the colour scale of a map drawn from sampled
+#: values (sections, a gathered surface): a few peaks at mesh singularities do not wash out
+#: the rest.
+MAP_CLIP = 0.5
 
 #: (line style, marker) per curve, in order: coinciding curves stay distinguishable.
 STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)), "v"),
@@ -147,8 +126,11 @@ def figure(results, spec):
     if spec.kind == "maps":
         return maps_figure(p, spec.curves, spec.xlabel, spec.title)
     if spec.kind == "surface":
-        panels = {label: (key, spec.deform.get(label)) for label, key in spec.curves.items()}
-        return surface_figure(p, panels, spec.title, spec.view)
+        panels = [surface.Panel(label, p[key], signed=None, clip=MAP_CLIP,
+                                u=p[spec.deform[label]] if label in spec.deform else None)
+                  for label, key in spec.curves.items()]
+        return surface.triangulated_figure(p["points"], p["triangles"], panels, spec.title,
+                                           spec.xlabel, view=spec.view)
     if spec.kind == "deformed":
         panels = {label: (key, spec.deform[label]) for label, key in spec.curves.items()}
         return deformed_figure({"": p}, panels, (spec.x, spec.y), spec.xlabel, spec.ylabel,
@@ -182,71 +164,14 @@ def maps_figure(profile, maps, label, title=None):
         plane = key.split("_", 1)[0]
         u, v = profile[f"{plane}_u"], profile[f"{plane}_v"]
         values = np.ma.masked_invalid(profile[key])
+        norm, cmap = colour_scale(values, clip=MAP_CLIP)
         image = ax.imshow(values, origin="lower", extent=(u[0], u[-1], v[0], v[-1]),
-                          interpolation="nearest", **_colours(values))
+                          interpolation="nearest", norm=norm, cmap=cmap)
         _panel(fig, ax, image, wrapped(panel, 3.6, 11), label)
     if title:
         fig.suptitle(wrapped(title, fig.get_figwidth(), 12), fontsize="large")
     fig.tight_layout()
     return fig
-
-
-def surface_figure(profile, panels, title=None, view=(10.0, 90.0)):
-    """A body's surface seen from one side, one panel per field (Fig. 5 a-c).
-
-    Parameters
-    ----------
-    profile : dict
-        "points" (n, 3) and "triangles" (m, 3) of the surface, and per field key the values
-        at the points (n,), per displacement key the displacements (n, 3).
-    panels : dict
-        Panel title -> (field key, displacement key or None): the field drawn on the
-        surface moved by the displacement (the reference surface for None).
-    view : (float, float)
-        Elevation and azimuth of the camera [degrees].
-    """
-    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
-
-    points = np.asarray(profile["points"], dtype=float)
-    triangles = np.asarray(profile["triangles"]).astype(int)
-    fig = Figure(figsize=(4.6 * len(panels), 4.2), dpi=110)
-    for k, (panel, (key, moved)) in enumerate(panels.items()):
-        ax = fig.add_subplot(1, len(panels), k + 1, projection="3d")
-        where = points + (np.asarray(profile[moved]) if moved else 0.0)
-        values = np.ma.masked_invalid(np.asarray(profile[key])[triangles].mean(axis=1))
-        colours = _colours(values)
-        norm = colors.Normalize(colours.get("vmin"), colours.get("vmax"))
-        cmap = colormaps[colours["cmap"]]
-        ax.add_collection3d(Poly3DCollection(where[triangles], facecolors=cmap(norm(values)),
-                                             edgecolor="none"))
-        low, high = points.min(axis=0), points.max(axis=0)
-        centre, half = (low + high) / 2, (high - low).max() / 2
-        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre, strict=True):
-            setter(c - half, c + half)
-        ax.set_box_aspect((1, 1, 1), zoom=1.4)
-        ax.view_init(*view)
-        ax.set_axis_off()
-        ax.set_title(panel, fontsize="small")
-        fig.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.6)
-    if title:
-        fig.suptitle(title, fontsize="medium")
-    return fig
-
-
-def _colours(values):
-    """A diverging map centred on 0 for a field of both signs (a signed stress), else
-    viridis; the limits at the 0.5 and 99.5 percentiles, so that a few peaks (at mesh
-    singularities) do not wash out the rest (the colour bar's ends then mean "or beyond")."""
-    finite = np.asarray(values.compressed() if np.ma.isMaskedArray(values) else values,
-                        dtype=float)
-    finite = finite[np.isfinite(finite)]
-    if finite.size == 0:
-        return {"cmap": "viridis"}
-    low, high = np.percentile(finite, [0.5, 99.5])
-    if finite.min() < 0 < finite.max():
-        bound = max(-low, high, 1e-300)
-        return {"cmap": "RdBu_r", "vmin": -bound, "vmax": bound}
-    return {"cmap": "viridis", "vmin": low, "vmax": max(high, low + 1e-300)}
 
 
 def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
@@ -282,36 +207,21 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
     fig = Figure(figsize=(4.6 * ncols, 0.5 + len(rows) * (1.0 + 3.4 * aspect)), dpi=110)
     grid = np.atleast_2d(fig.subplots(len(rows), ncols, squeeze=False))
     for col, (label, (key, disp)) in enumerate(panels.items()):
-        lo, hi, cmap = _scale(np.concatenate([np.ravel(p[key]) for p in rows.values()]),
-                              floor)
+        norm, cmap = colour_scale(np.concatenate([np.ravel(p[key]) for p in rows.values()]),
+                                  floor=floor)
         for row, (name, p) in enumerate(rows.items()):
             ax = grid[row, col]
             U, V = np.meshgrid(p[axes[0]], p[axes[1]])
             d = np.asarray(p[disp])
             image = ax.pcolormesh(U + d[..., 0], V + d[..., 1],
                                   np.ma.masked_invalid(p[key]), shading="gouraud",
-                                  cmap=cmap, vmin=lo, vmax=hi)
+                                  cmap=cmap, norm=norm)
             ax.set_aspect("equal")
             _panel(fig, ax, image, f"{name}: {label}" if name else label, xlabel, ylabel)
     if title:
         fig.suptitle(wrapped(title, fig.get_figwidth(), 12), fontsize="large")
     fig.tight_layout()
     return fig
-
-
-def _scale(data, floor):
-    """(lo, hi, colour map) of a colour scale: at least ``floor`` and ``RELATIVE_FLOOR`` of the
-    largest absolute value wide; diverging and centred on zero for data of both signs."""
-    data = data[np.isfinite(data)]
-    if data.size == 0:
-        return 0.0, 1.0, "viridis"
-    lo, hi = float(data.min()), float(data.max())
-    least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)))
-    if hi - lo < least:
-        lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
-    if lo < 0 < hi:
-        return -max(-lo, hi), max(-lo, hi), "RdBu_r"
-    return lo, hi, "viridis"
 
 
 def _panel(fig, ax, image, title, xlabel, ylabel=None):

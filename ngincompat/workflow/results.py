@@ -72,7 +72,8 @@ class Figure:
         :func:`ngincompat.workflow.plots.deformed_figure`); "surface": the surface of
         the profile's "points" and "triangles" coloured by each curve's values at the
         points, moved by the displacement ``deform`` names for the panel (if any), seen
-        from ``view`` (:func:`ngincompat.workflow.plots.surface_figure`).
+        from ``view``, with ``xlabel`` the length unit of its axes
+        (:func:`ngincompat.workflow.surface.triangulated_figure`).
     y : str
         "deformed": key of the grid's second axis in the profile.
     deform : dict

@@ -1,15 +1,20 @@
-"""Colour maps of fields on the deformed boundary of a body, drawn headless with matplotlib
-(the paper's contour plots, Figs. 1a-f, 2a-e, 3a-d, 4a-e, 5, 6).
+"""Colour maps of fields on the (deformed) surface of a body, drawn headless with matplotlib
+(the paper's contour plots, Figs. 1a-f, 2a-e, 3a-d, 4a-e, 5, 6): the one surface renderer
+of the package, fed in either of two ways.
 
-The boundary of the mesh is triangulated (a quadrilateral face in two triangles), every
-triangle subdivided so that high-order fields show their variation inside an element, and
-each field evaluated at the corners of the small triangles; a triangle is coloured by the mean
-of its corners. The points are moved by the displacement (the deformed configuration of the
-paper's figures). Matplotlib's 3-D axes sort the triangles by depth, which draws convex
-bodies (cube, hemisphere, disc, cylinder, the brain seen from outside) correctly.
+* From a mesh and its fields (:func:`surface_figure`, the paper job's field figures): the
+  boundary is triangulated (a quadrilateral face in two triangles), every triangle
+  subdivided so that high-order fields show their variation inside an element, and each
+  field and displacement evaluated at the corners of the small triangles.
+* From a triangulated surface and values at its points (:func:`triangulated_figure`, the
+  brain's Fig. 5 a-c from results.json, gathered over the ranks of a distributed run).
 
-A field of both signs (a stress component) gets a diverging colour map centred at zero; a
-field of one sign a sequential one. Every panel has its own colour bar with the field's unit.
+A triangle is coloured by the mean of its corners, and drawn at its corners moved by the
+panel's displacement (the deformed configuration of the paper's figures). Matplotlib's 3-D
+axes sort the triangles by depth, which draws convex bodies (cube, hemisphere, disc,
+cylinder, the brain seen from outside) correctly. Colour scales:
+:func:`ngincompat.workflow.style.colour_scale`; every panel has its own colour bar with the
+field's unit, and axes in the length unit.
 """
 
 from __future__ import annotations
@@ -18,34 +23,33 @@ from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
-from matplotlib import cm, colors
+from matplotlib import cm
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from ngincompat.workflow.plots import tick_format, wrapped
+from ngincompat.workflow.style import colour_scale, tick_format, wrapped
 
 #: Triangles per panel the subdivision aims at (finer looks no different at the figure's size).
 TRIANGLES = 12000
 
 
-#: Smallest range of a colour scale relative to its largest absolute value: round-off around
-#: a constant is drawn flat, not magnified into a pattern.
-RELATIVE_FLOOR = 1e-4
-
-
 @dataclass
 class Panel:
-    """One colour map: ``title`` (the quantity and its unit), the CoefficientFunction, whether
-    it is a signed quantity (a stress component: a diverging map centred at zero whatever
-    its values), the smallest range of its scale, and the displacement it is drawn on (None:
-    the figure's)."""
+    """One colour map: ``title`` (the quantity and its unit), the ``field`` (a
+    CoefficientFunction for :func:`surface_figure`, values at the points for
+    :func:`triangulated_figure`), whether it is a signed quantity (a stress component: a
+    diverging map centred at zero whatever its values; None: if its values take both
+    signs), the smallest range of its scale, the per cent of values left beyond each end
+    of the scale, and the displacement it is drawn on (as ``field``; None: the figure's for
+    :func:`surface_figure`, the reference surface for :func:`triangulated_figure`)."""
 
     title: str
-    cf: object
-    signed: bool = False
+    field: object
+    signed: bool | None = False
     floor: float = 0.0
     u: object = None
+    clip: float = 0.0
 
 
 def boundary_triangles(mesh, subdivision: int):
@@ -90,23 +94,6 @@ def evaluate(mesh, cfs, points):
     return values
 
 
-def colour_scale(values, signed=False, floor=0.0):
-    """(norm, colour map) of a field: diverging and centred at zero for a signed quantity,
-    sequential otherwise; at least ``floor`` and ``RELATIVE_FLOOR`` of the largest absolute
-    value wide."""
-    data = values[np.isfinite(values)]
-    if data.size == 0:
-        return colors.Normalize(0, 1), "viridis"
-    lo, hi = float(data.min()), float(data.max())
-    least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)), 1e-300)
-    if signed:
-        m = max(-lo, hi, least / 2)
-        return colors.Normalize(-m, m), "RdBu_r"
-    if hi - lo < least:
-        lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
-    return colors.Normalize(lo, hi), "viridis"
-
-
 def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
                    subdivision=None, scale=1.0):
     """A figure of colour maps on the deformed boundary, one panel per field.
@@ -135,23 +122,51 @@ def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
     tri = boundary_triangles(mesh, k)
     points = tri.reshape(-1, 3)
     shifts = list(dict.fromkeys(p.u if p.u is not None else u for p in panels))
-    values = evaluate(mesh, [p.cf for p in panels], points)
+    values = evaluate(mesh, [p.field for p in panels], points)
     real = [d for d in shifts if d is not None]
     moved = {None: tri}
     for d, v in zip(real, evaluate(mesh, real, points) if real else [], strict=True):
         moved[d] = np.where(np.isfinite(v), points + scale * v, points).reshape(tri.shape)
+    return _figure(panels, [v.reshape(tri.shape[:2]) for v in values],
+                   [moved[p.u if p.u is not None else u] for p in panels], title, unit,
+                   view, ncols)
+
+
+def triangulated_figure(points, triangles, panels, title, unit, view=(10, 90), ncols=None):
+    """A figure of colour maps on a triangulated surface, one panel per field.
+
+    Parameters
+    ----------
+    points : ndarray (n, 3)
+    triangles : ndarray (m, 3)
+        Vertex numbers into ``points``.
+    panels : list of Panel
+        Each ``field`` (n,) and ``u`` (n, 3) or None, at the points.
+    title, unit, view, ncols
+        As for :func:`surface_figure`.
+    """
+    points = np.asarray(points, dtype=float)
+    triangles = np.asarray(triangles).astype(int)
+    shapes = [points[triangles] + (np.asarray(p.u, dtype=float)[triangles]
+                                   if p.u is not None else 0.0) for p in panels]
+    values = [np.asarray(p.field, dtype=float)[triangles] for p in panels]
+    return _figure(panels, values, shapes, title, unit, view, ncols)
+
+
+def _figure(panels, values, shapes, title, unit, view, ncols):
+    """The panels' maps: ``values`` (m, 3) at the corners of the triangles ``shapes``
+    (m, 3, 3) of each panel, in balanced rows of at most ``ncols`` (default four)."""
     ncols = ncols or 4
     nrows = -(-len(panels) // ncols)
     ncols = -(-len(panels) // nrows)            # balanced rows: 5 panels as 3 + 2
     fig = Figure(figsize=(3.6 * ncols, 3.0 * nrows + 0.6), dpi=110)
-    every = np.concatenate([moved[d].reshape(-1, 3) for d in shifts])
+    every = np.concatenate([shape.reshape(-1, 3) for shape in shapes])
     lo, hi = every.min(axis=0), every.max(axis=0)
     span = hi - lo
-    for i, (panel, v) in enumerate(zip(panels, values, strict=True)):
-        shape = moved[panel.u if panel.u is not None else u]
+    for i, (panel, v, shape) in enumerate(zip(panels, values, shapes, strict=True)):
         ax = fig.add_subplot(nrows, ncols, i + 1, projection="3d")
-        face = np.nanmean(v.reshape(tri.shape[:2]), axis=1)
-        norm, cmap = colour_scale(face, panel.signed, panel.floor)
+        face = np.nanmean(v, axis=1)
+        norm, cmap = colour_scale(face, panel.signed, panel.floor, panel.clip)
         mappable = cm.ScalarMappable(norm=norm, cmap=cmap)
         rgba = mappable.to_rgba(np.ma.masked_invalid(face))
         # edges in the face's colour: no hairline seams between the small triangles
