@@ -326,31 +326,30 @@ def _fill(points, faces, sides, maxh):
     return tets, domains, np.vstack([points, filled[len(used):]])
 
 
-def elements_across(mesh, hemisphere="left", ico=4, min_thickness=MIN_THICKNESS, samples=16):
-    """How many elements are stacked across the cortex, per triangle off the medial wall
-    (where fsaverage's cortex is at least ``min_thickness`` thick at its three corners):
-    the extent along the mean normal N of the white and pial triangles of the column
-    between them over the median, over ``samples`` points of the segment from the white
-    triangle's centroid to the pial one's, of the extent along N of the gray element the
-    point is in. A layer of prisms cut into tetrahedra counts once."""
+def cortex_columns(hemisphere="left", ico=4, min_thickness=MIN_THICKNESS):
+    """The columns of cortex between corresponding white and pial triangles, off the medial
+    wall (where fsaverage's cortex is at least ``min_thickness`` thick at all three corners),
+    across which the elements are counted
+    (:func:`ngincompat.fem.resolution.elements_across`).
+
+    Returns
+    -------
+    inner, outer : ndarray (m, 3)
+        The centroids of the white and of the pial triangle of each column.
+    normal : ndarray (m, 3)
+        The mean N of the unit normals of the two triangles, normalised.
+    thickness : ndarray (m,)
+        The column's extent along N: max - min of N . X over its six corners.
+    """
     pial, white, triangles = surfaces(hemisphere, ico)
     keep = np.all(np.linalg.norm(pial - white, axis=1)[triangles] >= min_thickness, axis=1)
     white, _ = cortex(pial, white, triangles, min_thickness)
-    top, bottom = (x[triangles[keep]].mean(axis=1) for x in (pial, white))
-    s = (np.arange(samples) + 0.5) / samples
-    flat = (bottom[:, None, :] + s[None, :, None] * (top - bottom)[:, None, :]).reshape(-1, 3)
-    found = mesh(flat[:, 0], flat[:, 1], flat[:, 2])
-    numbers = found["nr"].reshape(-1, samples)
-    gray = np.asarray(mesh.MaterialCF({"gray": 1.0}, default=0.0)(found)).reshape(-1, samples)
-    corners = np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)])
-    points = np.array([v.point for v in mesh.vertices])
-    normal = sum(_unit_normals(x, triangles[keep]) for x in (pial, white))
+    columns = triangles[keep]
+    normal = sum(_unit_normals(x, columns) for x in (pial, white))
     normal /= np.linalg.norm(normal, axis=1)[:, None]
-    column = np.einsum("kcj,kj->kc", np.concatenate([pial[triangles[keep]],
-                                                     white[triangles[keep]]], axis=1), normal)
-    along = np.einsum("ksvj,kj->ksv", points[corners[numbers]], normal)
-    extent = np.where((numbers >= 0) & (gray > 0.5), np.ptp(along, axis=2), np.nan)
-    return np.ptp(column, axis=1) / np.nanmedian(extent, axis=1)
+    corners = np.concatenate([pial[columns], white[columns]], axis=1)
+    thickness = np.ptp(np.einsum("kcj,kj->kc", corners, normal), axis=1)
+    return white[columns].mean(axis=1), pial[columns].mean(axis=1), normal, thickness
 
 
 def _unit_normals(points, triangles):

@@ -12,6 +12,7 @@ pytest.importorskip("nilearn")
 
 from geometries import fsaverage_brain as fb  # noqa: E402
 from ngincompat.errors import ParameterError  # noqa: E402
+from ngincompat.fem.resolution import elements_across  # noqa: E402
 from ngincompat.scenes import AtrophyScene  # noqa: E402
 
 #: An upright prism with a right-triangle base of area 1/2, height 2: volume 1.
@@ -96,7 +97,7 @@ def test_tissue_volumes_equal_those_the_surfaces_enclose(hemisphere):
 @pytest.mark.slow
 def test_the_cortex_has_its_layers_across_and_the_mesh_is_cached(hemisphere):
     mesh, again, cache = hemisphere
-    across = fb.elements_across(mesh, "left", 4)
+    across = elements_across(mesh, *fb.cortex_columns("left", 4))
     assert np.median(across) == pytest.approx(2.0, abs=0.05)
     assert np.percentile(across, 5) > 1.5
     assert again.ne == mesh.ne and len(list(cache.glob("fsaverage_left_ico4_L2_*"))) == 1

@@ -184,12 +184,42 @@ def test_distributed_atrophy_matches_serial(tmp_path):
             assert f'timestep="{t!r}" group="" part="{rank - 1}" file="{name}"' in series
 
 
-def test_fsaverage_refuses_mpi_naming_the_setting(tmp_path):
+#: The fsaverage hemisphere at its default mesh (ico 4, 2 layers of prisms: 39558 tetrahedra)
+#: with linear displacements, one equilibrium at 10 years.
+FSAVERAGE = {"geometry": "fsaverage", "order": 1, "formulation": "displacement",
+             "t_end": 10.0, "dt": 1.0, "snapshots": 1, "outputs": "none"}
+
+
+@pytest.mark.slow
+def test_distributed_fsaverage_matches_serial(tmp_path, monkeypatch):
+    """The anatomical brain on 3 ranks: the mesh built on rank 0 (into an empty cache) and
+    distributed, the elements across the cortex counted by point location on every rank's
+    part and merged, against the serial run of the same mesh read from that cache."""
+    from ngincompat.scenes.atrophy import AtrophyScene
+
+    pytest.importorskip("nilearn")
     launcher, reason = _mpiexec()
     if launcher is None:
         pytest.skip(reason)
-    done = _run(launcher, 2, "atrophy", "--out", str(tmp_path / "a"), "--set",
-                "geometry=fsaverage", timeout=300)
-    assert done.returncode == 2
-    assert "geometry" in done.stderr and "without mpiexec" in done.stderr
-    assert "Traceback" not in done.stderr
+    monkeypatch.setenv("NGINCOMPAT_CACHE", str(tmp_path / "cache"))
+    out = tmp_path / "fsaverage"
+    settings = [f"--set={k}={v}" for k, v in FSAVERAGE.items()]
+    done = _run(launcher, 3, "atrophy", "--out", str(out), "-q", *settings, timeout=1800)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.count("atrophy: done") == 1
+    assert done.stderr.count("equilibrium_residual_rel") == 1        # rank 0 alone warns
+    parallel = json.loads((out / "results.json").read_text())
+    assert len(list((tmp_path / "cache").glob("fsaverage_left_ico4_L2_*"))) == 1
+    serial = AtrophyScene(**FSAVERAGE).run()
+    assert parallel["mesh"]["ne"] == serial.mesh.ne == 39558
+    assert parallel["mesh"]["ndof"] == serial.mesh.ndof
+    s, p = serial.metrics, parallel["metrics"]
+    for key in ("volume_loss", "gray_volume_loss", "white_volume_loss", "strain_energy",
+                "max_principal_stress", "burgers_max", "c_integral", "gray_volume",
+                "white_volume", "cortex_elements_across_min", "cortex_elements_across_median",
+                "burgers_interface_fraction", "stress_interface_over_surface",
+                "Je_deviation_max"):
+        assert p[key] == pytest.approx(s[key], rel=1e-8), key
+    assert p["cortex_elements_across_median"] == pytest.approx(2.0, abs=0.05)
+    assert p["volume_surface_deviation"] < 1e-10
+    assert s["gray_volume_loss"] > 10 * s["white_volume_loss"] > 0

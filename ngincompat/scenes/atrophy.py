@@ -54,7 +54,7 @@ from geometries import fsaverage_brain as fsaverage
 from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
 from ngincompat import config, parallel, sampling
 from ngincompat.errors import ParameterError, require
-from ngincompat.fem import depth, postprocess
+from ngincompat.fem import depth, postprocess, resolution
 from ngincompat.fem.problem import GrowthMechanics, check_formulation
 from ngincompat.fem.solver import NewtonOptions, SolverHistory, solve_growth
 from ngincompat.fem.transport import FisherKPP, diffusion_tensor
@@ -210,10 +210,6 @@ class AtrophyScene(Scene):
 
     def __post_init__(self):
         super().__post_init__()
-        require(self.geometry != "fsaverage" or parallel.world() is None, "geometry",
-                self.geometry, "idealized, mni152 or a file on several MPI ranks (the "
-                "fsaverage brain's cortex measures are not distributed yet: run it without "
-                "mpiexec)")
         if self.geometry == "fsaverage" and self.seed == IDEALIZED_SEED:
             object.__setattr__(self, "seed", "entorhinal")     # the default, outside it
         require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
@@ -553,14 +549,15 @@ class AtrophyCase:
         if scene.geometry != "fsaverage":
             return out
         pial, white, triangles = fsaverage.surfaces(scene.hemisphere, scene.ico)
-        across = fsaverage.elements_across(self.mesh, scene.hemisphere, scene.ico)
+        across = resolution.elements_across(
+            self.mesh, *fsaverage.cortex_columns(scene.hemisphere, scene.ico), material="gray")
         white, _ = fsaverage.cortex(pial, white, triangles, fsaverage.MIN_THICKNESS)
         inner = fsaverage.enclosed_volume(white, triangles)
         gray = fsaverage.enclosed_volume(pial, triangles) - inner
         out["volume_surface_deviation"] = max(abs(out["gray_volume"] / gray - 1),
                                               abs(out["white_volume"] / inner - 1))
-        out["cortex_elements_across_min"] = float(across.min())
-        out["cortex_elements_across_median"] = float(np.median(across))
+        out["cortex_elements_across_min"] = float(np.nanmin(across))
+        out["cortex_elements_across_median"] = float(np.nanmedian(across))
         return out
 
     def _transport_metrics(self):

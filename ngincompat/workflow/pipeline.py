@@ -115,10 +115,10 @@ def solve_stages(stages, progress: Progress = SILENT, solution: Solution | None 
 
 def _warn(scene, results):
     """The scene's warnings on its results (:meth:`Scene.warnings`; none for a scene without
-    indicators), each also logged."""
+    indicators), each also logged (once: by rank 0 of a distributed run)."""
     check = getattr(scene, "warnings", None)
     results.warnings = list(check(results)) if check else []
-    for line in results.warnings:
+    for line in results.warnings if parallel.is_root() else ():
         log.warning("%s: %s", scene.name, line)
 
 
