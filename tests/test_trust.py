@@ -64,6 +64,23 @@ def test_the_coarse_atrophy_run_warns_and_still_writes_its_results(tmp_path, cap
                  "--set", "dt=1", "--set", "snapshots=2", "-q"])
     written = json.loads((out / "results.json").read_text())
     assert code == 0 and written["status"] == "done"
-    assert [w.split(" = ")[0] for w in written["warnings"]] == ["Je_deviation_max",
-                                                               "equilibrium_residual_rel"]
+    assert sorted(w.split(" = ")[0] for w in written["warnings"]) == [
+        "Je_deviation_max", "equilibrium_residual_rel"]
     assert "Je_deviation_max = 0.98" in caplog.text
+    share = written["metrics"]["Je_deviation_volume_fraction"]
+    assert 0 < share < 1e-3 and f"over a volume fraction of {share:.2g}" in caplog.text
+
+
+def test_the_je_warning_says_how_much_of_the_volume_it_is():
+    from types import SimpleNamespace
+
+    from ngincompat.scenes import AtrophyScene
+
+    def lines(metrics):
+        return AtrophyScene().trust(SimpleNamespace(metrics=metrics))
+
+    (line,) = lines({"Je_deviation_max": 0.5, "Je_deviation_volume_fraction": 2e-5})
+    assert line.startswith("Je_deviation_max = 0.5 > 0.1 over a volume fraction of 2e-05: ")
+    assert "refine" in line
+    assert lines({"Je_deviation_max": 0.5})[0].startswith("Je_deviation_max = 0.5 > 0.1: ")
+    assert lines({"Je_deviation_max": 0.05, "Je_deviation_volume_fraction": 0.0}) == []
