@@ -55,8 +55,7 @@ ICO_VERTICES = {4: 2562, 5: 10242}
 #: Bumped whenever the meshing rule changes, so that stale cached meshes are not read.
 _CACHE_VERSION = 2
 #: A tetrahedron holding less than this share of its prism's volume is flat (a sliver):
-#: its quadratic displacement took |Je - 1| = 0.50 against a median of 0.010 (the
-#: largest, at 0.25 % of its prism, on the medial parietal cortex of subdivision 4).
+#: the elastic volume change and the stress of a run peak on such slivers.
 FLAT = 0.02
 #: Thickness below which a vertex is on the medial wall (fsaverage has exactly 0 there) [cm].
 _MEDIAL = 1e-3
