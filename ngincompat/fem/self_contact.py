@@ -79,11 +79,11 @@ class SelfContact(Term):
         self.mesh, self.u, self.problem = problem.mesh, problem.u, problem
         # the pairs in the problem's form, the same pairs in a form of their own (the
         # term's energy) and those of the measures: a ContactBoundary each (one adding its
-        # pairs to two forms leaves the first with a freed copy of the displacement)
+        # pairs to two forms leaves the first with a freed copy of the displacement); the
+        # own form's takes the pairs of the problem's instead of searching again
         self.own = ngs.BilinearForm(problem.fes)
-        self.forms = {}
-        for form in (problem.form, self.own):
-            self.forms[self.pairing(problem.displacement.trial)] = form
+        self.forms = [(self.pairing(problem.displacement.trial), form)
+                      for form in (problem.form, self.own)]
         region = self.mesh.Boundaries(self.boundary)
         self.probe = ngs.ContactBoundary(region, region)
         self.update()
@@ -100,9 +100,10 @@ class SelfContact(Term):
 
     def update(self):
         """Pair the boundary's points in the current state (the pairs and normals the energy
-        uses until the next update)."""
-        for contact, form in self.forms.items():
-            contact.Update(self.u, form, INTORDER, self.reach)
+        uses until the next update): one search, whose pairs both forms take."""
+        (searched, form), (other, own) = self.forms
+        searched.Update(self.u, form, INTORDER, self.reach, keep_pairs=True)
+        other.Update(self.u, own, INTORDER, self.reach, other=searched)
 
     def accept_step(self):
         self.update()
