@@ -79,7 +79,7 @@ from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.hemisphere import spherical_basis
 from ngincompat.scenes.material import MU, NU
 from ngincompat.scenes.trust import Indicator
-from ngincompat.workflow import output
+from ngincompat.workflow.frames import Frames
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
 
@@ -368,8 +368,8 @@ class AtrophyCase:
     mesh: ngs.Mesh
     series: dict = field(default_factory=dict)
     snapshots: dict = field(default_factory=dict)
-    #: (t, fields) at the snapshot times, frozen (:func:`ngincompat.workflow.output.interpolated`).
-    frames: list = field(default_factory=list)
+    #: The fields of :data:`FRAME_FIELDS` at the snapshot times (:class:`Frames`).
+    frames: Frames = field(init=False)
 
     def __post_init__(self):
         scene, mesh = self.scene, self.mesh
@@ -405,6 +405,7 @@ class AtrophyCase:
         self.centre, self.extent = (low + high) / 2, (high - low) / 2
         self.c_extremes = [self.transport.minimum(), self.transport.maximum()]
         self._record(0.0)
+        self.frames = Frames.of(scene, mesh, self._frame_fields, FRAME_FIELDS)
 
     def stages(self):
         """One stage per snapshot time."""
@@ -506,24 +507,21 @@ class AtrophyCase:
                 results.profiles["line"] = self._line(fields, metrics)
                 results.profiles["sections"] = self._sections(fields)
         results.fields = fields
-        if results.converged and "vtk" in scene.output_set():
-            self.take_frame(scene.t_end, fields)       # the end's frame: the fields just made
+        if results.converged:
+            self.frames.take(scene.t_end, fields)      # the end's frame: the fields just made
             results.frames = list(self.frames)
         results.figures = _figures(scene, self.problem is not None and bool(self.snapshots))
         if "curvature" in scene.output_set():
             curvature_report.report(scene, results, "R", {"|b| (largest plane)": "burgers"})
         return results
 
-    def take_frame(self, t, fields=None):
-        """Freeze the fields of :data:`FRAME_FIELDS` now (computed unless given): the frame of
-        time ``t``."""
-        if fields is None:
-            fields = self._incompatibility_fields()
-            if self.problem is not None:
-                fields.update(self._mechanics_fields())
-        order = min(self.scene.order, output.VTK_ORDER)
-        self.frames.append((t, output.interpolated(
-            {k: fields[k] for k in FRAME_FIELDS if k in fields}, self.mesh, order, copy=True)))
+    def _frame_fields(self):
+        """The fields of the current state that a frame keeps: the incompatibility's and,
+        once solved, the mechanics'."""
+        fields = self._incompatibility_fields()
+        if self.problem is not None:
+            fields.update(self._mechanics_fields())
+        return fields
 
     def _incompatibility_fields(self):
         """G by the projected path (eq. 10) and b on the coordinate planes (eq. 11)."""
@@ -741,9 +739,8 @@ class AtrophyStage:
         case.advance(self.last - self.first, self.dt)
         history = (case.equilibrium(progress, self.name) if case.scene.mechanics
                    else SolverHistory(converged=True, t_reached=1.0))
-        if (history.converged and "vtk" in case.scene.output_set()
-                and self.last < case.scene.n_steps()):    # the end's frame: see measure
-            case.take_frame(self.last * self.dt)
+        if history.converged and self.last < case.scene.n_steps():  # the end's: measure
+            case.frames.take(self.last * self.dt)
         return history
 
 

@@ -142,6 +142,7 @@ from ngincompat.progress import Progress
 from ngincompat.references.bifurcation import Bilayer, onset
 from ngincompat.sampling import element_points
 from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, check_time_steps, param
+from ngincompat.workflow.frames import Frames
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
 
@@ -401,6 +402,8 @@ class FoldingCase:
         self.reactions = float("nan")
         self.mode = None
         self.pairs = None
+        self.frames = Frames.of(scene, mesh, lambda: {"u": self.problem.u,
+                                                      "theta": self.growth.theta})
 
     def coupled(self, symmetry, traction=None):
         """The viscous coupled bilayer with the symmetry planes ``symmetry`` (and a dead
@@ -463,6 +466,7 @@ class FoldingCase:
                            ("contact_length", contact["self_contact_area"]),
                            ("penetration", contact["self_contact_penetration_max"])):
             self.series[branch][key].append(float(value))
+        self.frames.take(t)             # a frame of fields.pvd per record
         return values, modes
 
     def _reached(self, t):
@@ -685,6 +689,7 @@ class FoldingCase:
                                     solver=dict(solution.histories))
         results.mesh.ndof = self.problem.ndof
         results.metrics = dict(self.noted)
+        results.frames = list(self.frames)
         return results
 
     def measure(self, solution: Solution, progress: Progress) -> Results:

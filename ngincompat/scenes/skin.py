@@ -20,6 +20,13 @@ Stages (lengths in cm, volumes in cm^3 = cc, stresses in MPa, time in days):
 4. **release**: the clamp is removed too (rigid-body constraints only): what stress remains is
    due to the incompatibility of the grown skin alone (found from the deflated state).
 
+With VTK output the run is also a time series (``fields.pvd``, :mod:`ngincompat.workflow.frames`)
+of the displacement, theta, J and Je = J / theta after every converged step, on one clock in
+days that is the hold's time: the inflation's steps at s - 1 (s the fraction of the volume,
+its end, after the contact stage's correction, at 0), the hold's at t in (0, ``hold_days``],
+the deflation's at ``hold_days`` + s (s the fraction of the load taken away), the clamped
+equilibrium at ``hold_days`` + 1 and the released one at ``hold_days`` + 2.
+
 The patch lies on its base: outside the footprint the bottom face keeps X3 = 0 (it may slide),
 which also keeps the footprint's edge in the plane, so the enclosed volume is exactly
 int x3 det(dx_a/dX_b) dA over the footprint. The contact model (the default) lifts a dome of
@@ -64,7 +71,7 @@ from ngincompat.fem.stages import (
 from ngincompat.fem.terms import DeadTraction, GrowthEnergy, VolumeConstraint
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import operators as inc
-from ngincompat.mechanics import fields
+from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import AreaGrowth
 from ngincompat.mechanics.laws import HillLaw
 from ngincompat.mechanics.materials import NeoHookean
@@ -81,6 +88,7 @@ from ngincompat.scenes.base import (
 )
 from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.material import MU, Elastic
+from ngincompat.workflow.frames import Frames
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
 
@@ -275,6 +283,7 @@ class SkinCase:
         self.problem = CoupledProblem(mesh, terms, order=scene.order, **CLAMP)
         self.ramp = ngs.Parameter(0.0)
         self.relaxed = {}
+        self.frames = Frames.of(scene, mesh, lambda: self._frame_fields(self.problem.u))
 
     def stages(self, workdir, t_hold):
         """The load history from the hold time ``t_hold`` on (None: from the start)."""
@@ -284,7 +293,8 @@ class SkinCase:
         if t_hold is None:
             stages.append(CoupledStage("inflation", problem, t_end=1.0,
                                        dt=1.0 / scene.inflation_steps, grow=False,
-                                       volume=(0.0, scene.volume), holder=holder))
+                                       volume=(0.0, scene.volume), holder=holder,
+                                       observe=lambda s: self.frames.take(s - 1)))
             if self.in_contact:
                 stages.append(ContactControlStage("contact", problem, holder, scene.volume))
         # the contact model's expander keeps the size that gave the volume
@@ -296,7 +306,8 @@ class SkinCase:
                                    t_start=t_hold or 0.0, volume=held, holder=holder,
                                    options=NewtonOptions(max_iter=20, max_step=scene.dt,
                                                          reuse_tangent=True),
-                                   checkpoint=checkpoint, unit=scene.units["time"]))
+                                   checkpoint=checkpoint, observe=self.frames.take,
+                                   unit=scene.units["time"]))
         # The contact model deflates by its dome's force, handed over to a dead traction:
         # lowering the dome took 11-16 Newton iterations per step as the skin left it, and at
         # 50 cc on the default mesh steps of 1/80 (a tenth of the deflation in 10 minutes);
@@ -361,6 +372,12 @@ class SkinCase:
         return self.traction.hold()
 
     def _note(self, stage):
+        if stage.name == "contact":
+            self.frames.take(0.0)       # the inflation's end, corrected
+        elif stage.name.startswith("deflation_"):
+            which = stage.name.removeprefix("deflation_")
+            self.frames.take(self.scene.hold_days + (1 if which == "clamped" else 2),
+                             self._frame_fields(self.relaxed[which].u))
         if stage.name == ("contact" if self.in_contact else "inflation"):
             self._note_inflated()
         elif stage.name == "hold":
@@ -379,7 +396,9 @@ class SkinCase:
 
     def _deflated(self, t) -> bool:
         """Whether the deflation has gone far enough: the load that holds the skin up has
-        fallen to :data:`DEFLATED` of its value at the end of the hold."""
+        fallen to :data:`DEFLATED` of its value at the end of the hold. (Its step ``t``, the
+        fraction of the load taken away, is a frame.)"""
+        self.frames.take(self.scene.hold_days + t)
         return self._holding_load() <= DEFLATED * self.load_end_of_hold
 
     def _holding_load(self):
@@ -410,7 +429,15 @@ class SkinCase:
         results.mesh.ndof = self.problem.ndof
         results.metrics = dict(self.noted)
         results.files = [CHECKPOINT]
+        results.frames = list(self.frames)
         return results
+
+    def _frame_fields(self, u):
+        """The fields of a frame at the displacement ``u``: u, theta, J and Je = J / theta
+        (area growth: Jg = theta)."""
+        J = ngs.Det(kinematics.deformation_gradient(u))
+        theta = self.growth.theta
+        return {"u": u, "theta": theta, "J": J, "Je": J / theta}
 
     def measure(self, solution: Solution, progress: Progress) -> Results:
         """Growth, incompatibility and residual stress of the grown patch."""
