@@ -11,7 +11,7 @@ from geometries import bilayer, cube, cylinder, disc, estimate, hemisphere, skin
 from ngincompat.cli import main
 from ngincompat.errors import ExpressionError, ParameterError
 from ngincompat.mechanics.expressions import MAX_DEPTH, MAX_LENGTH, parse_expression
-from ngincompat.parameters import _Float, _Floats, _Int
+from ngincompat.parameters import _Float, _Floats, _Int, _WordsOrFloats
 from ngincompat.scenes import SCENES
 from ngincompat.studies import sweep as sweep_pkg
 from ngincompat.studies.sweep import runner, spec, table
@@ -24,13 +24,20 @@ HOSTILE_INT = ("100000000000000000000",)
 
 def _numeric(cls):
     return [(key, p) for key, p in cls.declarations().items()
-            if isinstance(p.kind, (_Float, _Int, _Floats))]
+            if isinstance(p.kind, (_Float, _Int, _Floats, _WordsOrFloats))]
+
+
+def _numbers(p):
+    """The kind of one number of the parameter (of each component of a tuple)."""
+    kind = p.kind.floats if isinstance(p.kind, _WordsOrFloats) else p.kind
+    return kind.item if isinstance(kind, _Floats) else kind
 
 
 def _texts(p, value):
     """``value`` as --set text for the parameter: a tuple gets it in every component."""
-    if isinstance(p.kind, _Floats) and value:
-        return ",".join([value] * (p.kind.length or 1))
+    kind = p.kind.floats if isinstance(p.kind, _WordsOrFloats) else p.kind
+    if isinstance(kind, _Floats) and value:
+        return ",".join([value] * (kind.length or 1))
     return value
 
 
@@ -71,6 +78,30 @@ def test_every_numeric_parameter_refuses_hostile_values_in_one_line(scene, key, 
     assert refused >= 5
 
 
+@pytest.mark.parametrize("scene, key", CORPUS, ids=[f"{s}-{k}" for s, k in CORPUS])
+def test_every_number_has_a_physical_range_and_is_refused_past_its_bound(scene, key,
+                                                                        tmp_path, capsys):
+    """Both bounds declared (``list -v`` shows them; for a float, not the generic limit of
+    the type): past the upper bound, and below the lower one, a value is refused in one line
+    that names the parameter and its range."""
+    cls = SCENES[scene]
+    p = cls.declarations()[key]
+    bounds = _numbers(p).range
+    assert bounds is not None and bounds.bounded, (scene, key, bounds)
+    high = bounds.high if bounds.high_open else bounds.high * 2 if bounds.high > 0 else \
+        bounds.high + 1
+    low = bounds.low if bounds.low_open else bounds.low - max(1.0, abs(bounds.low))
+    for value in (high, low):
+        number = int(value) if isinstance(p.kind, _Int) else value
+        assert main(["run", scene, "--set", f"{key}={_texts(p, repr(number))}",
+                     "--out", str(tmp_path / "out"), "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert not (tmp_path / "out").exists()
+        assert len(err) == 1 and err[0].startswith(f"ngincompat: error: {key} = "), err
+        assert bounds.text in err[0], err
+    assert bounds.text in p.allowed()
+
+
 def test_the_corpus_covers_every_scene_and_the_named_hostile_inputs():
     assert {s for s, _ in CORPUS} == set(SCENES)
     for scene, key in [("hemisphere", "R0"), ("disc", "R0"), ("disc", "height"),
@@ -78,14 +109,15 @@ def test_the_corpus_covers_every_scene_and_the_named_hostile_inputs():
                        ("folding", "length"), ("folding", "depth"), ("cube", "side"),
                        ("cube", "mu"), ("atrophy", "t_end"), ("folding", "axon_rate"),
                        ("skin", "growth_order"), ("folding", "growth_order"), ("skin", "K"),
-                       ("skin", "volume"), ("folding", "cortex_rate")]:
+                       ("skin", "volume"), ("folding", "cortex_rate"), ("atrophy", "seed")]:
         assert (scene, key) in CORPUS
         for value in ("inf", "1e308"):
             assert not _legitimate(SCENES[scene], key, value), (scene, key, value)
 
 
 @pytest.mark.parametrize("settings, name", [
-    ({"t_end": "1e12"}, "dt"),                    # atrophy: 5e12 steps of 0.2
+    ({"t_end": "1e12"}, "t_end"),                 # atrophy: longer than a lifetime
+    ({"t_end": "100", "dt": "0.001"}, "dt"),      # 1e5 steps
     ({"growth_order": "100000000000000000000"}, "growth_order"),
 ])
 def test_durations_and_counts_that_would_never_end_are_refused(settings, name):
@@ -93,9 +125,9 @@ def test_durations_and_counts_that_would_never_end_are_refused(settings, name):
     with pytest.raises(ParameterError, match=f"^{name} = "):
         SCENES[scene].from_settings(settings)
     with pytest.raises(ParameterError, match="^dt = .*time steps"):
-        SCENES["skin"].from_settings({"hold_days": "1e6"})
+        SCENES["skin"].from_settings({"hold_days": "365", "dt": "0.01"})
     with pytest.raises(ParameterError, match="^dt = .*time steps"):
-        SCENES["folding"].from_settings({"t_end": "1e6"})
+        SCENES["folding"].from_settings({"t_end": "1000", "dt": "0.05"})
 
 
 # ----------------------------------------------------------------- the element estimate
@@ -158,7 +190,7 @@ def test_the_limit_can_be_raised_and_counts_unknowns_by_order():
 
 def test_a_huge_body_is_refused_by_its_element_count():
     with pytest.raises(ParameterError, match="^maxh = .*hemisphere mesh would have about"):
-        SCENES["hemisphere"].from_settings({"R0": "1e6", "centre_maxh": "0.05"})
+        SCENES["hemisphere"].from_settings({"R0": "1000", "centre_maxh": "0.05"})
     assert math.isinf(estimate.disc_elements(R0=1e308, height=1e308, maxh=1e-308))
 
 

@@ -158,18 +158,18 @@ class AtrophyScene(Scene):
                           "per voxel, as the curvature output needs)", choices=ELEMENTS)
     semi_axes: tuple[float, float, float] = param(
         (8.5, 7.0, 6.0), "semi-axes of the idealized brain along e1, e2, e3", "length",
-        range="> 0")
+        range="(0, 100]")
     gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length",
-                                  range="> 0")
+                                  range="(0, 10]")
     d_ext: float = param(0.015, "extracellular (isotropic) diffusivity", "length^2/time",
-                         range=">= 0")
+                         range="[0, 100]")
     d_axn: float = param(0.0, "axonal diffusivity added along radial axons in white matter",
-                         "length^2/time", range=">= 0")
-    alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time", range=">= 0")
+                         "length^2/time", range="[0, 100]")
+    alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time", range="[0, 100]")
     seed: Literal["uniform", "entorhinal"] | tuple[float, float, float] = param(
         IDEALIZED_SEED, "seed: uniform, entorhinal (cortex of the medial temporal lobe, on "
         "fsaverage its nearest pial vertex), or its centre X,Y,Z (in or on the body); the "
-        "default is entorhinal on the fsaverage brain", "length")
+        "default is entorhinal on the fsaverage brain", "length", range="[-100, 100]")
     hemisphere: str = param("left", "hemisphere of the fsaverage brain",
                             choices=fsaverage.HEMISPHERES)
     ico: int = param(4, "icosahedral subdivision of the fsaverage surfaces (4: 2562, 5: 10242 "
@@ -177,22 +177,22 @@ class AtrophyScene(Scene):
     cortex_layers: int = param(2, "layers of prisms (3 tetrahedra each) across the cortex of "
                                "the fsaverage brain; 0: Netgen fills it from the surfaces",
                                range="[0, 8]")
-    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length", range="> 0")
+    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length", range="(0, 100]")
     c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)",
                       range="(0, 1]")
     rate_gray: float = param(0.03, "initial rate of volume loss of gray matter at c = 1",
-                             "1/time", range=">= 0")
+                             "1/time", range="[0, 10]")
     rate_white: float = param(0.001, "initial rate of volume loss of white matter at c = 1",
-                              "1/time", range=">= 0")
+                              "1/time", range="[0, 10]")
     theta_min: float = param(0.7, "smallest volume ratio theta (largest loss 1 - theta_min)",
                              range="(0, 1)")
-    t_end: float = param(40.0, "duration", "time", range="> 0")
-    dt: float = param(0.2, "time step of transport and atrophy", "time", range="> 0")
+    t_end: float = param(40.0, "duration (at most a lifetime)", "time", range="(0, 150]")
+    dt: float = param(0.2, "time step of transport and atrophy", "time", range="(0, 150]")
     snapshots: int = param(4, "equilibria solved at this many equally spaced times",
                            range=f"[1, {MAX_STEPS}]")
     times: tuple[float, ...] = param((), "times of the equilibria and of the frames of "
                                      "fields.pvd instead: comma list in (0, t_end] (t_end is "
-                                     "always one)", "time")
+                                     "always one)", "time", range="(0, 150]")
     mu_gray: float = MU(1.0, help="shear modulus of gray matter")
     mu_white: float = MU(1.0, help="shear modulus of white matter")
     nu: float = NU(0.49)                # both tissues

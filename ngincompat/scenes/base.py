@@ -34,7 +34,8 @@ from ngincompat.workflow.results import MeshInfo, Results
 #: The discretisation parameters of every scene; a scene with other defaults (or its own
 #: help text) calls the same declaration: ``order: int = ORDER(3)``.
 ORDER = Param("polynomial order of the displacement", range="[1, 10]")
-MAXH = Param("mesh size", "length", range="> 0")
+#: A mesh size past the body's is one element across it: at most 1000, a metre in mm.
+MAXH = Param("mesh size", "length", range="(0, 1000]")
 #: Upper bounds of counts: more load steps or a higher growth order than this is no longer a
 #: finer computation but a run that does not end (each step is a Newton solve).
 MAX_STEPS = 1000

@@ -40,8 +40,10 @@ class CubeScene(prescribed.PrescribedScene):
     variant = ("model", "formulation")
     distributed = True
 
-    side: float = param(1.0, "edge length of the cube", "length", range="> 0")
-    a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length")
+    # a tissue sample: bodies of at most a metre, theta = 1 + a X1 t at most 1000-fold per mm
+    side: float = param(1.0, "edge length of the cube", "length", range="(0, 1000]")
+    a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length",
+                     range="[-1000, 1000]")
     order: int = ORDER(6)
     maxh: float = MAXH(0.5)
     elements: Literal["hex", "tet"] = param("tet", "element shape: tet, or hex (the paper's "

@@ -40,9 +40,11 @@ class CylinderScene(prescribed.PrescribedScene):
 
     order: int = ORDER(3)
     maxh: float = MAXH(0.25)
-    area: float = param(float(np.pi / 4), "cross-section", "length^2", range="> 0")
-    length: float = param(1.0, "length", "length", range="> 0")
-    a: float = param(0.25, "growth gradient a in theta = 1 + a X2 t", "1/length")
+    # as the cube's: a tissue sample of at most a metre, theta at most 1000-fold per mm
+    area: float = param(float(np.pi / 4), "cross-section", "length^2", range="(0, 1e6]")
+    length: float = param(1.0, "length", "length", range="(0, 1000]")
+    a: float = param(0.25, "growth gradient a in theta = 1 + a X2 t", "1/length",
+                     range="[-1000, 1000]")
 
     def mesh_estimate(self):
         return (estimate.cylinder_elements(area=self.area, length=self.length, maxh=self.maxh),

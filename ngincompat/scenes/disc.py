@@ -46,8 +46,8 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
 
     order: int = ORDER(3)
     maxh: float = MAXH(0.2)
-    R0: float = param(1.0, "radius", "length", range="> 0")
-    height: float = param(0.5, "thickness", "length", range="> 0")
+    R0: float = param(1.0, "radius", "length", range="(0, 1000]")
+    height: float = param(0.5, "thickness", "length", range="(0, 1000]")
     material: Literal["goh", "neo-hookean"] = param("goh", "goh or neo-hookean")
     fibers: str = param("radial", "GOH fiber family: radial or circumferential",
                         choices=FIBERS)

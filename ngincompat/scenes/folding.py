@@ -259,45 +259,46 @@ class FoldingScene(Scene):
     maxh: float = MAXH(0.15, help="mesh size in the subcortex")
     cortex_maxh: float = param(0.025, "mesh size in the cortex and on the interface "
                                       "(>= 2 quadratic elements across the cortex)", "length",
-                               range="> 0")
+                               range="(0, 100]")
     top_refinement: float = param(1.0, "cortex_maxh / the mesh size on the top surface, "
                                        "graded to cortex_maxh below (where the folds "
-                                       "crease); 1: not refined", range=">= 1")
+                                       "crease); 1: not refined", range="[1, 100]")
     g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
     growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 10]")
-    length: float = param(3.0, "length of the bilayer (X1)", "length", range="> 0")
-    height: float = param(1.0, "height of the bilayer (X3)", "length", range="> 0")
+    length: float = param(3.0, "length of the bilayer (X1)", "length", range="(0, 100]")
+    height: float = param(1.0, "height of the bilayer (X3)", "length", range="(0, 100]")
     depth: float = param(0.05, "thickness of the slab (X2, out of plane)", "length",
-                         range="> 0")
-    cortex_thickness: float = param(0.05, "thickness of the cortex", "length", range="> 0")
+                         range="(0, 100]")
+    cortex_thickness: float = param(0.05, "thickness of the cortex", "length", range="(0, 100]")
     mu_white: float = param(1.0, "shear modulus of the subcortex (white matter)", "stress",
-                            range="> 0")
-    mu_ratio: float = param(3.0, "mu_gray / mu_white", range="> 0")
-    lam_ratio: float = param(100.0, "lambda / mu in both layers (nearly incompressible)",
-                             range="> 0")
+                            range="(0, 1e6]")
+    mu_ratio: float = param(3.0, "mu_gray / mu_white", range="(0, 1000]")
+    lam_ratio: float = param(100.0, "lambda / mu in both layers (nearly incompressible; "
+                                    "1e6: nu = 0.4999995)",
+                             range="(0, 1e6]")
     cortex_rate: float = param(0.008, "cortex growth rate: theta_c = 1 + cortex_rate t",
-                               "1/time", range="> 0")
+                               "1/time", range="(0, 10]")
     axon_rate: float = param(0.08, "G_axn of d theta_a/dt = G_axn <lambda_e - "
-                                   "stretch_crit>", "1/time", range="> 0")
+                                   "stretch_crit>", "1/time", range="(0, 100]")
     stretch_crit: float = param(1.0, "axon stretch lambda_e below which axons do not grow",
-                                range="> 0")
+                                range="(0, 10]")
     axon_max: float = param(3.0, "saturation of axon growth (eq. 45, gamma = 0)",
-                            range="> 1")
+                            range="(1, 10]")
     axons: str = param("curved", "axon field: " + ", ".join(AXONS), choices=AXONS)
     t_end: float = param(40.0, "end of growth (40: theta_c = 1.32, before the top surface "
                                "creases; the paper's 75 days are past it)", "time",
-                         range="> 0")
+                         range="(0, 1000]")
     dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
-                      "time", range="> 0")
+                      "time", range="(0, 1000]")
     approach_dt: float = param(10.0, "largest time step on the perfect branch (at least "
                                      "onset_dt) until 2 onset_dt before the bifurcation "
-                                     "analysis' onset", "time", range="> 0")
+                                     "analysis' onset", "time", range="(0, 1000]")
     onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
-                                  "the onset)", "time", range="> 0")
+                                  "the onset)", "time", range="(0, 1000]")
     observe_dt: float = param(1.25, "growth time between the records of the viscous march "
                                     "(smallest eigenvalue, fold amplitude, top stretch); 0: "
-                                    "every step", "time", range=">= 0")
+                                    "every step", "time", range="[0, 1000]")
     imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
                                       "onset / cortex_thickness", range="(0, 0.1]")
     buckle: bool = param(True, "past the onset, perturb by the buckling mode and follow the "
@@ -306,12 +307,12 @@ class FoldingScene(Scene):
                                 "(growth frozen)")
     contact_penalty: float = param(1e4, "penalty kappa of the top surface's self-contact "
                                         "(pressure per penetration)", "stress/length",
-                                   range="> 0")
+                                   range="(0, 1e8]")
     contact_width: float = param(0.0005, "penetration over which the contact penalty's ramp "
-                                         "is rounded", "length", range=">= 0")
+                                         "is rounded", "length", range="[0, 1]")
     viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
                                    "(eta in stress x time / length^2)", "time/length^2",
-                             range="> 0")
+                             range="(0, 1e6]")
 
     def __post_init__(self):
         super().__post_init__()

@@ -56,8 +56,8 @@ class HemisphereScene(prescribed.PrescribedScene):
     steps: int = STEPS(2, help="initial number of load steps (two take 4 Newton iterations "
                                "each, one 7-9)")
     centre_maxh: float = param(0.05, "mesh size at the centre (theta has a cone point there)",
-                               "length", range="> 0")
-    R0: float = param(1.0, "radius", "length", range="> 0")
+                               "length", range="(0, 1000]")
+    R0: float = param(1.0, "radius", "length", range="(0, 1000]")
     profile: str = param("linear", "growth profile f: linear, concave or convex",
                          choices=PROFILES)
     flat_face: Literal["free", "symmetry"] = param("free", "flat face: free (the paper's) "

@@ -15,10 +15,13 @@ from dataclasses import dataclass
 
 from ngincompat.scenes.base import Param
 
-MU = Param("shear modulus", "stress", range="> 0")
+#: Moduli are at most 1e6 in a scene's stress unit: past every soft tissue (kPa to MPa) and,
+#: in MPa, past the shear modulus of diamond (about 5e5 MPa).
+MU = Param("shear modulus", "stress", range="(0, 1e6]")
 NU = Param("Poisson's ratio", range="(-1, 0.5)")
-K1 = Param("GOH fiber stiffness", "stress", range=">= 0")
-K2 = Param("GOH fiber nonlinearity", range="> 0")
+K1 = Param("GOH fiber stiffness", "stress", range="[0, 1e6]")
+K2 = Param("GOH fiber nonlinearity (the fiber energy grows as exp(k2 (I4 - 1)^2): at k2 = "
+           "100 it overflows at a fiber stretch of 1.9)", range="(0, 100]")
 KAPPA = Param("GOH fiber dispersion (0: aligned, 1/3: isotropic)", range="[0, 1/3]")
 
 
