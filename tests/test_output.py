@@ -33,11 +33,45 @@ def test_an_empty_output_folder_name_is_refused(tmp_path, monkeypatch, empty):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_folder_that_cannot_be_created_is_refused():
-    """/proc takes no new folders, whoever asks (the tests may run as root, who may write
-    into any ordinary folder)."""
-    with pytest.raises(ParameterError, match="cannot be created"):
-        output.prepare("/proc/ngincompat-test/run")
+def test_a_folder_that_cannot_be_created_is_refused(tmp_path, monkeypatch):
+    """A folder the system does not let this process make (the tests may run as root, who
+    may write into any ordinary folder: the refusal is simulated)."""
+    def refused(self, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(self))
+
+    monkeypatch.setattr(output.Path, "mkdir", refused)
+    with pytest.raises(ParameterError, match="cannot be created: Permission denied"):
+        output.prepare(tmp_path / "run")
+
+
+@pytest.mark.parametrize("folder", ["/", "/etc", "/usr", "/proc/ngincompat-test/run",
+                                    "/sys/ngincompat-test", "/etc/../var"])
+def test_a_system_folder_is_refused_before_anything_is_made(folder, capsys):
+    from ngincompat.cli import main
+    assert main(["run", "cube", "--order", "1", "--maxh", "1", "--out", folder, "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "is a system folder" in err[0], err
+    assert not os.path.exists("/proc/ngincompat-test") and not os.path.exists(
+        "/etc/" + output.LOCK) and not os.path.exists("/" + output.LOCK)
+
+
+def test_a_users_files_of_a_runs_names_are_not_replaced_without_overwrite(tmp_path, capsys):
+    """A folder without a run that holds someone's fields.vtu and a figure: refused in one
+    line naming them, the files as they were; with --overwrite the run replaces them."""
+    from ngincompat.cli import main
+    (tmp_path / "fields.vtu").write_text("mine")
+    (tmp_path / "stress.png").write_text("my figure")
+    (tmp_path / "notes.txt").write_text("notes")
+    args = ["run", "cube", "--order", "1", "--maxh", "1", "--out", str(tmp_path), "-q"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "fields.vtu, stress.png" in err[0] and "--overwrite" in err[0]
+    assert (tmp_path / "fields.vtu").read_text() == "mine"
+    assert {p.name for p in tmp_path.iterdir()} == {"fields.vtu", "stress.png", "notes.txt"}
+    assert main([*args, "--overwrite"]) == 0
+    capsys.readouterr()
+    assert (tmp_path / "fields.vtu").read_bytes().startswith(b"<?xml")
+    assert (tmp_path / "notes.txt").read_text() == "notes"
 
 
 def test_a_folder_with_another_run_is_refused_unless_overwrite(tmp_path):

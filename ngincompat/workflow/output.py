@@ -1,10 +1,13 @@
 """A run's folder: checked before any computation, written from a :class:`Results` only.
 
-:func:`prepare` runs first: the folder must be a folder (or creatable), writable, not in use
-by another run (:data:`LOCK`, held until :func:`release`), and not hold another run unless
-``overwrite`` is given, which removes the files the old run wrote (listed in its results.json
-or summary.json; a scene's run records their SHA-256, and a file whose content is no longer
-what the run wrote, or that it did not write, is kept) and nothing else. :func:`write`
+:func:`prepare` runs first: the folder must be a folder (or creatable), not a system folder
+(:data:`SYSTEM`), writable, not in use by another run (:data:`LOCK`, held until
+:func:`release`), and not hold another run unless ``overwrite`` is given, which removes the
+files the old run wrote (listed in its results.json or summary.json; a scene's run records
+their SHA-256, and a file whose content is no longer what the run wrote, or that it did not
+write, is kept) and nothing else. A folder that holds no run but files of the names a scene's
+run writes (:data:`RUN_FILES`: someone's own fields.vtu or figures) is refused too unless
+``overwrite``: the run would replace them. :func:`write`
 writes results.json, the
 VTK fields, the figures and the growth field as data, each atomically, so an interrupted run
 never leaves a half-written file; :func:`read` reads results.json back into a
@@ -43,9 +46,18 @@ MARKERS = ("results.json", "summary.json")
 LOCK = ".ngincompat.lock"
 #: Folders :func:`prepare` created in this process (removed by :func:`release` if empty).
 _created = set()
+#: Folders no run writes into: the root of the file system and its system folders, and
+#: anything in the kernel's (:data:`KERNEL`).
+SYSTEM = ("/", "/bin", "/boot", "/dev", "/etc", "/lib", "/lib32", "/lib64", "/proc", "/run",
+          "/sbin", "/sys", "/usr", "/var")
+KERNEL = ("/dev", "/proc", "/sys")
+#: The names of the files a scene's run writes besides results.json (glob patterns): a
+#: folder without a run that holds such files is not written into without ``overwrite``.
+RUN_FILES = ("fields*.vtu", "fields*.pvd", "*.png", "mesh.vol", "growth.npz",
+             "checkpoint.npz")
 
 
-def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
+def prepare(out, overwrite: bool = False, resume: bool = False, run_files=()) -> Path:
     """Check that ``out`` can take a run's files, before anything is computed.
 
     Parameters
@@ -56,16 +68,23 @@ def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
         Replace a run already in the folder: the files it lists are removed now.
     resume : bool
         The run continues the one in the folder (its checkpoint is kept).
+    run_files : sequence of str
+        Glob patterns of the files the run writes (:data:`RUN_FILES` for a scene's run).
 
     Raises
     ------
     ParameterError
-        ``out`` is a file or lies under one, cannot be created or written, or holds another
-        run and neither ``overwrite`` nor ``resume`` is given.
+        ``out`` is empty, a system folder, a file or lies under one, cannot be created or
+        written, or holds another run or files matching ``run_files`` and neither
+        ``overwrite`` nor ``resume`` is given.
     """
     if not str(out).strip():
         raise ParameterError("--out '' is empty: give a folder")
     out = Path(out)
+    where = out.resolve()
+    if str(where) in SYSTEM or any(Path(k) in where.parents for k in KERNEL):
+        raise ParameterError(f"--out {out} is a system folder ({where}): give a folder of "
+                             "your own")
     if out.is_symlink():
         log.warning("--out %s is a symbolic link: the run is written into %s", out,
                     out.resolve())
@@ -84,6 +103,8 @@ def prepare(out, overwrite: bool = False, resume: bool = False) -> Path:
     _acquire(out)
     try:
         marker = next((out / m for m in MARKERS if (out / m).is_file()), None)
+        if marker is None and not (overwrite or resume):
+            _refuse_foreign(out, run_files)
         if marker is None or resume:
             return out
         if not overwrite:
@@ -117,6 +138,16 @@ def release(out) -> None:
     if folder in _created:          # made for a run that wrote nothing: not left behind
         _created.discard(folder)
         _remove_if_empty(folder)
+
+
+def _refuse_foreign(out: Path, patterns) -> None:
+    """Refuse a folder that holds files matching ``patterns`` though no run wrote them."""
+    found = sorted({p.name for pattern in patterns for p in out.glob(pattern) if p.is_file()})
+    if found:
+        shown = ", ".join(found[:3]) + (f" and {len(found) - 3} more" if len(found) > 3 else "")
+        raise ParameterError(f"--out {out} holds files of the names a run writes ({shown}) "
+                             "but no run: choose another folder, or pass --overwrite to "
+                             "replace them")
 
 
 def _acquire(out: Path) -> None:

@@ -165,7 +165,8 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
     """
     if out is None:
         return _run(scene, None, progress, label)
-    out = parallel.on_root(output.prepare, out, overwrite=overwrite, resume=scene.resumes(out))
+    out = parallel.on_root(output.prepare, out, overwrite=overwrite, resume=scene.resumes(out),
+                           run_files=output.RUN_FILES)
     try:
         return _run(scene, out, progress, label)
     finally:
