@@ -84,3 +84,20 @@ def test_the_je_warning_says_how_much_of_the_volume_it_is():
     assert "refine" in line
     assert lines({"Je_deviation_max": 0.5})[0].startswith("Je_deviation_max = 0.5 > 0.1: ")
     assert lines({"Je_deviation_max": 0.05, "Je_deviation_volume_fraction": 0.0}) == []
+
+
+@pytest.mark.parametrize("scene, metric, good, bad", [
+    ("skin", "volume_error_rel", 1e-4, 1e-2),
+    ("folding", "equilibrium_residual", 1.5e-11, 1e-3),
+    ("folding", "release_reaction_rel", 1e-9, 1e-2)])
+def test_skin_and_folding_name_their_indicators(scene, metric, good, bad):
+    """The accuracy indicators of the coupled scenes: a value as their runs give stays quiet,
+    one past the threshold is one warning naming the metric."""
+    from ngincompat.scenes import SCENES
+    cls = SCENES[scene]
+    assert metric in cls.metrics and metric in [i.metric for i in cls.indicators]
+    run = _Run([3, 4])
+    run.metrics = {metric: good}
+    assert cls().warnings(run) == []
+    run.metrics = {metric: bad}
+    assert [w.split(" = ")[0] for w in cls().warnings(run)] == [metric]

@@ -142,6 +142,7 @@ from ngincompat.progress import Progress
 from ngincompat.references.bifurcation import Bilayer, onset
 from ngincompat.sampling import element_points
 from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, check_time_steps, param
+from ngincompat.scenes.trust import Indicator
 from ngincompat.workflow.frames import Frames
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
@@ -233,6 +234,12 @@ class FoldingScene(Scene):
                                onset_dt=5.0, approach_dt=10.0, observe_dt=10.0,
                                release=False),
                "paper": dict(maxh=0.1)}
+    # the small bilayer's: 1.5e-11 and below 1e-8 (README, "Cortical folding")
+    indicators = (
+        Indicator("equilibrium_residual", 1e-6, "the grown state is not an equilibrium: the "
+                  "relaxation stopped short of it"),
+        Indicator("release_reaction_rel", 1e-6, "the released body is not self-equilibrated: "
+                  "its pins carry load"))
     metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude",
                "t_reached", "theta_c_reached", "Je_min", "self_contact_area",
                "self_contact_penetration_max", "burgers_interface_mean",
