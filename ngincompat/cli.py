@@ -41,8 +41,10 @@ from ngincompat.progress import Progress
 
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_NOT_WRITTEN = 0, 2, 3, 4, 5
 EXIT_INTERRUPTED = 130
-#: The errors of a write that the machine refused (exit 5); any other OSError is a bug.
-NOT_WRITTEN = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG)
+#: The errors of a write that the machine refused (exit 5): a full disk or quota, a file too
+#: large, a read-only file system, or permissions taken away while the run computed (the
+#: folder's are checked before); any other OSError is a bug.
+NOT_WRITTEN = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EACCES, errno.EPERM)
 
 
 def _settings(pairs, option="--set"):

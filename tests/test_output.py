@@ -211,6 +211,24 @@ def test_a_full_disk_leaves_no_truncated_file_under_its_final_name(tmp_path, mon
     assert not out.exists()     # no part file, no lock, no temp: the empty folder removed
 
 
+def test_permissions_taken_away_during_the_run_exit_5_in_one_line(tmp_path, monkeypatch,
+                                                                   capsys):
+    """The folder was writable when checked; results.json is then refused (a folder made
+    read-only meanwhile, as root cannot be made to see): exit 5, one line naming the file."""
+    from ngincompat.cli import EXIT_NOT_WRITTEN, main
+
+    def refused(path, data):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(output.io, "write_json", refused)
+    code = main(["run", "cube", "--out", str(tmp_path / "run"), "--maxh", "1", "--order", "1",
+                 "--outputs", "mechanics", "-q"])
+    err = capsys.readouterr().err
+    assert code == EXIT_NOT_WRITTEN and err.count("\n") == 1, err
+    assert "cannot write: Permission denied" in err and "results.json" in err
+    assert "Traceback" not in err
+
+
 def test_a_mesh_file_netgen_left_truncated_is_refused(tmp_path, monkeypatch):
     from geometries import cube
     from ngincompat.workflow.inputs import save_mesh
