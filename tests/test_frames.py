@@ -54,14 +54,14 @@ def test_a_frame_is_frozen_and_an_earlier_time_replaces_the_later_frames(unit_cu
 def test_the_skin_writes_a_frame_per_step_of_every_stage(tmp_path, capsys):
     """Inflation in two steps (at -0.5 and 0: growth frozen, theta = 1), the hold (0.5 days:
     growth), the deflation after it (growth frozen: theta stays the hold's), the clamped
-    and the released equilibria at hold_days + 1 and + 2."""
+    and the released equilibria at hold_days + 2 and + 3."""
     out = tmp_path / "skin"
     assert main(["run", "skin", *SKIN_COARSE, "--set", "inflation_steps=2",
                  "--set", "outputs=vtk", "--out", str(out), "-q"]) == 0
     frames = series(out)
     times = [t for t, _ in frames]
-    assert times[:3] == [-0.5, 0.0, 0.5] and times[-2:] == [1.5, 2.5]
-    assert all(0.5 < t < 1.5 for t in times[3:-2]) and len(times) > 5     # the deflation
+    assert times[:3] == [-0.5, 0.0, 0.5] and times[-2:] == [2.5, 3.5]
+    assert all(0.5 < t <= 1.5 for t in times[3:-2]) and len(times) > 5    # the deflation
     theta = {t: f.point_data["theta"].ravel() for t, f in frames}
     u = {t: f.point_data["u"] for t, f in frames}
     for t in (-0.5, 0.0):

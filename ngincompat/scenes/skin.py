@@ -24,8 +24,8 @@ With VTK output the run is also a time series (``fields.pvd``, :mod:`ngincompat.
 of the displacement, theta, J and Je = J / theta after every converged step, on one clock in
 days that is the hold's time: the inflation's steps at s - 1 (s the fraction of the volume,
 its end, after the contact stage's correction, at 0), the hold's at t in (0, ``hold_days``],
-the deflation's at ``hold_days`` + s (s the fraction of the load taken away), the clamped
-equilibrium at ``hold_days`` + 1 and the released one at ``hold_days`` + 2.
+the deflation's at ``hold_days`` + s (s in (0, 1], the fraction of the load taken away), the
+clamped equilibrium at ``hold_days`` + 2 and the released one at ``hold_days`` + 3.
 
 The patch lies on its base: outside the footprint the bottom face keeps X3 = 0 (it may slide),
 which also keeps the footprint's edge in the plane, so the enclosed volume is exactly
@@ -386,7 +386,7 @@ class SkinCase:
             self.frames.take(0.0)       # the inflation's end, corrected
         elif stage.name.startswith("deflation_"):
             which = stage.name.removeprefix("deflation_")
-            self.frames.take(self.scene.hold_days + (1 if which == "clamped" else 2),
+            self.frames.take(self.scene.hold_days + (2 if which == "clamped" else 3),
                              self._frame_fields(self.relaxed[which].u))
         if stage.name == ("contact" if self.in_contact else "inflation"):
             self._note_inflated()
