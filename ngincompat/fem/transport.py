@@ -104,7 +104,10 @@ class FisherKPP:
         u, v = self.fes.TnT()
         mass = ngs.BilinearForm(u * v * ngs.dx(intrules=dict(_VERTEX_RULES))).Assemble()
         self.mass = _csr(mass.mat).diagonal()
-        stiffness = ngs.BilinearForm(ngs.InnerProduct(D * ngs.grad(u), ngs.grad(v)) * ngs.dx)
+        # on its space: D = 0 (no diffusion, c grows in place) makes the integrand zero,
+        # which a form built from the integrand alone refuses (it has no trial function)
+        stiffness = ngs.BilinearForm(self.fes)
+        stiffness += ngs.InnerProduct(D * ngs.grad(u), ngs.grad(v)) * ngs.dx
         K = _csr(stiffness.Assemble().mat)
         if monotone:
             K = _upwind(K, _summed_over_ranks(mesh, K))
