@@ -290,3 +290,19 @@ def test_the_table_costs_the_same_per_finished_case_however_many_cases(tmp_path,
     # the same line whatever the number of cases (a longer index and value at most); the
     # whole table of 200 rows, as written before, is 200 times one
     assert per_case[200] < 1.5 * per_case[10]
+
+
+@pytest.mark.parametrize("scene, settings", [("atrophy", ["nu=0"]),
+                                             ("cube", ["formulation=mixed", "nu=0"]),
+                                             ("cube", ["formulation=mixed", "nu=-0.5"])])
+def test_the_mixed_formulation_refuses_nu_at_or_below_0_before_computing(scene, settings,
+                                                                        tmp_path, capsys):
+    """Its pressure term p^2 / (2 lambda) needs lambda > 0: atrophy at nu = 0 (the
+    out-of-process corpus) ended "not converged" at t = 0, exit 3 for a bad input."""
+    out = tmp_path / "out"
+    args = [a for s in settings for a in ("--set", s)]
+    assert main(["run", scene, *args, "--out", str(out), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("ngincompat: error: nu = "), err
+    assert "mixed formulation" in err[0] and not out.exists()
+    SCENES["cube"].from_settings({"nu": "0"})       # the displacement formulation takes it

@@ -20,6 +20,7 @@ terms of :mod:`ngincompat.fem.terms`).
 """
 
 import logging
+import numbers
 import os
 import shutil
 import sys
@@ -114,6 +115,13 @@ def check_formulation(material, formulation, order):
                 f"displacement for the {material.name} material (mixed needs a bulk split "
                 "of the energy, as neo-hookean has)")
         require(order >= 2, "order", order, ">= 2 for the mixed formulation")
+        mu, lam = material.mu, material.lam
+        if isinstance(lam, numbers.Real):   # (moduli per region: each scene checks its own)
+            # its pressure term -p^2 / (2 lam): lam = 0 (nu = 0) divided by zero, and the run
+            # failed as "not converged" at t = 0
+            require(lam > 0, "nu", round(lam / (2 * (lam + mu)), 12),
+                    "in (0, 0.5) for the mixed formulation (its pressure term p^2 / "
+                    "(2 lambda) needs lambda > 0)")
 
 
 class GrowthMechanics:
