@@ -43,6 +43,10 @@ def test_a_frame_is_frozen_and_an_earlier_time_replaces_the_later_frames(unit_cu
     assert [f["twice"](point) for _, f in frames] == pytest.approx([2.0, 20.0, 22.0])
     frames.take(1.0)                        # a stage that started again from t = 1
     assert frames.times() == [0.0, 1.0] and frames.taken[1][1]["g"](point) == pytest.approx(12.0)
+    steps = Frames(unit_cube_hex, 1, lambda: {"g": gf})
+    steps.take(sum([0.1] * 10) - 1)         # -1.1e-16: the skin's inflation, ten steps
+    steps.take(0.0)                         # the contact stage's correction: replaces it
+    assert steps.times() == [0.0]
     only = Frames(unit_cube_hex, 1, lambda: {"g": gf, "twice": 2 * gf}, names=("g",))
     only.take(0.0)
     assert set(only.taken[0][1]) == {"g"}

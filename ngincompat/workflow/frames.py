@@ -21,6 +21,11 @@ from typing import Any
 
 from ngincompat.workflow import output
 
+#: A frame's time is rounded to this many decimals: the sum of a stage's steps (ten of 0.1
+#: make 0.9999999999999999) then falls on the time a later frame is taken at (1), which
+#: replaces it.
+TIME_DECIMALS = 12
+
 
 @dataclass(eq=False)
 class Frames:
@@ -50,7 +55,7 @@ class Frames:
         the frame of time ``t``, replacing the frames at ``t`` and after."""
         if not self.enabled:
             return
-        t = float(t)
+        t = round(float(t), TIME_DECIMALS) + 0.0       # + 0.0: no -0.0
         chosen = self.fields() if fields is None else fields
         if self.names is not None:
             chosen = {k: chosen[k] for k in self.names if k in chosen}
