@@ -234,7 +234,7 @@ class FoldingScene(Scene):
                                onset_dt=5.0, approach_dt=10.0, observe_dt=10.0,
                                release=False),
                "paper": dict(maxh=0.1)}
-    # the small bilayer's: 1.5e-11 and below 1e-8 (README, "Cortical folding")
+    # far above what converged runs give (docs/measurements/folding.md, the release)
     indicators = (
         Indicator("equilibrium_residual", 1e-6, "the grown state is not an equilibrium: the "
                   "relaxation stopped short of it"),
