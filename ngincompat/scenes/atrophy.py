@@ -368,7 +368,8 @@ class AtrophyCase:
     mesh: ngs.Mesh
     series: dict = field(default_factory=dict)
     snapshots: dict = field(default_factory=dict)
-    #: The fields of :data:`FRAME_FIELDS` at the snapshot times (:class:`Frames`).
+    #: The fields of :data:`FRAME_FIELDS` at the snapshot times
+    #: (:class:`~ngincompat.workflow.frames.Frames`).
     frames: Frames = field(init=False)
 
     def __post_init__(self):

@@ -50,6 +50,7 @@ _created = set()
 #: anything in the kernel's (:data:`KERNEL`).
 SYSTEM = ("/", "/bin", "/boot", "/dev", "/etc", "/lib", "/lib32", "/lib64", "/proc", "/run",
           "/sbin", "/sys", "/usr", "/var")
+#: The kernel's folders: no run writes anywhere in them.
 KERNEL = ("/dev", "/proc", "/sys")
 #: The names of the files a scene's run writes besides results.json (glob patterns): a
 #: folder without a run that holds such files is not written into without ``overwrite``.
