@@ -10,6 +10,7 @@ from ngincompat import config
 from ngincompat.errors import ParameterError
 from ngincompat.fem import contact
 from ngincompat.fem.contact import Expander
+from ngincompat.fem.solver import NewtonSolver
 from ngincompat.scenes import SkinExpansionScene
 
 #: A coarse run of the contact model: a low dome (3 cc), inflated in one step, half a day of
@@ -323,3 +324,46 @@ def test_lift_keeps_every_point_at_its_height_above_the_raised_dome():
     dH = expander.expander_height() - H
     assert dH > 0
     assert np.max(np.abs(above() - before)) <= 0.02 * dH
+
+
+def test_frozen_growth_is_the_coupled_problem_on_the_displacement_alone():
+    """At frozen growth the coupled residual's displacement rows are the derivative of the
+    terms' energies held at the current theta (growth, contact, dead traction): the
+    displacement-only problem (the energy's Variation, a different formulation from the
+    coupled P : Grad v and Diff) has the same residual, by the same rule also with theta of
+    a higher order than u, and a symmetric tangent whose Newton direction is the coupled
+    one's. The pressure model (a multiplier) has none."""
+    import ngsolve as ngs
+
+    scene = SkinExpansionScene(expander="contact", **{**COARSE, "maxh": 2.0, "order": 2,
+                                                      "growth_order": 3})
+    case = scene.build()
+    problem = case.problem
+    dome = scene.expander_body().shape(ngs.x, ngs.y)[0]
+    problem.u.Set(ngs.CoefficientFunction((0.01 * ngs.x * ngs.y, 0.02 * ngs.y * ngs.z,
+                                           0.5 * dome)))
+    case.growth.theta.Set(1.1 + 0.02 * ngs.x)
+    problem.accept_step()                           # theta_n = theta, as after a step
+    case.holder.target.Set(6.0)                     # pressed into the dome
+    case.traction.field.Set(ngs.CoefficientFunction((0.0, 0.0, 0.01)))
+    case.traction.scale.Set(0.5)
+    problem.dt.Set(0.0)
+    frozen = problem.frozen()
+    n = problem.space.ndof
+    free = np.array(frozen.freedofs, dtype=bool)
+    assert np.array_equal(free, np.array(problem.freedofs, dtype=bool)[:n])
+    assert frozen.inverse == "sparsecholesky" and problem.inverse != frozen.inverse
+    directions = []
+    with config.task_manager():
+        assert ngs.Integrate(case.holder.contact_pressure(), case.mesh, ngs.BND,
+                             definedon=case.mesh.Boundaries("footprint")) > 0
+        for p in (problem, frozen):
+            solver = NewtonSolver(p)
+            residual = solver.residual().FV().NumPy()[:n][free].copy()
+            solver.factorise()
+            directions.append((residual, solver.direction().FV().NumPy()[:n][free].copy()))
+    (r, du), (r_alone, du_alone) = directions
+    assert np.linalg.norm(r_alone - r) <= 1e-9 * np.linalg.norm(r)
+    assert np.linalg.norm(du_alone - du) <= 1e-9 * np.linalg.norm(du)
+    pressure = SkinExpansionScene(**{**COARSE, "expander": "pressure"}).build().problem
+    assert pressure.frozen() is None

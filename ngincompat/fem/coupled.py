@@ -87,6 +87,7 @@ class CoupledProblem:
         self.u = self.state.components[0]
         self.freedofs = self.fes.FreeDofs(coupling=condense)
         self.pinned = ()
+        self._frozen = None
         self.realcompile = (self.fes.ndof >= REALCOMPILE_NDOF if realcompile is None
                             else realcompile)
         trials, tests = self.fes.TnT()
@@ -147,6 +148,16 @@ class CoupledProblem:
             self.dt.Set(dt)
         return self.form.mat
 
+    def frozen(self):
+        """The problem at frozen growth on its displacement alone (:class:`FrozenGrowth`,
+        made once), or None if one of its terms cannot be held so (a multiplier)."""
+        if self._frozen is None:
+            u = self.space.TrialFunction()
+            energies = [term.held_energy(u) for term in self.terms]
+            self._frozen = (False if any(e is NotImplemented for e in energies)
+                            else FrozenGrowth(self, energies))
+        return self._frozen or None
+
     def measures(self):
         """What the terms report of the current state, merged in their order."""
         measured = {}
@@ -171,3 +182,53 @@ class CoupledProblem:
         """Take back into the terms what :meth:`saved` kept (``data`` from a checkpoint)."""
         for term in self.terms:
             term.restore(data)
+
+
+class FrozenGrowth:
+    """A :class:`CoupledProblem` at frozen growth, solved on its displacement alone.
+
+    At frozen growth (a step dt = 0, or ``growing`` = 0) the growth rows of the coupled
+    residual hold theta at theta_n, and its displacement rows are the derivative of
+
+        Pi(u) = sum over the terms of their energies, theta and the loads held
+
+    (:meth:`~ngincompat.fem.terms.Term.held_energy`, each by the rule of the coupled
+    residual). This is that energy as a problem of the displacement alone
+    (a :class:`~ngincompat.fem.solver.NewtonProblem`): the same equilibria, a symmetric
+    tangent (the Hessian of Pi, factorised by sparse Cholesky) assembled without theta's
+    dofs, and the energy for the line search. On the skin at its defaults (1101
+    tetrahedra, theta of order 3: 22,020 of the 29,088 dofs) one tangent costs 0.06 s
+    instead of 0.25 s and its factorisation 0.03 s instead of SuperLU's 0.12 s (README,
+    "The coupled scenes: where the time goes").
+
+    Its state is the coupled problem's displacement (the same memory), its Dirichlet and
+    pinned dofs the coupled problem's, its step ``dt`` and ``growing`` the coupled
+    problem's Parameters; :meth:`accept_step` is the coupled problem's.
+    """
+
+    #: The line search tests the residual, as on the coupled problem, not the energy:
+    #: accepting steps that lower the energy but not the residual, the default skin's
+    #: inflation took 170 Newton iterations and two cut steps instead of 116 and one.
+    has_energy = False
+    inverse = "sparsecholesky"
+    condense = True
+
+    def __init__(self, problem: CoupledProblem, energies):
+        self.coupled = problem
+        self.mesh, self.fes = problem.mesh, problem.space
+        self.state = self.u = problem.u
+        self.dt, self.growing = problem.dt, problem.growing
+        self.form = ngs.BilinearForm(self.fes, symmetric=True, condense=self.condense)
+        for energy in energies:
+            self.form += ngs.Variation(energy)
+        self.pinned = problem.pinned
+        self.freedofs = self.fes.FreeDofs(coupling=self.condense)
+        for dof in self.pinned:
+            self.freedofs.Clear(dof)
+
+    @property
+    def ndof(self):
+        return self.fes.ndof
+
+    def accept_step(self):
+        self.coupled.accept_step()

@@ -62,11 +62,13 @@ def ensure_heap(order):
 
 
 #: Size (ndof) from which a :class:`~ngincompat.fem.coupled.CoupledProblem` compiles its
-#: residual to machine code by default: the tangent assembly then takes less than half the
-#: time, after some seconds of compilation in every run, which pays from a few tangents at
-#: this size and not for the small problems of the tests (measured on the skin:
-#: ``docs/measurements/solver-costs.md``, "The coupled residual").
-REALCOMPILE_NDOF = 20000
+#: residual (and its energy at frozen growth) to machine code by default: the tangent
+#: assembly then takes less than half the time, after some seconds of compilation per form
+#: in every run, which pays from a few tens of tangents at this size (the coupled scenes
+#: assemble 50-400, the folding and crescent previews have 16,000 dofs) and not for the small
+#: problems of the tests (measured on the skin: ``docs/measurements/solver-costs.md``, "The
+#: coupled residual").
+REALCOMPILE_NDOF = 10000
 
 
 def find_compiler():
@@ -83,24 +85,24 @@ def find_compiler():
     return found
 
 
-def compiled(cf, realcompile):
+def compiled(cf, realcompile, maxderiv=1):
     """``cf`` compiled: to C++ by the system's compiler if ``realcompile`` (and that works),
-    else by NGSolve's own step list.
+    else by NGSolve's own step list, with derivatives up to ``maxderiv``.
 
-    ``cf`` is a residual, linear in the test function: it is evaluated, and linearised in the
-    trial function for the tangent, never differentiated twice. The C++ is therefore generated
-    up to first derivatives (``maxderiv=1``, NGSolve's default is 2): half the compilation
-    time, the same tangents; with ``maxderiv=0`` the tangent falls back to the interpreted
-    derivative and a run takes more than twice as long (``docs/measurements/solver-costs.md``,
-    "The coupled residual").
+    A residual, linear in the test function, is evaluated and linearised in the trial
+    function for the tangent, never differentiated twice: its C++ is generated up to first
+    derivatives (``maxderiv=1``, NGSolve's default is 2): half the compilation time, the same
+    tangents; with ``maxderiv=0`` the tangent falls back to the interpreted derivative and a
+    run takes more than twice as long (``docs/measurements/solver-costs.md``, "The coupled
+    residual"). An energy (a ``Variation``) is differentiated twice for its tangent:
+    ``maxderiv=2``.
     """
     if realcompile:
         find_compiler()
         try:
-            return cf.Compile(realcompile=True, wait=True, maxderiv=1)
+            return cf.Compile(realcompile=True, wait=True, maxderiv=maxderiv)
         except Exception as err:  # no compiler or no headers: NGSolve raises its own kinds
-            log.warning("compiling the residual to C++ failed (%s); assembling it "
-                        "uncompiled", err)
+            log.warning("compiling to C++ failed (%s); assembling uncompiled", err)
     return cf.Compile()
 
 

@@ -112,7 +112,9 @@ class CoupledStage:
     ----------
     grow : bool
         Growth evolves (implicit Euler with the step as dt); False freezes it (dt = 0), as
-        during a quasi-static inflation.
+        during a quasi-static inflation: Newton then works on the problem's
+        :meth:`~ngincompat.fem.coupled.CoupledProblem.frozen` form where it has one (the
+        displacement alone, a symmetric tangent).
     volume : tuple of float, optional
         Target of the volume that the problem's term ``holder`` holds (a
         :class:`~ngincompat.fem.terms.VolumeConstraint` or an
@@ -190,7 +192,9 @@ class CoupledStage:
             self.volume = (self.holder.target.Get(), self.volume[1])
         self.load(self.t_start)
         self.save(self.t_start)
-        return solve_coupled(self.problem, self.t_end, self.dt, self.options,
+        # frozen: Newton on the displacement alone where the terms allow it (the same steps)
+        problem = self.problem if self.grow else self.problem.frozen() or self.problem
+        return solve_coupled(problem, self.t_end, self.dt, self.options,
                              t_start=self.t_start, schedule=self.load, on_step=self.after_step,
                              progress=progress, stage=self.name, unit=self.unit)
 
@@ -254,7 +258,7 @@ class ContactControlStage:
     def run(self, progress: Progress) -> SolverHistory:
         contact, label = self.contact, progress.stage_label(self.name)
         self.problem.dt.Set(0.0)
-        solver = NewtonSolver(self.problem, self.options)
+        solver = NewtonSolver(self.problem.frozen() or self.problem, self.options)
         history = SolverHistory()
         previous = None
         for k in range(self.max_rounds + 1):

@@ -75,6 +75,16 @@ class Term(Protocol):
         """The term's energy at the problem's current state and step."""
         ...
 
+    def held_energy(self, u):
+        """The term's energy as integrals in the displacement alone, ``u`` a trial function
+        of the problem's displacement space, with everything else it depends on held at its
+        current value (theta at frozen growth), each by the rule of the term's residual (the
+        same equilibria): the energy of
+        :class:`~ngincompat.fem.coupled.FrozenGrowth`. NotImplemented (the default) for a
+        term that does not provide it (one whose energy needs unknowns of its own, as a
+        multiplier, cannot): a problem with such a term has no FrozenGrowth."""
+        return NotImplemented
+
     def measures(self) -> dict[str, float]:
         """What the term reports of the current state, by name."""
         return {}
@@ -155,6 +165,7 @@ class GrowthEnergy(Term):
         # element matrices in about 0.4 of the time of the symbolic Diff of W by u
         # (docs/measurements/solver-costs.md, "The coupled residual")
         stress = W.Diff(F)
+        self.realcompile = problem.realcompile
         return compiled(ngs.InnerProduct(stress, ngs.Grad(v)) + rate * eta,
                         problem.realcompile) * ngs.dx
 
@@ -173,6 +184,15 @@ class GrowthEnergy(Term):
         """The strain energy int Jg Psi dV of the current state."""
         return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
                              self.mesh)
+
+    def held_energy(self, u):
+        """int Jg Psi(F(u) Fg(theta)^-1) dV at the current theta, by the rule of the residual:
+        NGSolve's default rule has degree 2 p - 2 for an energy in the gradient of u of
+        order p, and 2 q for the residual with theta eta, theta of order q."""
+        p, q = self.u.space.globalorder, self.theta.space.globalorder
+        bonus = max(2 * q - (2 * p - 2), 0)
+        density = self.energy_density(kinematics.deformation_gradient(u))
+        return compiled(density, self.realcompile, maxderiv=2) * ngs.dx(bonus_intorder=bonus)
 
     def accept_step(self):
         """theta_n <- theta_n+1."""
@@ -241,6 +261,9 @@ class DeadTraction(Term):
         self.field = ngs.GridFunction(problem.space, name="traction")
         return -self.scale * ngs.InnerProduct(self.field, problem.displacement.test) * ngs.ds(
             self.boundaries)
+
+    def held_energy(self, u):
+        return -self.scale * ngs.InnerProduct(self.field, u) * ngs.ds(self.boundaries)
 
     def energy(self):
         problem = self.problem
