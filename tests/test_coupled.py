@@ -201,6 +201,21 @@ def test_a_march_ends_where_on_step_says_so():
     assert seen == pytest.approx([0.25, 0.5])
 
 
+def test_a_step_doubles_after_at_most_step_up_newton_iterations():
+    """The adaptive march doubles the next step (up to max_step) after a step that took at
+    most ``step_up`` Newton iterations, and keeps it otherwise."""
+    def steps(**options):
+        problem, _ = _stretched_bar(LAW)
+        history = solve_coupled(problem, t_end=2.0, dt=0.25,
+                                options=NewtonOptions(max_iter=20, **options))
+        assert history.converged and all(s.iterations > 1 for s in history.steps)
+        return [s.dt for s in history.steps]
+
+    assert steps(step_up=0) == pytest.approx([0.25] * 8)
+    assert steps(step_up=20) == pytest.approx([0.25, 0.5, 1.0, 0.25])
+    assert steps(step_up=20, max_step=0.5) == pytest.approx([0.25, 0.5, 0.5, 0.5, 0.25])
+
+
 def test_viscous_regularisation_lags_and_a_frozen_step_removes_it():
     """Fiber growth at a constant rate in a cube on rollers at one end: with the viscous term
     eta / dt int (u - u_n) . v dV a step ends short of equilibrium (the displacement lags);

@@ -123,6 +123,9 @@ class NewtonOptions:
         (from the second converged step on, and again after a cut step).
     max_step : float
         Largest step the adaptive stepping may grow to (time accuracy of coupled growth).
+    step_up : int
+        A converged step that took at most this many Newton iterations doubles the next one
+        (up to ``max_step``).
     line_search : bool
         Backtrack on the energy; without it every Newton step is taken in full (plain Newton,
         kept for comparison: it fails where a full step leaves the domain Je > 0).
@@ -165,6 +168,7 @@ class NewtonOptions:
     line_search: bool = True
     extrapolate: bool = False
     max_step: float = float("inf")
+    step_up: int = 4
     reuse_tangent: bool = False
     reuse_contraction: float = 0.1
     linear_solver: str = "auto"
@@ -176,6 +180,7 @@ class NewtonOptions:
         require(self.atol >= 0, "atol", self.atol, ">= 0")
         require(self.max_iter >= 1, "max_iter", self.max_iter, ">= 1")
         require(self.steps >= 1, "steps", self.steps, ">= 1")
+        require(self.step_up >= 0, "step_up", self.step_up, ">= 0")
         require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
         require(self.inverse in (None, *INVERSES), "inverse", self.inverse,
                 ", ".join(INVERSES))
@@ -537,7 +542,7 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, report, ene
                     log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
                     if stop:
                         break
-                    if record.iterations <= 4:
+                    if record.iterations <= options.step_up:
                         dt = min(2 * dt, options.max_step)
                     continue
                 problem.state.vec.data = saved
