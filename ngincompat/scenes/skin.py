@@ -238,6 +238,9 @@ DEFLATED = 0.25
 #: only after at most four iterations): on the coarse circle at 20 cc (maxh 1.5) 212
 #: iterations in 26 steps and two failed tries, against 89 in 7 steps with 25 allowed.
 DEFLATION_MAX_ITER = 25
+#: Newton iterations up to which a converged inflation step doubles the next one (up to the
+#: initial step).
+INFLATION_STEP_UP = 10
 #: Boundary conditions while the patch is held: the periphery clamped, the base sliding.
 CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
 
@@ -301,9 +304,14 @@ class SkinCase:
         checkpoint = None if workdir is None else Path(workdir) / CHECKPOINT
         stages = []
         if t_hold is None:
-            stages.append(CoupledStage("inflation", problem, t_end=1.0,
-                                       dt=1.0 / scene.inflation_steps, grow=False,
+            # A cut step grows back after up to INFLATION_STEP_UP iterations: the contact
+            # steps take 6-10 each, so with the default 4 the crescent's preview stayed at the
+            # quarter step its first step was cut to (40 steps, 341 iterations).
+            step = 1.0 / scene.inflation_steps
+            stages.append(CoupledStage("inflation", problem, t_end=1.0, dt=step, grow=False,
                                        volume=(0.0, scene.volume), holder=holder,
+                                       options=NewtonOptions(max_iter=20, max_step=step,
+                                                             step_up=INFLATION_STEP_UP),
                                        observe=lambda s: self.frames.take(s - 1)))
             if self.in_contact:
                 stages.append(ContactControlStage("contact", problem, holder, scene.volume))
