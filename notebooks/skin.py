@@ -112,13 +112,13 @@ for when in ("inflated", "end_of_hold"):
 
 # %%
 contact_view = Draw(fields["contact_pressure"], mesh, "contact pressure",
-                    deformation=fields["u_inflated"])
+                    deformation=fields["u_end_of_hold"])
 
 # %% [markdown]
 # ## Growth and incompatibility
 #
 # Area growth theta at the end of the hold, drawn on the inflated skin
-# (`deformation=u_inflated`: the state at the end of the hold, true scale). The skin grows
+# (`deformation=u_end_of_hold`: the state at the end of the hold, true scale). The skin grows
 # over the dome, where it is stretched most, most of all at the apex, and less toward the
 # footprint's edge; outside the footprint it hardly grows.
 
@@ -126,7 +126,7 @@ contact_view = Draw(fields["contact_pressure"], mesh, "contact pressure",
 print(f"theta: largest {m['theta_max']:.4f}, at the apex {m['theta_apex']:.4f}, "
       f"mean over the footprint {m['theta_mean_footprint']:.4f}")
 theta_view = Draw(fields["theta"], mesh, "area growth theta",
-                  deformation=fields["u_inflated"])
+                  deformation=fields["u_end_of_hold"])
 
 # %% [markdown]
 # G of the grown field by the projected path (the growth field is computed, not analytic: Fg

@@ -60,6 +60,26 @@ def test_skin_grows_where_it_is_stretched_and_keeps_residual_stress(expanded):
     assert theta[len(theta) // 2] > theta[0] + 0.01  # growth over the expander, not at the edge
 
 
+def test_the_end_of_hold_field_is_the_held_skin(expanded):
+    """``u_end_of_hold`` is the skin at the end of the hold: the volume under it is the
+    volume the pressure held (eq. of the enclosed volume, to the volume control's
+    tolerance), not the deflated skin's (the clamped state's, a fraction of it)."""
+    import ngsolve as ngs
+
+    from ngincompat.fem.terms import enclosed_volume_density
+
+    fields = expanded.fields
+    mesh = fields["u_end_of_hold"].space.mesh
+    footprint = mesh.Boundaries("footprint")
+
+    def volume(u):
+        return ngs.Integrate(enclosed_volume_density(u), mesh, ngs.BND, definedon=footprint)
+
+    held = expanded.params["volume"]
+    assert volume(fields["u_end_of_hold"]) == pytest.approx(held, rel=1e-3)
+    assert volume(fields["u_clamped"]) < 0.5 * held
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("footprint", ["rectangle", "square", "crescent"])
 def test_every_expander_reaches_its_volume(footprint):

@@ -479,7 +479,8 @@ class SkinCase:
             G, _, Fg_h = inc.incompatibility_projected(growth.Fg, mesh, scene.g_order)
             b = inc.burgers_vector(G, self.N0.cf)
             metrics["burgers_max"] = sampling.maximum(ngs.Norm(b), mesh)
-        flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_inflated": self.problem.u}
+        # the problem's state is back at the end of the hold (the inflated, grown skin)
+        flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_end_of_hold": self.problem.u}
         if self.in_contact:
             flds.update(gap=self.holder.gap(), contact_pressure=self.holder.contact_pressure())
         for stage, relaxed in self.relaxed.items():

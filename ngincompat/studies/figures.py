@@ -48,12 +48,11 @@ FIELDS = {
         (r"(d) $\Psi$ [{S}]", "Psi", False, None),
         (r"(e) Curl $F^g$ : Curl $F^g$ [1/{L}$^2$]", "curlFg_sq", False, None),
         (r"$S_{{11}}$ [{S}]", "S11", True, None))),
-    # the skin's "u_inflated" is its problem's displacement when the run is measured: at the
-    # end of the deflation ramp (the inflated shape is not kept), so growth and |b| are drawn
-    # on the deflated patch, the released stress on the released one
+    # growth and |b| drawn on the skin at the end of the hold (inflated over the expander),
+    # the released stress on the released patch
     "skin": ("6", (55, -70), (
-        (r"(a) area growth $\vartheta^g$, deflated [-]", "theta", False, "u_inflated"),
-        (r"(b) |b| on $e_3$, deflated [1/{L}]", "|b|", False, "u_inflated"),
+        (r"(a) area growth $\vartheta^g$, end of hold [-]", "theta", False, "u_end_of_hold"),
+        (r"(b) |b| on $e_3$, end of hold [1/{L}]", "|b|", False, "u_end_of_hold"),
         (r"(c) max principal stress, released [{S}]", "sigma_max_released", True,
          "u_released"))),
 }
