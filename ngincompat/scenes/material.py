@@ -2,8 +2,9 @@
 
 :class:`Elastic` (mu, nu) and :class:`Fibers` (the GOH fiber parameters k1, k2, kappa) are
 blocks of fields a scene inherits; their defaults are the paper's idealized material
-(mu = 0.55 MPa, nu = 0.4, sections 3.1-3.4). A scene with other values calls the same
-declaration with its own default, ``mu: float = MU(0.1786)``, so help, unit and range stay
+(mu = 0.55 MPa, nu = 0.4, sections 3.1-3.4, and the skin of 3.6). A scene with other values
+calls the same declaration with its own default, ``mu: float = MU(0.003)``, so help, unit and
+range stay
 those written here; a scene with moduli per tissue declares those itself, with ``NU`` for
 their Poisson's ratio.
 
