@@ -308,8 +308,8 @@ class SkinCase:
         stages = []
         if t_hold is None:
             # A cut step grows back after up to INFLATION_STEP_UP iterations: the contact
-            # steps take 6-10 each, so with the default 4 the crescent's preview stayed at the
-            # quarter step its first step was cut to (40 steps, 341 iterations).
+            # steps take 6-10 each, so with the default 4 a step cut once (the crescent's
+            # first) stayed cut to the end of the inflation.
             step = 1.0 / scene.inflation_steps
             stages.append(CoupledStage("inflation", problem, t_end=1.0, dt=step, grow=False,
                                        volume=(0.0, scene.volume), holder=holder,
