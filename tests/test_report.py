@@ -166,3 +166,24 @@ def test_verdicts_follow_the_measured_trend():
     assert finding.judge({"cube": rising})[1] == findings.DIFFERS
     failed = _results({"X1": x, "|b_n2|": b}, status="not converged")
     assert finding.judge({"cube": failed})[1] == findings.NOT_RUN
+
+
+def test_axon_findings_are_not_judged_when_the_axons_did_not_grow():
+    """The paper's axon findings (curved axons: the least |b| and released stress) are judged
+    on grown axons; where theta_a stayed 1 (a march too short for the stretch to pass its
+    critical value) the three fields are the same growth and the verdict says so instead of
+    'differs'."""
+    def runs(theta_a_max, b):
+        return {label: _results({"X1": [0.0, 1.0]}, {"theta_a_max": theta_a_max,
+                                                      "burgers_max": value,
+                                                      "max_principal_stress_released": value})
+                for label, value in zip(findings.FOLDING, b, strict=True)}
+
+    judged = [f for f in findings.FINDINGS
+              if f.measure in (findings._fold_axons, findings._fold_release)]
+    assert len(judged) == 2
+    for finding in judged:
+        idle = finding.judge(runs(1.0, (9.4, 9.4, 9.4)))
+        assert idle[1] == findings.NOT_RUN and "did not grow" in idle[2]
+        assert finding.judge(runs(1.7, (3.0, 4.0, 4.2)))[1] == findings.AGREES
+        assert finding.judge(runs(1.7, (4.2, 3.1, 4.2)))[1] == findings.DIFFERS

@@ -318,7 +318,25 @@ def _fold_interface(*runs):
             "" if holds else "a peak lies away from the interface")
 
 
+#: Axon growth (theta_a - 1) below which an axon field has not acted on a run.
+AXON_GROWTH_MIN = 1e-3
+
+
+def _axons_idle(runs):
+    """The reason the axon fields cannot be compared, or "": with theta_a = 1 everywhere
+    (the stretch never passed its critical value before the run ended, as on the preview's
+    short march) the three fields give the same growth, so equal or shuffled |b| and stress
+    say nothing about their orientation."""
+    grown = [r.metrics.get("theta_a_max", np.nan) - 1 for r in runs]
+    if all(np.isfinite(grown)) and max(grown) >= AXON_GROWTH_MIN:
+        return ""
+    return ("the axons did not grow by the end of the run (theta_a_max - 1 = "
+            + ", ".join(_g(g) for g in grown) + "): their orientation cannot act")
+
+
 def _fold_axons(*runs):
+    if idle := _axons_idle(runs):
+        return "", NOT_RUN, idle
     b = dict(zip(AXONS, (r.metrics["burgers_max"] for r in runs), strict=True))
     holds = b["curved"] < min(b["concentric"], b["straight"])
     return ("max |b|: " + ", ".join(f"{a} {_g(v)}" for a, v in b.items()) + " 1/cm",
@@ -331,6 +349,8 @@ def _fold_release(*runs):
                          for r in runs), strict=True))
     if not all(np.isfinite(list(s.values()))):
         return "not released", NOT_RUN, "the runs end before the release"
+    if idle := _axons_idle(runs):
+        return "", NOT_RUN, idle
     holds = s["curved"] < min(s["concentric"], s["straight"])
     return ("max principal stress after the release: "
             + ", ".join(f"{a} {_g(v)}" for a, v in s.items()) + " kPa",
