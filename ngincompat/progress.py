@@ -66,7 +66,8 @@ class Progress:
         if self.bars:
             tqdm.write(text, file=self.stream)
         else:
-            print(text, file=self.stream, flush=True)
+            self.stream.write(text + "\n")
+            self.stream.flush()
 
     @contextlib.contextmanager
     def case(self, name: str):
