@@ -1,5 +1,6 @@
 """Self-contact (:mod:`ngincompat.fem.self_contact`) against the closed form of two blocks of one
-body pressed into each other, and its energy, residual and tangent by finite differences."""
+body pressed into each other (and of one block pressed into its mirror image), and its energy,
+residual and tangent by finite differences."""
 
 import math
 
@@ -110,6 +111,56 @@ def test_penetration_falls_as_the_penalty_grows(blocks):
     np.testing.assert_allclose(penetration, delta, rtol=1e-5)
 
 
+@pytest.fixture(scope="module")
+def upper_block():
+    """The upper block alone, its face "gap" G0 / 2 above the plane Z = H + G0 / 2, whose
+    mirror image of the block is the lower block of :func:`blocks`."""
+    block = Box(Pnt(0, 0, H + G0), Pnt(1, 1, 2 * H + G0))
+    block.faces.Min(X).name = block.faces.Max(X).name = "xs"
+    block.faces.Min(Y).name = block.faces.Max(Y).name = "ys"
+    block.faces.Min(Z).name, block.faces.Max(Z).name = "gap", "top"
+    block.mat("body")
+    return ngs.Mesh(OCCGeometry(block).GenerateMesh(maxh=0.5))
+
+
+@pytest.mark.parametrize("penalty", [1e2, 1e4])
+def test_a_block_pressed_into_its_mirror_image_is_the_two_blocks_pressed_together(
+        upper_block, penalty):
+    """Rollers on the sides and the top, the top moved down by D / 2, the face "gap" against
+    its image in the plane midway between the blocks: the image moves up by D / 2, so the
+    pair is the two blocks pushed together by D, with the same penetration and stretch."""
+    width = 1e-4
+    plane = ((0, 0, H + G0 / 2), (0, 0, 1))
+    contact = SelfContact("gap", penalty, width, reach=0.3, mirrors=[plane])
+    growth = GrowthEnergy("fiber", fields.constant("e1"), ConstantRateLaw(0.0),
+                          NeoHookean(MU, LAM))
+    problem = CoupledProblem(upper_block, [growth, contact], order=2,
+                             symmetry={"xs": "x", "ys": "y", "top": "z"})
+    problem.u.Set(ngs.CF((0, 0, -D / 2 * (ngs.z - H - G0) / H)))
+    contact.update()
+    record = StepRecord(0.0, 0.0, False)
+    solver = NewtonSolver(problem, NewtonOptions(max_iter=30, line_search=False,
+                                                 linear_solver="direct", rtol=1e-10,
+                                                 atol=1e-12))
+    assert solver.minimise(record), record.reason
+    delta, lam, _ = closed_form(penalty, width)
+    strain = ngs.Grad(problem.u)[2, 2]
+    assert ngs.Integrate(strain, upper_block) == pytest.approx(lam - 1, rel=1e-6)
+    assert math.sqrt(ngs.Integrate((1 + strain - lam) ** 2, upper_block)) < 1e-8
+    measured = contact.measures()
+    assert measured["self_contact_penetration_max"] == pytest.approx(delta, rel=1e-5)
+    assert measured["self_contact_area"] == pytest.approx(1.0, rel=1e-9)
+
+
+def test_a_mirror_far_away_carries_nothing(upper_block):
+    contact = SelfContact("gap", 1e3, 0.0, reach=0.3, mirrors=[((0, 0, 0), (0, 0, 1))])
+    problem = CoupledProblem(upper_block, [contact], order=2, symmetry={"top": "z"})
+    contact.update()
+    residual = problem.state.vec.CreateVector()
+    problem.form.Apply(problem.state.vec, residual)
+    assert residual.Norm() == 0.0 and contact.energy() == 0.0
+
+
 def test_open_gap_carries_nothing(blocks):
     """Pushed by less than the gap, the blocks do not touch: no contact, no stress."""
     contact = SelfContact("gap", 1e3, 0.0, reach=0.3)
@@ -141,10 +192,12 @@ def test_a_bent_wall_is_not_in_contact_with_itself():
 
 
 @pytest.mark.parametrize("width", [0.0, 0.01])
-def test_energy_residual_and_tangent_agree_by_finite_differences(blocks, width):
-    """At a state with the upper block sunk into the lower one and sheared, the residual is
-    the derivative of the term's energy and the tangent the residual's."""
-    contact = SelfContact("gap", 1e3, width, reach=0.3)
+@pytest.mark.parametrize("mirrors", [(), [((0, 0, H + G0 / 2), (0, 0, 1))]])
+def test_energy_residual_and_tangent_agree_by_finite_differences(blocks, width, mirrors):
+    """At a state with the upper block sunk into the lower one (and into its image in the
+    plane between them) and sheared, the residual is the derivative of the term's energy and
+    the tangent the residual's."""
+    contact = SelfContact("gap", 1e3, width, reach=0.3, mirrors=mirrors)
     problem = CoupledProblem(blocks, [contact], order=2, condense=False)
     problem.u.Set(ngs.CF((0.02 * ngs.z, 0.01 * ngs.x * ngs.z,
                           -(G0 + 0.03 + 0.01 * ngs.x) * ngs.IfPos(ngs.z - H - G0 / 2, 1, 0))))
@@ -180,3 +233,5 @@ def test_bad_penalty_is_refused():
         SelfContact("top", 0.0, 0.0, 1.0)
     with pytest.raises(ParameterError, match="contact_reach"):
         SelfContact("top", 1.0, 0.0, -1.0)
+    with pytest.raises(ParameterError, match="mirror normal"):
+        SelfContact("top", 1.0, 0.0, 1.0, mirrors=[((0, 0, 0), (0, 0, 2))])

@@ -51,6 +51,25 @@ smooth wall: the measures count a pair only along the normal, and evaluate it at
 own mapped points (points located by coordinates missed pairs of the two blocks' test).
 A plane strain body (a slab whose faces hold u2 = 0) is handled as the three-dimensional
 body it is meshed as: its boundary is a surface.
+
+*Mirror walls.* A body cut by a symmetry plane (rollers: the normal displacement held on the
+plane) stands for itself and its mirror image. A sulcus centred on the plane has its second
+wall in the image, which the pair search never sees: on the coarse bilayer with a refined top
+the sulcus at a roller end creased at about 60 days, its wall crossed the plane (x1 = -0.0012
+cm at 62 days) and the march stalled, its tangent's smallest eigenvalue -5000 kPa/cm^2 in a
+mode one element wide at that corner. Each plane (point P, unit normal m into the body) gives
+the pair of X with its own image, along m, and the gap
+
+    g_m(X) = 2 (x(X) - P) . m,
+
+the distance between the point and its image; in the energy they enter as the pairs above,
+
+    Pi_m = (kappa / 2) int_Gamma R(-g_m) dA,
+
+so that a wall pressed into its image carries the pressure kappa r(delta) of two walls pressed
+together by the penetration delta = -g_m. Pi_m needs no search and is exact in u (its
+residual and tangent by symbolic differentiation); where the walls are apart (g_m > 0) it is
+zero.
 """
 
 import math
@@ -75,14 +94,22 @@ def _relative_position(mesh, u):
 class SelfContact(Term):
     """Frictionless penalty self-contact of the ``boundary`` (a region expression), with the
     penalty ``penalty`` kappa (stress / length), the ramp rounded over the penetration
-    ``width`` eps (length) and pairs searched within ``reach`` (length)."""
+    ``width`` eps (length) and pairs searched within ``reach`` (length); ``mirrors`` the
+    symmetry planes whose image of the boundary is a wall too, each a point P and the unit
+    normal m into the body (see the module's notes)."""
 
-    def __init__(self, boundary: str, penalty: float, width: float, reach: float):
+    def __init__(self, boundary: str, penalty: float, width: float, reach: float,
+                 mirrors=()):
         require(math.isfinite(penalty) and penalty > 0, "contact_penalty", penalty,
                 "> 0 (finite)")
         require(math.isfinite(width) and width >= 0, "contact_width", width, ">= 0 (finite)")
         require(math.isfinite(reach) and reach > 0, "contact_reach", reach, "> 0 (finite)")
         self.boundary, self.penalty, self.width, self.reach = boundary, penalty, width, reach
+        self.mirrors = tuple((tuple(map(float, point)), tuple(map(float, normal)))
+                             for point, normal in mirrors)
+        for _, normal in self.mirrors:
+            require(abs(math.hypot(*normal) - 1) < 1e-12, "mirror normal", normal,
+                    "a unit vector")
 
     def attach(self, problem, unknowns):
         self.mesh, self.u, self.problem = problem.mesh, problem.u, problem
@@ -97,7 +124,27 @@ class SelfContact(Term):
         region = self.mesh.Boundaries(self.boundary)
         self.probe = ngs.ContactBoundary(region, region)
         self.update()
-        return None
+        if not self.mirrors:
+            return None
+        u, v = problem.displacement.trial, problem.displacement.test
+        return self.mirror_energy(u).Diff(u, v).Compile() * self._measure()
+
+    def mirror_gaps(self, u):
+        """The gaps g_m = 2 (x - P) . m of the boundary's points to their images in the
+        :attr:`mirrors`, ``u`` the displacement (CFs)."""
+        x = ngs.CF((ngs.x, ngs.y, ngs.z)[:self.mesh.dim]) + u
+        return [2 * (x - ngs.CF(point[:self.mesh.dim])) * ngs.CF(normal[:self.mesh.dim])
+                for point, normal in self.mirrors]
+
+    def mirror_energy(self, u):
+        """The density of Pi_m, (kappa / 2) sum over the mirrors of R(-g_m) (a CF)."""
+        return sum((self.penalty / 2 * ramp(-gap, self.width)[1]
+                    for gap in self.mirror_gaps(u)), ngs.CF(0.0))
+
+    def _measure(self):
+        """The boundary's integral, with the two more degrees the ramp's kink needs (as the
+        expander's contact)."""
+        return ngs.ds(self.boundary, bonus_intorder=2)
 
     def pairing(self, trial):
         """A ContactBoundary of the boundary with itself carrying the energy Pi_c of the
@@ -133,8 +180,13 @@ class SelfContact(Term):
         self.update()
 
     def energy(self):
-        """Pi_c with the pairs of the last update, at the current state."""
-        return self.own.Energy(self.problem.state.vec)
+        """Pi_c with the pairs of the last update, and Pi_m, at the current state."""
+        energy = self.own.Energy(self.problem.state.vec)
+        if self.mirrors:
+            energy += ngs.Integrate(self.mirror_energy(self.u), self.mesh, ngs.BND,
+                                    definedon=self.mesh.Boundaries(self.boundary),
+                                    order=2 * self.u.space.globalorder + 2)
+        return energy
 
     def gap(self):
         """The gap g of the current state, freshly paired (a CF on the boundary; 1e300 where
@@ -156,9 +208,13 @@ class SelfContact(Term):
 
     def measures(self):
         """``self_contact_area``: the reference area of the boundary where it penetrates the
-        other wall (g < 0, where the pressure acts) and ``self_contact_penetration_max``, the
-        largest -g at the integration points of the boundary (0 without contact)."""
-        return measure(self.mesh, self.boundary, self.gap())
+        other wall or an image (g < 0 or g_m < 0, where the pressure acts) and
+        ``self_contact_penetration_max``, the largest -g or -g_m at the integration points
+        of the boundary (0 without contact)."""
+        gap = self.gap()
+        for image in self.mirror_gaps(self.u):
+            gap = ngs.IfPos(gap - image, image, gap)
+        return measure(self.mesh, self.boundary, gap)
 
 
 def measure(mesh, boundary, gap, order=2):

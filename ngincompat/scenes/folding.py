@@ -417,15 +417,19 @@ class FoldingCase:
         """The viscous coupled bilayer with the symmetry planes ``symmetry`` (and a dead
         traction on the boundaries ``traction``), the top surface in self-contact
         (:class:`~ngincompat.fem.self_contact.SelfContact`, pairs within
-        :data:`CONTACT_REACH` cortex thicknesses), its rigid motions pinned: the problem
-        and its growth, viscous, traction (or None) and contact terms."""
+        :data:`CONTACT_REACH` cortex thicknesses, and with its images in the roller ends
+        among the planes: a sulcus there has its other wall in the image), its rigid motions
+        pinned: the problem and its growth, viscous, traction (or None) and contact
+        terms."""
         scene = self.scene
         growth = GrowthEnergy("fiber", self.f0, self.law, self.material,
                               growth_order=scene.growth_order)
         viscous = ViscousRegularisation()
         load = DeadTraction(traction) if traction else None
+        ends = {"left": ((0, 0, 0), (1, 0, 0)), "right": ((scene.length, 0, 0), (-1, 0, 0))}
         contact = SelfContact("top", scene.contact_penalty, scene.contact_width,
-                              reach=CONTACT_REACH * scene.cortex_thickness)
+                              reach=CONTACT_REACH * scene.cortex_thickness,
+                              mirrors=[ends[end] for end in ends if symmetry.get(end) == "x"])
         terms = [growth, viscous, *([load] if load else []), contact, RigidPins()]
         problem = CoupledProblem(self.mesh, terms, order=scene.order, symmetry=symmetry)
         return problem, growth, viscous, load, contact
