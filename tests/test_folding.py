@@ -15,7 +15,7 @@ from ngincompat.cli import main
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.fem import buckling, postprocess
 from ngincompat.fem.coupled import CoupledProblem
-from ngincompat.fem.shape import circle_curvature
+from ngincompat.fem.shape import circle_curvature, sulci
 from ngincompat.fem.solver import NewtonOptions, solve_coupled
 from ngincompat.fem.terms import GrowthEnergy, RigidPins
 from ngincompat.mechanics import fields
@@ -460,6 +460,20 @@ def test_circle_fit_is_exact_on_arcs_and_lines():
         circle_curvature([0.0, 1.0], [0.0, 1.0])
 
 
+@pytest.mark.parametrize("waves", [1, 2, 3, 17])
+def test_sulci_of_a_cosine_between_symmetry_planes(waves):
+    """z = a cos(k pi x / L), k half waves: a trough at every odd multiple of L / k, one half
+    of a sulcus where it falls on an end (k odd: at x = L), each 2 a deep; a ripple of a
+    twentieth of the amplitude on top (twin troughs about each trough) does not count."""
+    x = np.linspace(0, 3, 601)
+    z = 0.01 * np.cos(waves * np.pi * x / 3)
+    count, depth = sulci(z + 0.0005 * np.cos(80 * np.pi * x / 3))
+    assert count == waves / 2
+    assert depth == pytest.approx(0.02, rel=0.1)
+    assert sulci(z) == (waves / 2, pytest.approx(0.02, rel=0.005))
+    assert sulci(np.full(5, 0.3)) == (0.0, 0.0)
+
+
 def test_top_curvature_of_a_prescribed_circular_bending():
     """The displacement that bends the top line onto a circle of radius R about the middle,
     X1 -> (L/2 + R sin(s / R), H - R (1 - cos(s / R))), s = X1 - L/2, interpolated by the
@@ -556,6 +570,9 @@ def test_folded_bilayer_released_is_self_equilibrated_and_bent():
     assert results.status == "done", results.error
     assert metrics["equilibrium_eigenvalue"] > 0
     assert metrics["fold_amplitude"] > 10 * scene.imperfection * scene.cortex_thickness
+    # the onset's mode: 1.5 waves, a sulcus inside and half of one on an end
+    assert metrics["sulci"] == pytest.approx(scene.length / metrics["onset_wavelength"])
+    assert 0 < metrics["sulcus_depth"] <= 2 * metrics["fold_amplitude"] + 1e-12
     assert metrics["release_reaction_rel"] < 1e-8
     assert metrics["top_curvature_released"] > 0
     assert 0 < metrics["max_principal_stress_released"] < metrics["max_principal_stress"]

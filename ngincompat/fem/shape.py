@@ -1,4 +1,5 @@
-"""The curvature of a sampled plane curve, from the circle fitted to it.
+"""The shape of a sampled plane curve: its curvature, from the circle fitted to it, and its
+sulci.
 
 The circle A (x^2 + z^2) + D x + E z + F = 0 is fitted algebraically with Pratt's
 normalisation D^2 + E^2 - 4 A F = 1 (V. Pratt, Computer Graphics 21 (1987) 145): the
@@ -8,6 +9,15 @@ The normalisation makes |grad| = |(2 A x + D, 2 A z + E)| = 1 on the circle, so 
 2 |A|, and a straight line (A = 0) is fitted as well as a circle: the curvature passes
 through zero continuously. The fit is invariant under rigid motions, and exact for points on
 a circle.
+
+The sulci of a line z(x) between two symmetry planes (roller ends: the line goes on as its
+mirror image beyond each end, a period of twice its length) are its troughs, counted with a
+hysteresis of a ``fraction`` of its peak-to-peak height: walking the period from its highest
+point, a trough is where the line, having fallen by at least that much from its last crest,
+rises by at least that much again (so that ripples and a crease's twin tips make no sulci of
+their own). A period holds every sulcus twice, one on an end plane (half of it in the image)
+once, so the count is half the troughs of the period. The depth of a sulcus is that below the
+lower of its two crests.
 """
 
 import numpy as np
@@ -42,3 +52,31 @@ def circle_curvature(x, z):
     if np.mean(2 * a[0] * zs + a[2]) < 0:
         a = -a
     return float(2 * a[0] / scale)
+
+
+def sulci(z, fraction=0.1):
+    """The number of sulci of the line sampled at the heights ``z`` between two symmetry
+    planes (one on an end counts one half) and the depth of the deepest (see the module's
+    notes); (0, 0) for a line whose height does not vary."""
+    z = np.asarray(z, float)
+    require(z.ndim == 1 and len(z) >= 3 and np.isfinite(z).all(), "heights", z.shape,
+            "a 1-d array of at least 3 finite values")
+    threshold = fraction * np.ptp(z)
+    if threshold == 0:
+        return 0.0, 0.0
+    period = np.concatenate([z, z[-2:0:-1]])
+    walk = np.roll(period, -int(np.argmax(period)))
+    crests, troughs, falling, extreme = [walk[0]], [], True, walk[0]
+    for value in np.append(walk[1:], walk[0]):
+        if falling and value - extreme >= threshold:
+            troughs.append(extreme)
+            falling, extreme = False, value
+        elif not falling and extreme - value >= threshold:
+            crests.append(extreme)
+            falling, extreme = True, value
+        else:
+            extreme = min(extreme, value) if falling else max(extreme, value)
+    crests.append(extreme)
+    depths = [min(left, right) - trough
+              for left, right, trough in zip(crests[:-1], crests[1:], troughs, strict=True)]
+    return len(troughs) / 2, float(max(depths))

@@ -87,7 +87,9 @@ faces of the slab (plane strain). Stages:
    viscous regularisation on; the relaxation then finds the released equilibrium. The
    remaining stress is the incompatibility's.
 
-Measured after the stages: ``fold_amplitude`` of the final equilibrium,
+Measured after the stages: ``fold_amplitude`` of the final equilibrium, its ``sulci`` (the
+troughs of the deformed top, one on a roller end counting one half) and ``sulcus_depth`` (the
+deepest one's depth below its lower neighbouring crest; :func:`~ngincompat.fem.shape.sulci`),
 ``top_stretch_min`` (the smallest elastic stretch of the top surface recorded while growing),
 the max principal
 Cauchy stress before (``sigma_max`` field,
@@ -129,7 +131,7 @@ from ngincompat.fem import buckling, postprocess
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import pin_reactions
 from ngincompat.fem.self_contact import SelfContact
-from ngincompat.fem.shape import circle_curvature
+from ngincompat.fem.shape import circle_curvature, sulci
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import CoupledStage, RelaxationStage, UnloadingStage
 from ngincompat.fem.terms import DeadTraction, GrowthEnergy, RigidPins, ViscousRegularisation
@@ -240,7 +242,8 @@ class FoldingScene(Scene):
                   "relaxation stopped short of it"),
         Indicator("release_reaction_rel", 1e-6, "the released body is not self-equilibrated: "
                   "its pins carry load"))
-    metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude",
+    metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude", "sulci",
+               "sulcus_depth",
                "t_reached", "theta_c_reached", "Je_min", "self_contact_area",
                "self_contact_penetration_max", "burgers_interface_mean",
                "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
@@ -251,7 +254,8 @@ class FoldingScene(Scene):
     metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
                          "max_principal_stress_released": "stress",
                          "onset_wavelength": "length",
-                         "fold_amplitude": "length", "onset_time": "time",
+                         "fold_amplitude": "length", "sulcus_depth": "length",
+                         "onset_time": "time",
                          "t_reached": "time", "self_contact_area": "length",
                          "self_contact_penetration_max": "length",
                          "burgers_interface_mean": "1/length",
@@ -711,6 +715,8 @@ class FoldingCase:
         if self.series["buckling"]["t"] and solution.converged:
             _, u3 = self.top_profile(self.problem.u)    # of the final equilibrium
             results.metrics["fold_amplitude"] = float(np.ptp(u3) / 2)
+            count, depth = sulci(u3)
+            results.metrics.update(sulci=count, sulcus_depth=depth)
         stretches = self.series["perfect"]["stretch"] + self.series["buckling"]["stretch"]
         if stretches:
             results.metrics["top_stretch_min"] = min(stretches)

@@ -29,7 +29,8 @@ AXON_FIELDS = fields.AXONS
 #: The metrics of the summary, after the axon field and the columns every driver has.
 METRICS = ("onset_growth", "onset_wavelength", "t_reached", "theta_c_reached", "Je_min",
            "self_contact_area", "self_contact_penetration_max", "fold_amplitude",
-           "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_interface_mean",
+           "sulci", "sulcus_depth", "theta_a_max", "burgers_max", "burgers_max_depth",
+           "burgers_interface_mean",
            "max_principal_stress_released", "top_curvature_released")
 #: Columns of the summary: the axon field, the columns every driver has, the metrics.
 COLUMNS = ("axons", *COMMON, *METRICS)
