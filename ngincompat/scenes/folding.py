@@ -55,7 +55,9 @@ faces of the slab (plane strain). Stages:
    below :data:`CREASE_STRETCH` a neo-Hookean surface creases: the walls of a sulcus fold
    onto each other. They are kept apart by the frictionless self-contact of the top
    surface (:class:`~ngincompat.fem.self_contact.SelfContact`, penalty
-   ``contact_penalty``, in every coupled problem of the scene), and the mesh can be
+   ``contact_penalty``, in every coupled problem of the scene; while the ends are rollers,
+   also with its mirror images in them: a sulcus on an end has its other wall in the
+   image), and the mesh can be
    refined toward the top (``top_refinement``); the march reports how far it went
    (``t_reached``, ``theta_c_reached``), the smallest elastic Jacobian of its records
    (``Je_min``) and the contact (``self_contact_area``, the length of the top line in
