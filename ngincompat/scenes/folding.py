@@ -631,10 +631,12 @@ class FoldingCase:
     def release(self):
         """The stages of the release from the current state, growth frozen: the bilayer
         without the supports (:data:`RELEASED`) held by their reactions as a dead traction,
-        which ``unloading`` removes, then the relaxation to the released equilibrium."""
+        which ``unloading`` removes, then the relaxation to the released equilibrium. The
+        traction holds the top too: the pressure of the images of its walls in the roller
+        ends (:meth:`coupled`) is a reaction of the symmetry planes, gone with them."""
         (self.released, self.released_growth, viscous, load,
          self.released_contact) = self.coupled(
-            RELEASED, traction="|".join(sorted(set(GROWING) - set(RELEASED))))
+            RELEASED, traction="|".join([*sorted(set(GROWING) - set(RELEASED)), "top"]))
         self.released.state.vec.data = self.problem.state.vec
         self.released_growth.theta_old.vec.data = self.growth.theta.vec
         self.released_contact.update()
