@@ -26,8 +26,8 @@ needs_chromium = pytest.mark.skipif(
 
 #: Put first in the page's head: records error events (scripts, images that fail to load) and
 #: console.error calls; after the load, writes what it found into <pre id="check">: the
-#: errors, every image's size and pixel variance (grey levels, on a canvas), and per section
-#: its tables of verdicts.
+#: errors, every image's size and pixel variance (grey levels, on a canvas), the frames' pages,
+#: and per section its tables of verdicts.
 PROBE = """<script>
 window.__errors = [];
 window.addEventListener('error', e => window.__errors.push(String(e.message ||
@@ -49,11 +49,12 @@ window.addEventListener('load', () => {
     }
     return {alt: img.alt, width: img.naturalWidth, variance: variance};
   });
+  const frames = [...document.querySelectorAll('iframe')].map(f => f.getAttribute('src'));
   const sections = [...document.querySelectorAll('section')].map(s => ({id: s.id,
     tables: s.querySelectorAll('table.verdicts').length,
     rows: s.querySelectorAll('table.verdicts tr').length}));
   const pre = document.createElement('pre'); pre.id = 'check';
-  pre.textContent = JSON.stringify({errors: window.__errors, images, sections});
+  pre.textContent = JSON.stringify({errors: window.__errors, images, frames, sections});
   document.body.appendChild(pre);
 });
 </script>"""
@@ -66,8 +67,10 @@ def browse(page, tmp_path, screenshot=None):
     probed = tmp_path / "probed.html"
     probed.write_text(page.replace("<head>", "<head>" + PROBE, 1), encoding="utf-8")
     # files beside the page are of its origin (the documentation site's images; without
-    # this, Chromium would not let the probe read their pixels from a file:// page)
-    flags = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+    # this, Chromium would not let the probe read their pixels from a file:// page); WebGL
+    # (the report's interactive views) on SwiftShader, there being no GPU
+    flags = [CHROMIUM, "--headless", "--no-sandbox", "--use-angle=swiftshader",
+             "--enable-unsafe-swiftshader", "--hide-scrollbars",
              "--enable-logging=stderr", "--v=0", "--virtual-time-budget=10000",
              "--window-size=1400,3000", "--allow-file-access-from-files"]
     done = subprocess.run([*flags, "--dump-dom", probed.as_uri()], capture_output=True,
@@ -113,8 +116,11 @@ def test_report_loads_with_its_images_and_verdicts(report, tmp_path):
     page = (report / "report.html").read_text(encoding="utf-8")
     assert "http://" not in page and "https://" not in page       # nothing from the network
     shot = report / "screenshot.png"
+    for view in report.glob("view_*.html"):                   # the frames' pages beside it
+        shutil.copy(view, tmp_path)
     record, console = browse(page, tmp_path, screenshot=shot)
-    assert record["errors"] == [] and console == []
+    assert record["errors"] == [] and console == []           # the framed views' too
+    assert record["frames"] == ["view_cube.html"]             # 3.4's cylinder has none
     assert len(record["images"]) >= 6
     for image in record["images"]:
         assert image["width"] > 0, image["alt"]
@@ -127,6 +133,21 @@ def test_report_loads_with_its_images_and_verdicts(report, tmp_path):
         assert tables["tables"] == 1 and tables["rows"] == expected + 1
     assert sections["s3.5"]["tables"] == 0                    # not run here: no verdicts
     assert shot.stat().st_size > 0
+
+
+@needs_chromium
+def test_the_cubes_interactive_view_draws_offline(report, tmp_path):
+    """The paper job's view of 3.1 (Fig. 1e, |b| on the deformed cube) opens on its own
+    without the network and draws its colour map; the summary lists it."""
+    from test_webview import assert_offline_view, look
+    page = (report / "view_cube.html").read_text(encoding="utf-8")
+    assert "|b| on the planes normal to n2 [1/mm]" in page
+    shot = report / "view_cube.png"
+    record, console = look(page, tmp_path, shot)
+    assert_offline_view(record, console, tmp_path, shot)
+    summary = json.loads((report / "summary.json").read_text())
+    assert "view_cube.html" in summary["files"]
+    assert not (report / "view_cylinder.html").exists()
 
 
 def test_report_lists_every_deviation_with_the_scenes_defaults(report):

@@ -6,14 +6,15 @@ Section 3.1 runs the cube; 3.2 the hemisphere with the linear, concave and conve
 with radial and circumferential GOH fibers; 3.4 the cylinder; 3.5 brain atrophy; 3.6 skin
 expansion under the four expanders; 3.7 cortical folding for the three axon fields. Each run
 writes its own folder ``DIR/<case>``; the job writes the field figures of the paper's Figs.
-1-7 (``fig*.png``), the profile figures of Figs. 2g-h and 3e, the summary (``summary.md``,
+1-7 (``fig*.png``), the profile figures of Figs. 2g-h and 3e, the interactive 3-D views
+(``view_<case>.html``, :mod:`ngincompat.studies.views`), the summary (``summary.md``,
 ``.csv``, ``.json``, one row per case) and ``report.html`` (:mod:`ngincompat.studies.report`).
 
 ``resolution`` chooses the settings: ``preview`` (the default; each scene's ``preview``
 preset) or ``paper`` (each scene's ``paper`` preset: the resolution of the paper's figures,
 with the scene's defaults, which are the paper's parameters where the paper gives them).
 The job resumes: a case whose folder holds a finished run of the same settings (and whose
-field figure exists) is read back, not recomputed, unless ``overwrite``; so an interrupted
+field figure and view exist) is read back, not recomputed, unless ``overwrite``; so an interrupted
 job continues where it stopped, and ``only`` runs some sections into a folder that holds the
 others.
 """
@@ -26,7 +27,7 @@ from pathlib import Path
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.progress import SILENT
 from ngincompat.scenes import HemisphereScene
-from ngincompat.studies import figures, report
+from ngincompat.studies import figures, report, views
 from ngincompat.studies.sections import NUMBERS, SECTIONS
 from ngincompat.workflow import io, output, tables
 from ngincompat.workflow.results import DONE
@@ -136,6 +137,7 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
                 done[label], results[label] = _run_case(s, label, scene, out, progress,
                                                         overwrite=True)
                 figures.case_figure(out, label, results[label], resolution)
+                views.case_view(out, label, results[label], resolution)
             figures.section_figures(out, section, results)
             _write(out, done, resolution)
         return [done[label] for _, label, _ in runs]
@@ -155,7 +157,7 @@ def _run_case(section, label, scene, out, progress, overwrite):
 
 def _finished(out, label, scene):
     """The results of ``out/label`` if it holds a finished run of ``scene``'s settings whose
-    field figure exists, else None."""
+    field figure and interactive view exist, else None."""
     path = Path(out) / label
     if not (path / "results.json").is_file():
         return None
@@ -165,7 +167,8 @@ def _finished(out, label, scene):
         return None
     if r.status != DONE or r.params != scene.settings():
         return None
-    return r if all((Path(out) / f).is_file() for f in figures.case_files(label)) else None
+    drawn = [*figures.case_files(label), *views.case_files(label)]
+    return r if all((Path(out) / f).is_file() for f in drawn) else None
 
 
 def _refuse_other_settings(out, runs, reuse, overwrite):
@@ -201,7 +204,8 @@ def _write(out, rows, resolution):
     order = [label for s in SECTIONS for label, _, _ in s.cases]
     ordered = [rows[k] for k in order if k in rows]
     names = [r["case"] for r in ordered]
-    pictures = [f for f in figures.all_files(names) if (Path(out) / f).is_file()]
+    drawn = [*figures.all_files(names), *(f for n in names for f in views.case_files(n))]
+    pictures = [f for f in drawn if (Path(out) / f).is_file()]
     files = [*names, *pictures, "report.html", "summary.md", "summary.csv", "summary.json"]
     tables.write(out, "summary", ordered, list(COLUMNS), UNITS, files=files,
                  resolution=resolution)

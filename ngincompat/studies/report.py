@@ -1,12 +1,15 @@
 """``report.html`` of ``ngincompat paper``: one static page, every image inlined, a section per
 paper section with the paper's findings, the measured values and verdicts
 (:mod:`ngincompat.studies.findings`), the figures laid out as the paper's Figs. 1-7, the
-runs' warnings, and the table of deviations from the paper's parameters
+interactive 3-D views (:mod:`ngincompat.studies.views`) in frames beside them, the runs'
+warnings, and the table of deviations from the paper's parameters
 (:mod:`ngincompat.studies.deviations`).
 
-The page needs no server, no network and no script: it can be opened from the folder, mailed
-or archived. It is written from the folders of the runs (results.json and the PNGs), so a job
-that resumed writes the same page as one that ran through.
+The page needs no server, no network and no script of its own: it can be opened from the
+folder, mailed or archived (the static figures inlined; the views are the pages
+``view_<case>.html`` beside it, each self-contained, framed when scrolled to and linked to be
+opened alone). It is written from the folders of the runs (results.json, the PNGs and the
+views), so a job that resumed writes the same page as one that ran through.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import html
 from pathlib import Path
 
 from ngincompat.atomic import atomic_path
-from ngincompat.studies import deviations, figures, findings
+from ngincompat.studies import deviations, figures, findings, views
 from ngincompat.studies.sections import SECTIONS
 from ngincompat.workflow import io, output
 
@@ -54,6 +57,8 @@ figure{margin:.5em 0} figure img{max-width:100%;border:1px solid #ddd}
 figcaption{font-size:.9em;color:#444} .grid{display:flex;flex-wrap:wrap;gap:1em}
 .grid figure{flex:1 1 420px;max-width:680px} .grid figure.wide{flex:1 1 100%;max-width:100%}
 .warn{color:#8a4b00} code{background:#f3f3f3;padding:0 .2em}
+.grid figure.view{flex:1 1 100%;max-width:100%}
+.view iframe{width:100%;height:560px;border:1px solid #ddd}
 """
 
 
@@ -68,6 +73,20 @@ def _image(path, caption, wide=False):
     return (f'<figure{cls}><img alt="{html.escape(caption)}" '
             f'src="data:image/png;base64,{data}">'
             f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+
+
+def _view(out, label, results):
+    """The interactive view of the case ``label``: its page framed (loaded when scrolled to)
+    and linked (nothing if the page is missing)."""
+    name = next(iter(views.case_files(label)), None)
+    if name is None or label not in results or not (Path(out) / name).is_file():
+        return ""
+    unit = results[label].units["length"]
+    title = html.escape(f"{label}: {views.VIEWS[label].title.format(L=unit)}")
+    return (f'<figure class="view"><iframe src="{name}" loading="lazy" title="{title}">'
+            f'</iframe><figcaption>Interactive 3-D view, {title} (drag to turn, wheel to '
+            f'zoom; Open Controls: clipping plane, colour range). <a href="{name}">Open it '
+            "alone</a>.</figcaption></figure>")
 
 
 def _table(header, rows, classes=None):
@@ -129,6 +148,7 @@ def _section(out, section, rows, results):
             number = name[3]
             images.append(_image(Path(out) / name, f"{CAPTIONS[number]}: {label}, colour "
                                  "maps on the deformed body", wide=True))
+        images.append(_view(out, label, results))
     for name in figures.section_files(section.number):
         images.append(_image(Path(out) / name, name[:-4].replace("_", " "), name in WIDE))
     for label in labels:

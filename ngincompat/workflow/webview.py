@@ -1,0 +1,129 @@
+"""An interactive 3-D view of a field on the (deformed) body: NGSolve's webgui scene written as
+one self-contained HTML page, which a reader opens from a folder and turns with the mouse,
+without ParaView, Jupyter, a server or the network.
+
+``ngsolve.webgui.Draw`` computes the scene (the boundary's triangles as Bernstein patches at
+the drawing ``order``, the field's values on them, and with ``clipping`` the volume elements
+too, so that a clipping plane shows the inside); its own HTML export loads the viewer's
+JavaScript from a CDN when the page is opened. Here the page carries the viewer itself: the
+webgui bundle (three.js and dat.gui included, LGPL-2.1) shipped in the
+``webgui_jupyter_widgets`` package (``js/webgui.js``, read from the installed package's
+folder, not imported: its Python side needs Jupyter). Its bundle of 2024-10 draws the scenes
+of NGSolve 6.2.2608 (surface, deformation, colour map, clipping plane; checked in a browser
+by tests/test_webview.py).
+
+The page is the scene at the window's size (the viewer sizes itself by the parent of the
+element it draws into) under a header naming the field and its unit (the
+viewer's colour bar has numbers only); the viewer's "Open Controls" panel sets the clipping
+plane, the colour range and the light. The viewer reports its start-up steps with
+``console.log``; the page silences those (warnings and errors still reach the console), so a
+page that loads cleanly logs nothing.
+
+Fields defined per material region (the brain's gray and white matter) are evaluated on the
+boundary from the adjacent element (``BoundaryFromVolumeCF``); the deformation likewise.
+"""
+
+from __future__ import annotations
+
+import html
+import importlib.util
+import json
+from functools import lru_cache
+from pathlib import Path
+
+import ngsolve as ngs
+
+from ngincompat.atomic import atomic_path
+from ngincompat.errors import NgincompatError
+
+#: The package that ships the viewer's JavaScript, and the file inside it.
+PACKAGE = "webgui_jupyter_widgets"
+SCRIPT = ("js", "webgui.js")
+
+#: The viewer's settings every view starts with: no element edges (they hide the colours of a
+#: fine mesh; the Controls panel turns them on).
+SETTINGS = {"Objects": {"Wireframe": False}}
+
+#: Silences the viewer's reports of its start-up steps (console.warn and .error stay).
+QUIET = "console.log = console.group = console.groupCollapsed = console.groupEnd = () => {};"
+
+STYLE = """
+html,body{margin:0;height:100%;overflow:hidden;font-family:system-ui,sans-serif}
+header{position:absolute;top:0;left:0;right:0;height:2.4em;padding:.3em .6em;font-size:.9em;
+box-sizing:border-box;background:#f4f4f4;border-bottom:1px solid #ccc;white-space:nowrap;
+overflow:hidden;text-overflow:ellipsis}
+#frame{position:absolute;top:2.4em;bottom:0;left:0;right:0} #view{width:100%;height:100%}
+"""
+
+
+@lru_cache(maxsize=1)
+def viewer_script() -> str:
+    """The webgui JavaScript of the installed ``webgui_jupyter_widgets`` package."""
+    spec = importlib.util.find_spec(PACKAGE)
+    path = (Path(next(iter(spec.submodule_search_locations)), *SCRIPT)
+            if spec is not None and spec.submodule_search_locations else None)
+    if path is None or not path.is_file():
+        raise NgincompatError(
+            f"the interactive views need the viewer's JavaScript from the package {PACKAGE} "
+            f"(a dependency of ngincompat): pip install '{PACKAGE}>=0.2.37,<0.3'")
+    return path.read_text(encoding="utf-8")
+
+
+def scene(mesh, field, deformation=None, *, order=2, camera=None, clipping=None):
+    """The webgui scene (a dict of JSON data) of the scalar ``field`` on ``mesh``.
+
+    Parameters
+    ----------
+    mesh : ngsolve.Mesh
+        A three-dimensional mesh.
+    field : ngsolve.CoefficientFunction
+        The scalar drawn as the colour map.
+    deformation : ngsolve.CoefficientFunction, optional
+        The displacement the body is drawn moved by (the deformed configuration).
+    order : int
+        The order of the drawn patches (2: curved faces and quadratic colour variation).
+    camera : sequence of three floats, optional
+        The rotations about x, y, z [degrees] of the first view.
+    clipping : sequence of four floats, optional
+        A clipping plane (normal x, y, z and its offset from the body's centre): the volume is
+        drawn too, and the plane cuts it (the viewer's Controls move it).
+    """
+    from ngsolve.webgui import Draw
+
+    kwargs = dict(show=False, order=order, settings=dict(SETTINGS),
+                  deformation=(ngs.BoundaryFromVolumeCF(deformation)
+                               if deformation is not None else False),
+                  draw_vol=clipping is not None)
+    if camera is not None:
+        kwargs["euler_angles"] = [float(a) for a in camera]
+    if clipping is not None:
+        kwargs["clipping"] = dict(zip(("x", "y", "z", "dist"), map(float, clipping),
+                                      strict=True))
+    return Draw(ngs.BoundaryFromVolumeCF(field), mesh, **kwargs).GetData()
+
+
+def page(data, title, caption="") -> str:
+    """The HTML page of the scene ``data`` (:func:`scene`) with the webgui script inlined;
+    ``title``: the field and its unit, ``caption``: what is shown (plain text)."""
+    # "</" never closes the script inside the data
+    payload = json.dumps(data).replace("</", "<\\/")
+    text = html.escape(title) + (f" <small>{html.escape(caption)}</small>" if caption else "")
+    return (
+        '<!DOCTYPE html><html lang="en"><head><meta charset="utf-8">'
+        '<meta name="viewport" content="width=device-width">'
+        f"<title>{html.escape(title)}</title><style>{STYLE}</style></head><body>"
+        f'<header><b>{text}</b></header><div id="frame"><div id="view"></div></div>'
+        f"<script>{QUIET}</script>"
+        f"<script>{viewer_script()}</script>"
+        f"<script>const renderData = {payload};\n"
+        "const scene = new webgui.Scene();\n"
+        'scene.init(document.getElementById("view"), renderData, '
+        "{preserveDrawingBuffer: true});</script></body></html>")
+
+
+def write(path, data, title, caption=""):
+    """Write the page of the scene ``data`` to ``path``, atomically; returns the path."""
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(page(data, title, caption), encoding="utf-8")
+    return path
