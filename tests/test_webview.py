@@ -128,14 +128,18 @@ def test_the_scene_carries_the_field_on_the_deformed_body(bricks):
 def test_a_field_per_material_is_drawn_with_a_clipping_plane(bricks):
     """A field defined per material region (1 in 'left', 2 in 'right') has no value on the
     boundary of its own: it is taken from the adjacent element; with a clipping plane the
-    volume is drawn too."""
+    volume is drawn too, and the field on the cut; zoom 2 halves the radius the camera
+    fits."""
     field = bricks.MaterialCF({"left": 1.0, "right": 2.0})
-    data = webview.scene(bricks, field, clipping=(1, 0, 0, 0), camera=(-60, 0, 30), order=1)
+    data = webview.scene(bricks, field, clipping=(1, 0, 0, 0), camera=(-60, 0, 30), order=1,
+                         zoom=2)
     p = patches(data)
     assert set(np.unique(p[:, 3])) == {1.0, 2.0}
     assert np.all(p[p[:, 0] < 0.5 - 1e-6, 3] == 1) and np.all(p[p[:, 0] > 0.5 + 1e-6, 3] == 2)
     assert data["draw_vol"] and data["points3d"] and data["clipping"]
+    assert data["clipping_function"] and data["clipping_x"] == 1
     assert data["gui_settings"]["camera"]["euler_angles"] == [-60.0, 0.0, 30.0]
+    assert data["mesh_radius"] == pytest.approx(webview.scene(bricks, field)["mesh_radius"] / 2)
 
 
 def test_the_page_inlines_the_viewer_and_names_no_host(bricks):
@@ -150,11 +154,13 @@ def test_the_page_inlines_the_viewer_and_names_no_host(bricks):
 
 @needs_chromium
 def test_the_view_draws_offline_and_the_cdn_export_does_not(bricks, tmp_path):
-    """Our page draws the colour map with every host unresolvable; ngsolve's export of the
-    same scene, whose viewer comes from a CDN, does not load (the check can fail)."""
+    """Our page draws the colour map (on the surface and on a cut through the middle) with
+    every host unresolvable; ngsolve's export of the same scene, whose viewer comes from a
+    CDN, does not load (the check can fail)."""
     u = ngs.GridFunction(ngs.VectorH1(bricks, order=1))
     u.Set(ngs.CF((0.1 * ngs.x, 0, 0.05 * ngs.x * ngs.y)))
-    data = webview.scene(bricks, ngs.x, u, camera=(-65, 0, 30))
+    data = webview.scene(bricks, ngs.x, u, camera=(-65, 0, 30), clipping=(0, 1, 0, 0),
+                         order=1)
     shot = tmp_path / "view.png"
     record, console = look(webview.page(data, "x [mm]", "two bricks"), tmp_path, shot)
     assert_offline_view(record, console, tmp_path, shot)

@@ -7,10 +7,11 @@ which the report embeds next to the static figure.
   three of.
 * 3.2, the hemisphere (linear profile): |b| on the meridional planes (Fig. 2b), inside the
   quarter that was solved (its two mirror planes are faces of the view).
-* 3.5, the brain: |b| (the largest of the planes normal to e1, e2, e3; Fig. 5d) with a
-  clipping plane through the centre, normal e2, that the viewer's Controls move through the
-  brain (the paper's sections, Fig. 5c-e, as one movable cut); the volume is drawn at order 1
-  (the brain's elements are small, and the volume is most of the page's data).
+* 3.5, the brain: |b| (the largest of the planes normal to e1, e2, e3; Fig. 5d) on a cut
+  through the centre, normal e2, seen from the side it removes, which the viewer's Controls
+  move through the brain (the paper's sections, Fig. 5c-e, as one movable cut); the volume is
+  drawn at order 1 (the brain's elements are small, and the volume is most of the page's
+  data).
 * 3.6, the skin over the crescent expander (the least symmetric footprint): the area growth
   at the end of the hold on the inflated skin (Fig. 6a).
 
@@ -33,8 +34,8 @@ from ngincompat.workflow import webview
 class View:
     """One view: the ``field`` (a key of the run's fields), its ``title`` ({L}: the length
     unit), the ``deformation`` field it is drawn on, the first ``camera`` rotations (degrees
-    about x, y, z), a ``clipping`` plane (normal and offset; None: the surface only) and the
-    drawing ``order``."""
+    about x, y, z) and ``zoom``, a ``clipping`` plane (normal and offset; None: the surface
+    only) and the drawing ``order``."""
 
     field: str
     title: str
@@ -42,6 +43,7 @@ class View:
     camera: tuple = (-65.0, 0.0, 30.0)
     clipping: tuple | None = None
     order: int = 2
+    zoom: float = 1.0
 
 
 #: The case of each section that has a view, and its view.
@@ -51,7 +53,8 @@ VIEWS = {
                               "Fig. 2b: |b| on the meridional planes [1/{L}]",
                               camera=(-65.0, 0.0, 45.0)),
     "atrophy": View("|b|", "Fig. 5d: |b|, the largest over the planes normal to e1, e2, e3 "
-                    "[1/{L}]", clipping=(0.0, 1.0, 0.0, 0.0), order=1),
+                    "[1/{L}]", camera=(-75.0, 0.0, 25.0), clipping=(0.0, 1.0, 0.0, 0.0),
+                    order=1, zoom=1.5),
     "skin-crescent": View("theta", "Fig. 6a: area growth at the end of the hold [-]",
                           deformation="u_end_of_hold", camera=(-55.0, 0.0, 20.0)),
 }
@@ -70,7 +73,8 @@ def case_view(out, label, results, resolution):
     if view is None or results.domain is None or view.field not in f:
         return
     data = webview.scene(results.domain, f[view.field], f.get(view.deformation),
-                         order=view.order, camera=view.camera, clipping=view.clipping)
+                         order=view.order, camera=view.camera, clipping=view.clipping,
+                         zoom=view.zoom)
     caption = f"{label}, deformed, {resolution} resolution; drag to turn, wheel to zoom"
     webview.write(Path(out) / case_files(label)[0],
                   data, view.title.format(L=results.units["length"]), caption)
