@@ -113,7 +113,7 @@ def patches(data):
 
 def test_the_scene_carries_the_field_on_the_deformed_body(bricks):
     """x drawn on the body moved by (0.1 x, 0, 0): the corners lie in [0, 1.1] x [0, 1]^2
-    and carry the value x of their reference point, as ngsolve computes them."""
+    and carry the value x of their reference point (x is its own projection)."""
     u = ngs.GridFunction(ngs.VectorH1(bricks, order=1))
     u.Set(ngs.CF((0.1 * ngs.x, 0, 0)))
     data = webview.scene(bricks, ngs.x, u, order=1)
@@ -123,6 +123,13 @@ def test_the_scene_carries_the_field_on_the_deformed_body(bricks):
     assert np.allclose(p[:, 3], p[:, 0] / 1.1, atol=1e-6)      # x = (x + 0.1 x) / 1.1
     assert (data["funcmin"], data["funcmax"]) == pytest.approx((0, 1), abs=1e-12)
     assert "points3d" not in data                     # no clipping plane: the surface only
+
+
+def test_a_field_without_a_value_at_a_vertex_is_drawn_whole(bricks):
+    """x / x is 1 but 0/0 on the face x = 0, as the hemisphere's meridional |b| on its axis:
+    drawn from its projection, every corner carries 1 and none is NaN (a hole in the view)."""
+    p = patches(webview.scene(bricks, ngs.x / ngs.x, order=1))
+    assert np.isfinite(p).all() and np.allclose(p[:, 3], 1, atol=1e-6)
 
 
 def test_a_field_per_material_is_drawn_with_a_clipping_plane(bricks):

@@ -19,8 +19,13 @@ plane, the colour range and the light. The viewer reports its start-up steps wit
 ``console.log``; the page silences those (warnings and errors still reach the console), so a
 page that loads cleanly logs nothing.
 
-Fields defined per material region (the brain's gray and white matter) are evaluated on the
-boundary from the adjacent element (``BoundaryFromVolumeCF``); the deformation likewise.
+The field is first projected element by element onto polynomials of the drawing order (an
+L2 projection, sampled at quadrature points inside the elements): the viewer evaluates at
+the elements' vertices and edges, where a field with a singular direction has no value (the
+hemisphere's |b| on the meridional planes is 0/0 on its axis: unprojected, it drew a band
+of false zeros along the axis and a hole at the centre of the base). The projection and the
+deformation are evaluated on the boundary from the adjacent element (``BoundaryFromVolumeCF``),
+which also draws fields defined per material region (the brain's gray and white matter).
 """
 
 from __future__ import annotations
@@ -77,7 +82,7 @@ def scene(mesh, field, deformation=None, *, order=2, camera=None, clipping=None,
     mesh : ngsolve.Mesh
         A three-dimensional mesh.
     field : ngsolve.CoefficientFunction
-        The scalar drawn as the colour map.
+        The scalar drawn as the colour map (its L2 projection of degree ``order``).
     deformation : ngsolve.CoefficientFunction, optional
         The displacement the body is drawn moved by (the deformed configuration).
     order : int
@@ -105,7 +110,9 @@ def scene(mesh, field, deformation=None, *, order=2, camera=None, clipping=None,
     if clipping is not None:
         kwargs["clipping"] = dict(zip(("x", "y", "z", "dist"), map(float, clipping),
                                       strict=True), function=True)
-    data = Draw(ngs.BoundaryFromVolumeCF(field), mesh, **kwargs).GetData()
+    shown = ngs.GridFunction(ngs.L2(mesh, order=order))
+    shown.Set(field)
+    data = Draw(ngs.BoundaryFromVolumeCF(shown), mesh, **kwargs).GetData()
     data["mesh_radius"] /= zoom
     return data
 
