@@ -8,7 +8,7 @@ from conftest import FOLDING_COARSE
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.scenes import AtrophyScene, CubeScene, FoldingScene, SkinExpansionScene
-from ngincompat.studies import figures, paper
+from ngincompat.studies import figures, paper, views
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +30,9 @@ def test_every_case_runs_and_is_summarised(idealized):
     assert summary["resolution"] == "preview"
     drawn = ["fig2g_burgers.png", "fig2h_curl.png", "fig2_radial_check.png",
              "fig3e_disc_stress.png", *(f for label in labels
-                                        for f in figures.case_files(label))]
+                                        for f in figures.case_files(label)),
+             *(f for label in labels for f in views.case_files(label))]
+    assert "view_hemisphere-linear.html" in drawn            # 3.3's discs have no view
     for name in [*drawn, "summary.md", "summary.csv", "report.html"]:
         assert (out / name).stat().st_size > 0, name
     for label in labels:
@@ -95,5 +97,7 @@ def test_the_biomedical_sections_run_into_one_report(tmp_path, monkeypatch):
     assert (tmp_path / figures.case_files("skin-circle")[0]).stat().st_size > 0
     assert (tmp_path / "atrophy" / "brain.png").stat().st_size > 0     # its own Fig. 5
     assert (tmp_path / "fig7_folding.png").stat().st_size > 0
+    for label in ("atrophy", "skin-crescent"):                 # their interactive views
+        assert (tmp_path / f"view_{label}.html").stat().st_size > 0
     page = (tmp_path / "report.html").read_text()
     assert all(f'id="s{n}"' in page for n in ("3.5", "3.6", "3.7"))
