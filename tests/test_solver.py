@@ -8,7 +8,7 @@ import pytest
 from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.fem.solver import NewtonOptions, solve_growth
+from ngincompat.fem.solver import BACKTRACKS, NewtonOptions, NewtonSolver, solve_growth
 from ngincompat.fem.symmetric import SymmetricPart
 
 
@@ -56,6 +56,31 @@ def test_line_search_alone_also_rescues_the_full_step():
     assert history.converged
     assert any(alpha < 1 for s in history.steps for alpha in s.line_search) or \
         len(history.steps) > 1
+
+
+def test_finite_backtracking_takes_a_full_step_that_raises_the_residual():
+    """The "finite" line search asks a trial state only to be finite: a state of higher energy
+    and residual than the start is accepted by it and refused by "descent"; an inverted
+    state (Je < 0 somewhere: infinite energy) by neither."""
+    problem, time = cube_problem(a=1.0, order=2)
+    time.Set(0.5)
+    start = problem.u.vec.CreateVector()
+    start.data = problem.u.vec
+    verdicts = {}
+    for backtrack in BACKTRACKS:
+        solver = NewtonSolver(problem, NewtonOptions(backtrack=backtrack))
+        problem.u.vec.data = start
+        E, r = solver.energy(problem.u.vec), solver.residual().Norm()
+        verdicts[backtrack] = []
+        for u in ((0.3 * ngs.sin(3 * ngs.x), 0.2 * ngs.y * ngs.z, 0), (-2 * ngs.x, 0, 0)):
+            problem.u.Set(ngs.CF(u))
+            E_new = solver.energy(problem.u.vec)
+            if np.isfinite(E_new):
+                assert E_new > E and solver.residual().Norm() > r
+            verdicts[backtrack].append(solver._acceptable(E, E_new, 1.0, -1.0, r))
+    assert verdicts == {"descent": [False, False], "finite": [True, False]}
+    with pytest.raises(ParameterError, match="backtrack"):
+        NewtonOptions(backtrack="armijo")
 
 
 def test_failed_step_is_cut_and_last_converged_state_is_kept():

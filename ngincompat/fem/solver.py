@@ -74,6 +74,8 @@ class NewtonProblem(Protocol):
     has_energy: bool
 
 
+#: What the line search asks of a trial state (see :class:`NewtonOptions`).
+BACKTRACKS = ("descent", "finite")
 #: Linear solvers of the Newton directions (see :class:`NewtonOptions`).
 LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres")
 #: Sparse direct solvers of the "direct" linear solver: NGSolve's, and SuperLU from SciPy
@@ -129,6 +131,14 @@ class NewtonOptions:
     line_search : bool
         Backtrack on the energy; without it every Newton step is taken in full (plain Newton,
         kept for comparison: it fails where a full step leaves the domain Je > 0).
+    backtrack : {"descent", "finite"}
+        What the line search asks of a trial state: "descent", the Armijo condition on the
+        energy or a sufficient decrease of the residual norm; "finite", only a finite energy
+        and residual (Je > 0 everywhere): Newton's full step unless it inverts an element. For
+        a march whose residual is not the derivative of the energy (coupled growth by a
+        stretch-driven law), where the energy is no merit function and a full step that first
+        raises the residual is what converges (docs/measurements/folding.md, "The march's
+        line search").
     reuse_tangent : bool
         Keep the factorised tangent for the following iterations as long as each of them
         reduces the residual norm at least ``1 / reuse_contraction``-fold and needs no
@@ -166,6 +176,7 @@ class NewtonOptions:
     inverse: str | None = None
     predictor: bool = True
     line_search: bool = True
+    backtrack: str = "descent"
     extrapolate: bool = False
     max_step: float = float("inf")
     step_up: int = 4
@@ -180,6 +191,8 @@ class NewtonOptions:
         require(self.atol >= 0, "atol", self.atol, ">= 0")
         require(self.max_iter >= 1, "max_iter", self.max_iter, ">= 1")
         require(self.steps >= 1, "steps", self.steps, ">= 1")
+        require(self.backtrack in BACKTRACKS, "backtrack", self.backtrack,
+                ", ".join(BACKTRACKS))
         require(self.step_up >= 0, "step_up", self.step_up, ">= 0")
         require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
         require(self.inverse in (None, *INVERSES), "inverse", self.inverse,
@@ -323,7 +336,8 @@ class NewtonSolver:
     def _acceptable(self, E, E_new, alpha, slope, r_norm):
         """Is the trial state (already in u) acceptable?
 
-        A non-finite energy (Je <= 0 somewhere) never is. Otherwise a step is accepted if it
+        A non-finite energy (Je <= 0 somewhere) never is. Otherwise, with ``backtrack``
+        "finite" any state with a finite residual is; with "descent" a step is accepted if it
         satisfies the Armijo condition on the energy or decreases the residual norm
         sufficiently. The second test is what lets Newton finish where energy differences drown
         in round-off and what drives problems without an energy; it also accepts steps that
@@ -332,6 +346,8 @@ class NewtonSolver:
         """
         if not math.isfinite(E_new):
             return False
+        if self.options.backtrack == "finite":
+            return math.isfinite(self.residual().Norm())
         if self.has_energy and E_new <= E + 1e-4 * alpha * min(slope, 0.0):
             return True
         r_new = self.residual().Norm()
