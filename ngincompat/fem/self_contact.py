@@ -131,7 +131,7 @@ class SelfContact(Term):
 
     def mirror_gaps(self, u):
         """The gaps g_m = 2 (x - P) . m of the boundary's points to their images in the
-        :attr:`mirrors`, ``u`` the displacement (CFs)."""
+        ``mirrors``, ``u`` the displacement (CFs)."""
         x = ngs.CF((ngs.x, ngs.y, ngs.z)[:self.mesh.dim]) + u
         return [2 * (x - ngs.CF(point[:self.mesh.dim])) * ngs.CF(normal[:self.mesh.dim])
                 for point, normal in self.mirrors]
