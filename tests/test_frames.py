@@ -1,7 +1,11 @@
 """Time series of the time-dependent scenes (fields.pvd): the frames of the skin's stages and
 of the folding march, each frame file a readable VTK file holding the state of its time."""
 
+import json
+import os
+import signal
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import meshio
 import ngsolve as ngs
@@ -9,8 +13,10 @@ import numpy as np
 import pytest
 from conftest import FOLDING_COARSE, SKIN_COARSE
 
-from ngincompat.cli import main
+from ngincompat.cli import EXIT_INTERRUPTED, EXIT_NOT_CONVERGED, main
+from ngincompat.fem.solver import NewtonSolver
 from ngincompat.scenes import FoldingScene
+from ngincompat.workflow import io
 from ngincompat.workflow.frames import Frames
 
 
@@ -96,3 +102,92 @@ def test_the_folding_march_writes_a_frame_per_record(tmp_path, capsys):
         assert theta.max() == pytest.approx(1 + rate * t, rel=1e-10)
         assert theta.min() == pytest.approx(1.0, abs=1e-10)
     capsys.readouterr()
+
+
+def listed(folder):
+    """The frame files fields.pvd lists (it parses as XML), after checking that they are
+    exactly the frame files in the folder, that no temporary file is left, and that
+    results.json lists them with the collection."""
+    sets = ET.parse(folder / "fields.pvd").getroot().find("Collection").findall("DataSet")
+    names = [d.get("file") for d in sets]
+    present = sorted(p.name for p in folder.glob("fields_*.vtu"))
+    assert sorted(names) == present, (names, present)
+    assert not [p.name for p in folder.iterdir() if p.name.startswith(".")]
+    files = json.loads((folder / "results.json").read_text())["files"]
+    assert set(names) | {"fields.pvd"} <= set(files)
+    return [float(d.get("timestep")) for d in sets]
+
+
+def _on_call(monkeypatch, owner, name, when, action):
+    """Call ``action()`` (once) before the call of ``owner.name`` whose arguments satisfy
+    ``when``."""
+    original, done = getattr(owner, name), []
+
+    def wrapped(*args, **kwargs):
+        if not done and when(*args, **kwargs):
+            done.append(1)
+            action()
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(owner, name, wrapped)
+
+
+def _sigint():
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+def test_an_interrupted_skin_writes_the_frames_taken_before(tmp_path, monkeypatch, capsys):
+    """Ctrl-C at the hold's first frame: the inflation's two frames are written and the
+    series lists exactly them; results.json says "interrupted"."""
+    _on_call(monkeypatch, Frames, "take", lambda self, t, *a: t > 0, _sigint)
+    out = tmp_path / "skin"
+    assert main(["run", "skin", *SKIN_COARSE, "--set", "inflation_steps=2",
+                 "--set", "outputs=vtk", "--out", str(out), "-q"]) == EXIT_INTERRUPTED
+    assert json.loads((out / "results.json").read_text())["status"] == "interrupted"
+    assert listed(out) == [-0.5, 0.0]
+    assert [t for t, _ in series(out)] == [-0.5, 0.0]          # readable frames
+    assert "Traceback" not in capsys.readouterr().err
+
+
+def test_a_skin_whose_hold_does_not_converge_writes_the_frames_taken_before(
+        tmp_path, monkeypatch, capsys):
+    """Every Newton solve fails once the inflation has ended (its frame at t = 0 taken):
+    the hold does not converge (exit 3), and the inflation's frames are written."""
+    ended = []
+
+    def fails_after_the_inflation(self, record):
+        if ended:
+            record.reason = "simulated failure"
+            return False
+        return minimise(self, record)
+
+    minimise = NewtonSolver.minimise
+    monkeypatch.setattr(NewtonSolver, "minimise", fails_after_the_inflation)
+    _on_call(monkeypatch, Frames, "take", lambda self, t, *a: t == 0.0,
+             lambda: ended.append(1))
+    out = tmp_path / "skin"
+    assert main(["run", "skin", *SKIN_COARSE, "--set", "inflation_steps=2",
+                 "--set", "outputs=vtk", "--out", str(out), "-q"]) == EXIT_NOT_CONVERGED
+    written = json.loads((out / "results.json").read_text())
+    assert written["status"] == "not converged" and "simulated failure" in written["error"]
+    assert listed(out) == [-0.5, 0.0]
+    capsys.readouterr()
+
+
+def test_ctrl_c_while_writing_the_frames_keeps_a_series_of_those_written(tmp_path, monkeypatch,
+                                                                         capsys):
+    """The folding march's two frames: Ctrl-C as the second is written, between its writer
+    and the rename to its name, leaves the first, a series listing it alone, no temporary
+    file, and results.json marked "interrupted"."""
+    _on_call(monkeypatch, io, "complete",
+             lambda path, ending, final=None: Path(final or path).name == "fields_001.vtu",
+             _sigint)
+    out = tmp_path / "folding"
+    assert main(["run", "folding", *FOLDING_COARSE, "--set", "dt=5", "--set", "onset_dt=5",
+                 "--set", "release=false", "--set", "outputs=vtk", "--out", str(out),
+                 "-q"]) == EXIT_INTERRUPTED
+    written = json.loads((out / "results.json").read_text())
+    assert written["status"] == "interrupted" and "writing" in written["error"]
+    assert listed(out) == [5.0]
+    assert set(written["file_hashes"]) == set(written["files"]) - {"results.json"}
+    assert "Traceback" not in capsys.readouterr().err

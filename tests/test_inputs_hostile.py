@@ -231,6 +231,31 @@ def test_a_hostile_theta_is_refused_by_the_custom_scene_through_the_command_line
     assert not out.exists()
 
 
+@pytest.mark.parametrize("mechanics", ["false", "true"])
+def test_a_metric_that_overflows_fails_the_run_and_no_file_of_its_state_is_written(
+        tmp_path, capsys, mechanics):
+    """theta = 1 + sin(1e300 X1)^2 is finite and in [1, 2], and the mechanics converge on it,
+    but its gradient of 1e300 overflows the incompatibility's norms: exit 3 naming those
+    metrics, the finite ones kept, and on disk results.json alone (no fields, figures or
+    growth data of a state whose metrics are not finite)."""
+    out = tmp_path / "out"
+    code = main(["run", "custom", "--preset", "preview", "--set", "theta=1 + sin(1e300*X1)**2",
+                 "--set", f"mechanics={mechanics}", "--set", "outputs=vtk,figures,growth",
+                 "--out", str(out), "-q"])
+    err = capsys.readouterr().err
+    assert code == 3, err
+    assert "Traceback" not in err and "G_norm_L2" in err.strip().splitlines()[-1]
+    written = json.loads((out / "results.json").read_text())
+    assert written["status"] == "not converged"
+    assert "metrics not finite: burgers_max, G_error_L2_rel, G_norm_L2" in written["error"]
+    assert written["metrics"]["G_norm_L2"] is None
+    assert sorted(p.name for p in out.iterdir()) == ["results.json"]
+    assert written["files"] == ["results.json"]
+    if mechanics == "true":         # the solve converged: its finite metrics are kept
+        assert written["solver"]["growth"]["converged"]
+        assert 0 < written["metrics"]["strain_energy"] < math.inf
+
+
 # ----------------------------------------------------------------- sweeps
 
 def _sweep(vary):

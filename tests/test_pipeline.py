@@ -120,6 +120,16 @@ def test_a_metric_that_is_not_finite_fails_a_converged_run(tmp_path, value):
     assert "burgers_max" in written["error"] and written["metrics"]["strain_energy"] == 1.5
 
 
+def test_a_metric_that_is_not_finite_is_named_after_a_stage_that_did_not_converge(tmp_path):
+    with pytest.raises(ConvergenceError) as err:
+        pipeline.run(FakeScene("converge", "fail", extra={"burgers_max": math.inf}),
+                     tmp_path / "run")
+    written = json.loads((tmp_path / "run" / "results.json").read_text())
+    assert written["error"].startswith("stage1: step below min_step")
+    assert "metrics not finite: burgers_max" in written["error"]
+    assert str(err.value) == written["error"]
+
+
 @pytest.mark.parametrize("outcome", ["interrupt", "keyboard"])
 def test_an_interrupted_run_is_marked_and_keeps_its_history(tmp_path, outcome):
     """Ctrl-C inside a stage (the solver's Interrupted) or while setting a stage up (a bare

@@ -145,15 +145,16 @@ def write_vtk(path, mesh, fields, subdivision=1):
     tmp_stem = stem.with_name(f".{stem.name}.tmp{os.getpid()}")
     vtk = ngs.VTKOutput(mesh, coefs=list(fields.values()), names=list(fields.keys()),
                         filename=str(tmp_stem), subdivision=subdivision, legacy=False)
-    written = Path(vtk.Do())
-    if written.suffix != ".vtu":
-        written = written.with_name(written.name + ".vtu")
+    written = tmp_stem.with_name(tmp_stem.name + ".vtu")
     try:
+        written = Path(vtk.Do())
+        if written.suffix != ".vtu":
+            written = written.with_name(written.name + ".vtu")
         complete(written, b"</VTKFile>", path)
-    except OSError:
+        os.replace(written, path)
+    except BaseException:       # a full disk, Ctrl-C: no temporary file is left behind
         written.unlink(missing_ok=True)
         raise
-    os.replace(written, path)
     return path
 
 

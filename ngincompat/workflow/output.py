@@ -254,11 +254,17 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     """Write a run into the folder ``out``, as the scene's ``outputs`` ask.
 
     results.json always; ``fields.vtu`` (every field: scalars, vectors, and tensors as 9
-    components in row order, their units in results.json's ``field_units``; with
-    ``results.frames`` also ``fields_NNN.vtu`` per frame and their time series
-    ``fields.pvd``), the figures and ``mesh.vol`` + ``growth.npz`` (the growth field as
-    data, for a later run's ``--set mesh=... --set theta_file=...``). ``results.files`` lists
-    what was written; results.json is written last.
+    components in row order, their units in results.json's ``field_units``), the figures
+    and ``mesh.vol`` + ``growth.npz`` (the growth field as data, for a later run's ``--set
+    mesh=... --set theta_file=...``) of the measured state, and with ``results.frames``
+    (also of an interrupted or unfinished run) ``fields_NNN.vtu`` per frame and their time
+    series ``fields.pvd``. ``results.files`` lists what was written; results.json is written
+    last. A state with a metric that is not finite (:meth:`Results.non_finite`) was not
+    computed: none of its files are written, only results.json and the frames.
+
+    Interrupted (Ctrl-C) or failing part-way, the files finished so far are in
+    ``results.files`` (the time series then lists exactly the frames written) and the
+    exception goes on.
 
     On a distributed mesh every rank writes its part of the VTK output (``fields.pvd`` and
     one ``.vtu`` per part); rank 0 alone writes results.json and the figures; the growth
@@ -267,37 +273,13 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     outputs = wanted(results) if outputs is None else outputs
-    files = []
-    distributed = results.domain is not None and parallel.distributed(results.domain)
-    if results.fields and results.domain is not None:
-        if "vtk" in outputs:
-            vtk = interpolated(results.fields, results.domain,
-                               min(results.mesh.order, VTK_ORDER))
-            subdivision = 2 if results.mesh.order >= 3 else 1
-            if distributed:
-                files += io.write_vtk_parallel(out / "fields", results.domain, vtk,
-                                               subdivision=subdivision)
-                files += _write_frames_parallel(out, results, subdivision)
-            else:
-                io.write_vtk(out / "fields.vtu", results.domain, vtk, subdivision=subdivision)
-                files.append("fields.vtu")
-                files += _write_frames(out, results, subdivision)
-        if "growth" in outputs and "theta" in results.fields and not distributed:
-            save_mesh(out / "mesh.vol", results.domain)
-            save_growth(out / "growth.npz", results.domain, results.fields["theta"],
-                        order=max(results.mesh.order, 2))
-            files += ["mesh.vol", "growth.npz"]
-    if not parallel.is_root():
-        return results
-    if "figures" in outputs:
-        for figure in results.figures:
-            if all(k in results.profiles.get(figure.profile, {})
-                   for k in (figure.x, *figure.curves.values(), *figure.right.values(),
-                             *figure.deform.values(), *([figure.y] if figure.y else []))):
-                plots.draw(results, figure, out / figure.file)
-                files.append(figure.file)
-    results.files = ["results.json", *files, *[f for f in results.files
-                                               if f not in files and f != "results.json"]]
+    files: list[str] = []
+    try:
+        if not _write_outputs(results, out, outputs, files):
+            return results
+    finally:
+        results.files = [*files, *[f for f in results.files if f not in files]]
+    results.files = ["results.json", *[f for f in results.files if f != "results.json"]]
     results.timings["output"] = time.perf_counter() - start
     # what the run wrote, by content: --overwrite removes these files only as they were
     hashes = {f: _sha256(out / f) for f in results.files if (out / f).is_file()}
@@ -307,18 +289,65 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     return results
 
 
-def _write_frames(out: Path, results: Results, subdivision: int) -> list[str]:
+def _write_outputs(results: Results, out: Path, outputs: set[str], files: list[str]) -> bool:
+    """The files of :func:`write` but results.json, each appended to ``files`` once written;
+    False on the ranks of a distributed run other than 0 (which write no more)."""
+    state = bool(results.fields) and not results.non_finite()
+    distributed = results.domain is not None and parallel.distributed(results.domain)
+    if results.domain is not None and "vtk" in outputs:
+        subdivision = 2 if results.mesh.order >= 3 else 1
+        if state:
+            vtk = interpolated(results.fields, results.domain,
+                               min(results.mesh.order, VTK_ORDER))
+            if distributed:
+                files += io.write_vtk_parallel(out / "fields", results.domain, vtk,
+                                               subdivision=subdivision)
+            else:
+                io.write_vtk(out / "fields.vtu", results.domain, vtk, subdivision=subdivision)
+                files.append("fields.vtu")
+        if distributed:
+            files += _write_frames_parallel(out, results, subdivision)
+        else:
+            _write_frames(out, results, subdivision, files)
+    if state and "growth" in outputs and "theta" in results.fields and not distributed:
+        save_mesh(out / "mesh.vol", results.domain)
+        files.append("mesh.vol")
+        save_growth(out / "growth.npz", results.domain, results.fields["theta"],
+                    order=max(results.mesh.order, 2))
+        files.append("growth.npz")
+    if not parallel.is_root():
+        return False
+    if "figures" in outputs and not results.non_finite():
+        for figure in results.figures:
+            if all(k in results.profiles.get(figure.profile, {})
+                   for k in (figure.x, *figure.curves.values(), *figure.right.values(),
+                             *figure.deform.values(), *([figure.y] if figure.y else []))):
+                plots.draw(results, figure, out / figure.file)
+                files.append(figure.file)
+    return True
+
+
+def _write_frames(out: Path, results: Results, subdivision: int, files: list[str]) -> None:
     """The time series of ``results.frames``: one ``fields_NNN.vtu`` per frame and the
-    collection ``fields.pvd`` that orders them by time (written last)."""
+    collection ``fields.pvd`` that orders them by time (written last), appended to
+    ``files``. Interrupted or failing part-way, the collection of the frames written so far
+    is written before the exception goes on: it lists exactly the frame files there are."""
     datasets = []
-    for k, (t, fields) in enumerate(results.frames):
-        name = f"fields_{k:03d}.vtu"
-        io.write_vtk(out / name, results.domain, fields, subdivision=subdivision)
-        datasets.append((t, name))
-    if not datasets:
-        return []
-    io.write_pvd(out / "fields.pvd", datasets)
-    return [name for _, name in datasets] + ["fields.pvd"]
+    try:
+        for k, (t, fields) in enumerate(results.frames):
+            name = f"fields_{k:03d}.vtu"
+            io.write_vtk(out / name, results.domain, fields, subdivision=subdivision)
+            datasets.append((t, name))
+            files.append(name)
+    except BaseException:
+        if datasets:
+            with contextlib.suppress(OSError):      # a full disk: the frames stay unlisted
+                io.write_pvd(out / "fields.pvd", datasets)
+                files.append("fields.pvd")
+        raise
+    if datasets:
+        io.write_pvd(out / "fields.pvd", datasets)
+        files.append("fields.pvd")
 
 
 def _write_frames_parallel(out: Path, results: Results, subdivision: int) -> list[str]:

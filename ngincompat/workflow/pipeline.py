@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import contextlib
 import logging
-import math
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -124,13 +123,18 @@ def _warn(scene, results):
 
 def _refuse_non_finite(solution, results):
     """A run that reports a metric that is not a finite number has not computed what it
-    reports: it is "not converged" (exit 3), its results written with that metric null."""
-    bad = [k for k, v in results.metrics.items() if v is None or not math.isfinite(v)]
-    if bad and solution.status == DONE:
-        solution.status = results.status = NOT_CONVERGED
-        solution.error = results.error = (
-            f"metrics not finite: {', '.join(bad)} (the input drives the model beyond what "
-            "double precision holds)")
+    reports: it is "not converged" (exit 3) and its error names those metrics, also after a
+    stage that did not converge. The fields, figures and growth data of that state are not
+    written (:func:`ngincompat.workflow.output.write`); results.json keeps the finite metrics
+    (the others null) and the time series the frames taken before."""
+    bad = results.non_finite()
+    if not bad:
+        return
+    reason = (f"metrics not finite: {', '.join(bad)} (the input drives the model beyond what "
+              "double precision holds; the fields of that state are not written)")
+    solution.error = reason if solution.status == DONE else f"{solution.error}; {reason}"
+    solution.status = results.status = NOT_CONVERGED
+    results.error = solution.error
 
 
 def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT,
@@ -188,6 +192,7 @@ def _run(scene, out, progress, label):
             case.solve(solution, progress, out)
         except KeyboardInterrupt:
             solution.status, solution.error = INTERRUPTED, "interrupted while setting up"
+        results, phase = None, "measuring"
         try:
             if solution.status == INTERRUPTED:
                 results = case.interrupted(solution)
@@ -197,11 +202,15 @@ def _run(scene, out, progress, label):
                 _warn(scene, results)
             results.timings = {**timings, **solution.timings, **results.timings}
             if out is not None:
+                phase = "writing"
                 with progress.phase("writing results"):
                     output.write(results, out)
         except KeyboardInterrupt:
-            solution.status, solution.error = INTERRUPTED, "interrupted while measuring"
+            # the files the write finished (it lists them in results.files) are kept
+            kept = [] if results is None or phase != "writing" else results.files
+            solution.status, solution.error = INTERRUPTED, f"interrupted while {phase}"
             results = case.interrupted(solution)
+            results.files += [f for f in kept if f not in results.files]
             results.timings = {**timings, **solution.timings}
             if out is not None:
                 output.write(results, out, outputs=set())

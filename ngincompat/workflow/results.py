@@ -185,6 +185,12 @@ class Results:
         """Did every stage reach its end?"""
         return self.status == DONE
 
+    def non_finite(self) -> list[str]:
+        """The metrics that are not finite numbers (NaN, inf, None): their state is not one
+        the run computed (:func:`ngincompat.workflow.output.write` writes none of its
+        files)."""
+        return [k for k, v in self.metrics.items() if v is None or not math.isfinite(v)]
+
     @property
     def newton_iterations(self) -> int:
         """Newton iterations of the converged steps of every stage."""
