@@ -220,6 +220,49 @@ def test_failed_cases_make_the_command_line_exit_4(tmp_path, capfd):
     assert rows[0]["strain_energy"] > 0
 
 
+def test_ctrl_c_ends_a_sweep_with_130_finished_rows_kept_the_rest_interrupted(tmp_path):
+    """A terminal's Ctrl-C (SIGINT to the process group) once the first case has finished:
+    exit 130; the table has every case, those that finished with their results, the others
+    "interrupted" (a case that was running says so in its results.json too); no worker
+    prints a traceback, whether running a case or waiting for one."""
+    import signal
+    import subprocess
+
+    path = _write(tmp_path / "sweep.toml", 'scene = "cube"\nmetrics = ["strain_energy"]\n'
+                  '[fixed]\nmaxh = 0.5\norder = 3\noutputs = "none"\n'
+                  '[vary]\nnu = [0.30, 0.32, 0.34, 0.36, 0.38, 0.40, 0.42, 0.44]')
+    out = tmp_path / "out"
+    process = subprocess.Popen([sys.executable, "-m", "ngincompat.cli", "sweep", "run",
+                                str(path), "--out", str(out), "--workers", "2"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    lines = []
+    for line in process.stderr:
+        lines.append(line)
+        if "1 of 8 finished" in line:
+            os.killpg(process.pid, signal.SIGINT)
+            break
+    _, rest = process.communicate(timeout=300)
+    err = "".join(lines) + rest
+    assert process.returncode == 130, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err
+    rows = read_table(out).rows
+    assert [r["case"] for r in rows] == list(range(8))
+    statuses = [r["status"] for r in rows]
+    assert set(statuses) == {"done", "interrupted"} and statuses.count("done") <= 3
+    cases = load_sweep(path).cases()
+    for row, case in zip(rows, cases, strict=True):
+        folder = out / case.name
+        if row["status"] == "done":
+            assert row["strain_energy"] > 0
+            assert output.read(folder).status == "done"
+        else:
+            assert row["strain_energy"] is None and "interrupted" in row["error"]
+            if (folder / "results.json").is_file():
+                assert output.read(folder).status == "interrupted"
+    assert not (out / ".ngincompat.lock").exists()
+
+
 def test_scheduler_without_dask_is_a_parameter_error(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "dask", None)
     sweep = parse_sweep({"scene": "cube", "vary": {"nu": [0.3]}})

@@ -24,14 +24,19 @@ once at the end, also when the sweep is interrupted, and the journal is then rem
 hard kill the journal holds the cases the table misses; the next run of the sweep finds them
 done anyway (from their folders). A case that does not converge is a row "not converged" with
 the metrics of its last converged state; one that raises is a row "failed" with the error,
-its traceback in ``OUT/case_.../error.txt``.
+its traceback in ``OUT/case_.../error.txt``. Interrupted (Ctrl-C), the sweep stops its workers
+(a case not started does not start, a running one ends "interrupted" in its results.json) and
+writes the table with every case: those that had not finished are rows "interrupted".
 """
 
 import concurrent.futures
+import contextlib
 import dataclasses
 import json
 import multiprocessing
 import os
+import signal
+import threading
 import time
 import traceback
 import uuid
@@ -40,7 +45,7 @@ from pathlib import Path
 
 from ngincompat import config
 from ngincompat.atomic import atomic_path
-from ngincompat.errors import ConvergenceError, ParameterError
+from ngincompat.errors import ConvergenceError, Interrupted, ParameterError
 from ngincompat.progress import SILENT, Progress
 from ngincompat.studies.sweep.table import (
     FIXED_COLUMNS,
@@ -50,7 +55,7 @@ from ngincompat.studies.sweep.table import (
     write_table,
 )
 from ngincompat.workflow import io, output, tables
-from ngincompat.workflow.results import DONE
+from ngincompat.workflow.results import DONE, INTERRUPTED
 
 #: Status of a case that raised, or whose scene rejected its parameters.
 FAILED = "failed"
@@ -73,26 +78,63 @@ def run_case(task):
     Returns
     -------
     dict
-        ``status`` ("done", "not converged" or "failed"), ``metrics``, ``seconds`` (the sum of
-        the run's timings; for a failed case the wall time until the failure) and ``error``
-        (message, or None).
+        ``status`` ("done", "not converged", "interrupted" or "failed"), ``metrics``,
+        ``seconds`` (the sum of the run's timings; for a failed case the wall time until the
+        failure) and ``error`` (message, or None).
+
+    A local worker takes Ctrl-C only while it runs a case (:func:`_init_worker`): the case is
+    then "interrupted", its results.json says so, and nothing is printed; after the sweep
+    was stopped (:data:`_stop`) a case still queued is "interrupted" without running.
     """
     start = time.perf_counter()
     folder = Path(task["folder"])
+    if _stop is not None and _stop.is_set():
+        return _interrupted(None)
     try:
-        if task.get("threads"):
-            config.configure(threads=task["threads"])
-        progress = Progress(quiet=task["quiet"], bars=False)
-        try:
-            results = task["scene"].run(folder, overwrite=True, progress=progress,
-                                        label=folder.name)
-            error = None
-        except ConvergenceError as err:
-            results, error = err.results, _message(err)
+        with _interruptible():
+            if task.get("threads"):
+                config.configure(threads=task["threads"])
+            progress = Progress(quiet=task["quiet"], bars=False)
+            try:
+                results = task["scene"].run(folder, overwrite=True, progress=progress,
+                                            label=folder.name)
+                error = None
+            except ConvergenceError as err:
+                results, error = err.results, _message(err)
+    except (Interrupted, KeyboardInterrupt) as err:
+        return _interrupted(getattr(err, "results", None), time.perf_counter() - start,
+                            str(err))
     except Exception as err:
         return _failed(folder, err, time.perf_counter() - start, traceback.format_exc())
     (folder / ERROR_FILE).unlink(missing_ok=True)
     return _outcome(results, error)
+
+
+#: Set by the sweep (in a local worker: the event :func:`_init_worker` was given) once it is
+#: interrupted: a case that has not started does not start.
+_stop = None
+
+
+@contextlib.contextmanager
+def _interruptible():
+    """Ctrl-C raises KeyboardInterrupt in the block (in a local worker, which ignores it
+    otherwise); off the main thread (a Dask worker's task) nothing changes."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _interrupted(results, seconds=None, message=""):
+    """The outcome of a case stopped by Ctrl-C (``results``: its record, if it had begun)."""
+    metrics = {} if results is None else results.metrics
+    error = results.error if results is not None else message
+    return {"status": INTERRUPTED, "metrics": metrics, "seconds": seconds,
+            "error": error or "interrupted"}
 
 
 def _outcome(results, error=None):
@@ -112,9 +154,14 @@ def _failed(folder, err, seconds, text):
     return {"status": FAILED, "metrics": {}, "seconds": seconds, "error": _message(err)}
 
 
-def _init_worker(threads):
-    """Initializer of a local worker process: its number of NGSolve threads."""
+def _init_worker(threads, stop):
+    """Initializer of a local worker process: its number of NGSolve threads, Ctrl-C ignored
+    but while a case runs (:func:`_interruptible`; an idle worker would print the
+    KeyboardInterrupt of its wait for work), and the sweep's ``stop`` event."""
+    global _stop
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     config.configure(threads=threads)
+    _stop = stop
 
 
 def _message(err):
@@ -147,9 +194,11 @@ class _Local:
             progress.line(f"warning: {workers} workers x {threads} NGSolve threads exceed "
                           f"the {cores} cores")
         progress.line(f"local pool: {workers} workers x {threads} NGSolve threads")
+        context = multiprocessing.get_context("spawn")
+        self.stop = context.Event()
         self.executor = concurrent.futures.ProcessPoolExecutor(
-            max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-            initializer=_init_worker, initargs=(threads,))
+            max_workers=workers, mp_context=context,
+            initializer=_init_worker, initargs=(threads, self.stop))
 
     def submit(self, task):
         return self.executor.submit(run_case, task)
@@ -159,7 +208,15 @@ class _Local:
         return done
 
     def close(self, cancel):
-        self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
+        """Shut the workers down; with ``cancel`` (an interruption) no case starts any more
+        and the running ones are interrupted (a Ctrl-C at a terminal has reached them
+        already), and their ends are awaited: they write their records quickly."""
+        if cancel:
+            self.stop.set()
+            for process in list(getattr(self.executor, "_processes", {}).values()):
+                with contextlib.suppress(OSError):
+                    os.kill(process.pid, signal.SIGINT)
+        self.executor.shutdown(wait=True, cancel_futures=cancel)
 
 
 class _Dask:
@@ -366,6 +423,10 @@ def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progre
                 finish(case, _failed(out / case.name, err, 0.0, f"{_message(err)}\n"))
         if runnable:
             _run_all(runnable, scenes, out, workers, threads, scheduler, progress, finish)
+    except KeyboardInterrupt:
+        for case in todo:           # the cases the interruption kept from ending
+            outcomes.setdefault(case.index, {"varied": case.varied, **_interrupted(None)})
+        raise
     finally:
         # the whole table once, also when interrupted; the journal is then redundant
         table = make_table(sweep, outcomes)
@@ -397,6 +458,9 @@ def _run_all(cases, scenes, out, workers, threads, scheduler, progress, finish):
     finally:
         backend.close(cancel=not finished)
         if not finished:
+            for future, case in running.items():    # ended by the interruption
+                if future.done() and not future.cancelled():
+                    finish(case, _result(future))
             progress.line(f"sweep interrupted; the table {out / RECORD} holds the finished "
                           "cases; run the sweep again to go on")
 
