@@ -153,7 +153,9 @@ class GrowthMechanics:
         lam/2 g(Je)^2 of the energy by p g(Je) - p^2 / (2 lam) (a perturbed Lagrangian: at
         stationarity in p, p = lam g and the energies agree). The constraint g = 0 is then
         enforced only against the pressure space, which removes the volumetric locking of
-        nearly incompressible materials (lam >> mu); p is element-local and condensed. The
+        nearly incompressible materials (lam >> mu); p is element-local and condensed. On
+        tetrahedra of order 2 and 3 the displacement has bubbles (:func:`bubbles`), without
+        which this pair is not inf-sup stable and locks itself. The
         problem is a saddle point, so the line search tests the residual instead of the energy.
         Needs a :class:`~ngincompat.mechanics.materials.MixedMaterial`, one with such a bulk term
         (neo-Hookean, g = ln Je), and order >= 2.
@@ -191,7 +193,8 @@ class GrowthMechanics:
         self.condense = condense
         self.formulation = formulation
         symmetry = dict(symmetry or {})
-        self.space = displacement_space(mesh, order, dirichlet, symmetry)
+        self.bubbles = bubbles(mesh, order, formulation)
+        self.space = displacement_space(mesh, order, dirichlet, symmetry, self.bubbles)
         if mixed:
             self.fes = ngs.FESpace([self.space, ngs.L2(mesh, order=order - 1)])
             self.state = ngs.GridFunction(self.fes, name="state")
@@ -211,7 +214,8 @@ class GrowthMechanics:
             self.pinned = ()
         self._fit_inverse = None
         if components:
-            form_space = component_space(self.space, [self.fes.components[1]] if mixed else [])
+            form_space = component_space(self.space, [self.fes.components[1]] if mixed else [],
+                                         self.bubbles)
             trial = form_space.TrialFunction()
             F = kinematics.component_deformation_gradient(trial[:3])
             pressure = trial[3] if mixed else None
@@ -289,7 +293,7 @@ class GrowthMechanics:
         is only anchored at one dof against its constant.
         """
         if self._fit_inverse is None:
-            self._fit_inverse = _ComponentLaplaceInverse(self.space)
+            self._fit_inverse = _ComponentLaplaceInverse(self.space, self.bubbles)
         return self._fit_inverse.solve(load)
 
 
@@ -303,10 +307,10 @@ class _ComponentLaplaceInverse:
     or on a distributed mesh the one with the lexicographically smallest coordinates; the
     anchor only shifts the fit by a translation)."""
 
-    def __init__(self, fes):
+    def __init__(self, fes, enrichment=None):
         mesh = fes.mesh
         self.distributed = parallel.distributed(mesh)
-        scalar = ngs.H1(mesh, order=fes.globalorder)
+        scalar = ngs.H1(mesh, order=fes.globalorder, **(enrichment or {}))
         self.n = scalar.ndof
         require(3 * self.n == fes.ndof, "displacement space", fes,
                 "VectorH1 of three H1 components")
@@ -367,9 +371,10 @@ class _ComponentLaplaceInverse:
         return w
 
 
-def component_space(space, rest=()):
+def component_space(space, rest=(), enrichment=None):
     """The space of the energy form: the displacement space ``space`` (VectorH1) as three
-    scalar H1 spaces of its order, followed by the spaces ``rest``.
+    scalar H1 spaces of its order (and its ``enrichment``, :func:`bubbles`), followed by the
+    spaces ``rest``.
 
     VectorH1 stores its three H1 components one after the other, so the compound has the
     same dofs in the same order and every vector and matrix of the one is one of the other
@@ -379,16 +384,43 @@ def component_space(space, rest=()):
     tangent multiplies through: half the time of the element matrices on the cube's
     tetrahedra of order 6 (``docs/measurements/solver-costs.md``, "The cube's tangent").
     """
-    scalar = ngs.H1(space.mesh, order=space.globalorder)
+    scalar = ngs.H1(space.mesh, order=space.globalorder, **(enrichment or {}))
     compound = ngs.FESpace([scalar] * 3 + list(rest))
     require(compound.ndof == space.ndof + sum(r.ndof for r in rest), "displacement space",
             space, "VectorH1 of three H1 components")
     return compound
 
 
-def displacement_space(mesh, order, dirichlet="", symmetry=None):
-    """VectorH1 of ``order`` with u = 0 on ``dirichlet`` and the normal component zero on the
-    symmetry planes (boundary name -> axis "x", "y" or "z")."""
+#: Displacement orders at which the mixed formulation on tetrahedra gets bubbles
+#: (:func:`bubbles`): below 4 its stress locked as nu -> 0.5 without them.
+BUBBLE_ORDERS = (2, 3)
+
+
+def bubbles(mesh, order, formulation):
+    """The enrichment of the displacement space (NGSolve's H1 flags) that makes the mixed
+    formulation's pair inf-sup stable on a mesh of tetrahedra: face bubbles of ``order`` + 1
+    and interior bubbles of ``order`` + 2 (for order 2 the three-dimensional Crouzeix-Raviart
+    element, P2 + bubbles against P1 discontinuous); {} otherwise.
+
+    Without them P_k against P_(k-1) discontinuous is not stable on tetrahedra: the discrete
+    inf-sup constant of the traction-free cube falls towards 0 as the mesh is refined, and
+    the cube's stress grew some fifty-fold from nu = 0.45 to 0.49999 at order 2; with them
+    the constant stays above 0.5 and the stress within 5 % of the hexahedra's
+    (``docs/measurements/mixed.md``). From order 4 on the stress did not lock, and the
+    bubbles are not added (their cost grows with the order). The interior bubbles are
+    condensed; the face bubbles add global unknowns (twice as many at order 2)."""
+    if formulation != "mixed" or order not in BUBBLE_ORDERS:
+        return {}
+    others = sum(el.type != ngs.ET.TET for el in mesh.Elements(ngs.VOL))
+    if parallel.total(mesh, others) > 0:
+        return {}
+    return {"orderface": order + 1, "orderinner": order + 2}
+
+
+def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None):
+    """VectorH1 of ``order`` (with the H1 flags ``enrichment``, :func:`bubbles`) with u = 0
+    on ``dirichlet`` and the normal component zero on the symmetry planes (boundary name ->
+    axis "x", "y" or "z")."""
     symmetry = dict(symmetry or {})
     for name, axis in symmetry.items():
         require(axis in ("x", "y", "z"), "symmetry axis", axis, "x, y or z")
@@ -396,7 +428,7 @@ def displacement_space(mesh, order, dirichlet="", symmetry=None):
                 ", ".join(sorted(set(mesh.GetBoundaries()))))
     planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
               for axis in ("x", "y", "z") if axis in symmetry.values()}
-    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes)
+    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
 
 
 def rigid_pins(mesh, fes):
