@@ -11,7 +11,7 @@ from geometries import bilayer, cube, cylinder, disc, estimate, hemisphere, skin
 from ngincompat.cli import main
 from ngincompat.errors import ExpressionError, ParameterError
 from ngincompat.mechanics.expressions import MAX_DEPTH, MAX_LENGTH, parse_expression
-from ngincompat.parameters import _Float, _Floats, _Int, _WordsOrFloats
+from ngincompat.parameters import _Bool, _Choice, _Float, _Floats, _Int, _Outputs, _WordsOrFloats
 from ngincompat.scenes import SCENES
 from ngincompat.studies import sweep as sweep_pkg
 from ngincompat.studies.sweep import runner, spec, table
@@ -57,25 +57,60 @@ def _legitimate(cls, key, text):
 @pytest.mark.parametrize("scene, key", CORPUS, ids=[f"{s}-{k}" for s, k in CORPUS])
 def test_every_numeric_parameter_refuses_hostile_values_in_one_line(scene, key, tmp_path,
                                                                     capsys):
-    cls = SCENES[scene]
-    p = cls.declarations()[key]
+    p = SCENES[scene].declarations()[key]
     values = HOSTILE + (HOSTILE_INT if isinstance(p.kind, _Int) else ())
+    refused = _refused(scene, key, [_texts(p, value) for value in values], tmp_path, capsys,
+                       also="maxh")
+    # 1e308, inf, -inf, nan and a wrong type are refused by every numeric parameter
+    assert refused >= 5
+
+
+def _refused(scene, key, texts, tmp_path, capsys, also=None):
+    """Run the scene with each of ``texts`` as ``key`` that it does not allow: exit 2, one
+    line naming the parameter (or ``also``), no traceback, no folder left. Returns how many
+    were refused."""
     refused = 0
-    for value in values:
-        text = _texts(p, value)
-        if _legitimate(cls, key, text):
+    for text in texts:
+        if _legitimate(SCENES[scene], key, text):
             continue
         out = tmp_path / f"out_{refused}"
         code = main(["run", scene, "--set", f"{key}={text}", "--out", str(out), "-q"])
         captured = capsys.readouterr()
         lines = captured.err.strip().splitlines()
-        assert code == 2, (value, captured.err)
-        assert len(lines) == 1 and (key in lines[0] or "maxh" in lines[0]), (value, lines)
+        assert code == 2, (text, captured.err)
+        assert len(lines) == 1 and (key in lines[0] or (also and also in lines[0])), lines
         assert "Traceback" not in captured.err + captured.out
-        assert not out.exists(), value
+        assert not out.exists(), text
         refused += 1
-    # 1e308, inf, -inf, nan and a wrong type are refused by every numeric parameter
-    assert refused >= 5
+    return refused
+
+
+#: Every parameter of a closed set of values (yes/no, a choice, the outputs), by scene.
+WORDS = [(name, key) for name, cls in SCENES.items()
+         for key, p in cls.declarations().items()
+         if isinstance(p.kind, (_Bool, _Choice, _Outputs))]
+
+
+@pytest.mark.parametrize("scene, key", WORDS, ids=[f"{s}-{k}" for s, k in WORDS])
+def test_every_word_parameter_refuses_empty_wrong_and_numeric_values_in_one_line(
+        scene, key, tmp_path, capsys):
+    """The corpus of the numbers for the other kinds: empty, an unknown word, a number."""
+    assert _refused(scene, key, ("", "no-such-value", "1e308"), tmp_path, capsys) >= 2
+
+
+def test_an_infinite_first_residual_is_not_converged_through_the_command_line(tmp_path,
+                                                                            capsys):
+    """theta = 1 + 1e300 X1 t: the residual overflows at the first step; it exited 0, "done"
+    with 0 Newton iterations (inf <= inf passed the tolerance)."""
+    out = tmp_path / "out"
+    code = main(["run", "custom", "--preset", "preview", "--set", "theta=1 + 1e300*X1*t",
+                 "--set", "outputs=none", "--out", str(out), "-q"])
+    err = capsys.readouterr().err
+    assert code == 3 and "Traceback" not in err, err
+    written = json.loads((out / "results.json").read_text())
+    assert written["status"] == "not converged"
+    assert not written["solver"]["growth"]["converged"]
+    assert written["solver"]["growth"]["t_reached"] == 0.0
 
 
 @pytest.mark.parametrize("scene, key", CORPUS, ids=[f"{s}-{k}" for s, k in CORPUS])
