@@ -154,6 +154,33 @@ def test_a_folder_in_use_by_a_live_run_is_refused(tmp_path):
         holder.wait()
 
 
+def test_two_runs_into_one_folder_the_second_exits_2_and_the_first_ends_alone(tmp_path,
+                                                                            capsys):
+    """Both exited 0 and mixed their files. The first, a process of its own, holds the
+    folder while it computes; the second is refused in one line naming it, and the folder
+    ends with the first's run alone."""
+    from ngincompat.cli import main
+
+    out = tmp_path / "run"
+    first = subprocess.Popen([sys.executable, "-m", "ngincompat.cli", "run", "cube",
+                              "--order", "3", "--maxh", "0.5", "--out", str(out), "-q"],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        while not (out / output.LOCK).exists():
+            assert first.poll() is None, first.stderr.read()
+        assert main(["run", "cube", "--order", "1", "--maxh", "1", "--set", "outputs=none",
+                     "--out", str(out), "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f"in use by another run (process {first.pid} " in err[0]
+        assert first.wait(timeout=300) == 0, first.stderr.read()
+    finally:
+        first.kill()
+        first.wait()
+    written = json.loads((out / "results.json").read_text())
+    assert written["params"]["order"] == 3 and "fields.vtu" in written["files"]
+    assert not (out / output.LOCK).exists()
+
+
 def test_the_lock_of_a_dead_run_is_taken_over_and_released_after_the_run(tmp_path, caplog):
     dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
                           capture_output=True, text=True, check=True)

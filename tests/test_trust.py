@@ -53,6 +53,20 @@ def test_the_mixed_formulation_on_tetrahedra_does_not_lock_nor_warn(order):
     assert stress["tet", 0.49999] == pytest.approx(stress["tet", 0.499], rel=0.01)
 
 
+def test_a_locked_run_at_nu_0_49999_warns_and_still_exits_0(tmp_path, capsys, caplog):
+    """The displacement formulation at nu = 0.49999 (one hexahedron, order 2): 181 Newton
+    iterations and a stress of 3.1 MPa against the mixed form's 0.003; exit 0 with its
+    results, the warning logged (standard error) and in results.json."""
+    out = tmp_path / "run"
+    code = main(["run", "cube", "--order", "2", "--maxh", "1", "--set", "elements=hex",
+                 "--set", "nu=0.49999", "--set", "outputs=none", "--out", str(out), "-q"])
+    err = capsys.readouterr().err
+    written = json.loads((out / "results.json").read_text())
+    assert code == 0 and written["status"] == "done"
+    assert any("volumetric locking" in w for w in written["warnings"])
+    assert "volumetric locking" in caplog.text and "Traceback" not in err
+
+
 @pytest.mark.parametrize("order, nu, warns", [(4, 0.45, False), (4, 0.49, False),
                                               (4, 0.499, True), (4, 0.49999, True),
                                               (2, 0.45, False), (2, 0.49, True)])
