@@ -97,6 +97,16 @@ def test_the_gap_between_sampled_points_is_closed(unit_cube_hex):
                    expression="1 + X1 - X1")
 
 
+def test_a_growth_whose_volume_change_overflows_is_refused(unit_cube_hex):
+    """theta = 1 + 1e154 X1^2 is finite, but its cube (Jg of isotropic growth) is not: the
+    run would compute Fg^-1 Curl Fg with an infinite Jg and report G = 8e-50."""
+    time = ngs.Parameter(1.0)
+    theta = parse_expression("1 + 1e154*X1*X1", time)
+    with pytest.raises(ParameterError, match="overflows its cube"):
+        check_positive(theta, unit_cube_hex, time)
+    check_positive(parse_expression("1 + 1e100*X1*X1", time), unit_cube_hex, time)
+
+
 def test_custom_scene_refuses_a_narrow_negative_dip(tmp_path, capsys):
     out = tmp_path / "dip"
     text, _ = unsampled_dip(SCENES["custom"](maxh=0.5, order=2).build().mesh)

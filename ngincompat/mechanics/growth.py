@@ -288,8 +288,13 @@ class TensorGrowth:
 CHECK_TIMES = tuple(k / 128 for k in range(129))
 
 
+#: The largest theta whose cube, Jg of isotropic growth, is a finite float (5.6e102).
+THETA_MAX = float(np.cbrt(np.finfo(float).max))
+
+
 def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expression=None):
-    """Raise :class:`ParameterError` unless 0 < theta < inf everywhere in the body.
+    """Raise :class:`ParameterError` unless 0 < theta < inf everywhere in the body, and its
+    cube, Jg of isotropic growth (eq. 13), is finite too.
 
     theta is evaluated at the vertices and at the points of an integration rule of the given
     order in every element, at each of ``times`` (when a time Parameter is given). The message
@@ -327,14 +332,16 @@ def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expressio
             if time is not None:
                 time.Set(t)
             values = np.asarray(theta(points)).ravel()
-            finite = np.isfinite(values)
+            finite = np.isfinite(values) & (np.abs(values) < THETA_MAX)
             bad = ~finite | (values <= 0)
             if bad.any():
                 i = int(np.argmin(np.where(finite, values, -np.inf)))
                 where = "({:.4g}, {:.4g}, {:.4g})".format(*coords[i])
                 when = "" if t is None else f", t = {t:g}"
-                what = (f"theta = {values[i]:.4g}" if finite[i]
-                        else f"theta is not finite (theta = {values[i]})")
+                what = (f"theta = {values[i]:.4g}" if finite[i] else
+                        f"theta is not finite (theta = {values[i]})"
+                        if not np.isfinite(values[i]) else
+                        f"theta = {values[i]:.4g} overflows its cube, the volume growth Jg")
                 raise ParameterError(
                     f"{what} at X = {where}{when}: the growth indicator must be finite and "
                     "positive (0 < theta < inf) everywhere in the body")
