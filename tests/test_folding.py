@@ -23,7 +23,7 @@ from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDriven
 from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import SILENT
 from ngincompat.references.bifurcation import critical_growth, onset, prebuckled_cortex
-from ngincompat.scenes.folding import CREASE_STRETCH, FLOW_RTOL, FoldingScene
+from ngincompat.scenes.folding import FLOW_RTOL, FoldingScene
 from ngincompat.studies import folding
 from ngincompat.workflow.pipeline import Solution
 
@@ -577,33 +577,6 @@ def test_folded_bilayer_released_is_self_equilibrated_and_bent():
     assert metrics["top_curvature_released"] > 0
     assert 0 < metrics["max_principal_stress_released"] < metrics["max_principal_stress"]
     assert metrics["peak_tension_depth_released"] >= scene.cortex_thickness - 1e-6
-
-
-#: The smallest bilayer that creases: half the onset wavelength of its 0.1 cm cortex (0.667
-#: cm), so that its one sulcus lies on a roller end, against its mirror image; the top
-#: refined 4 times.
-CREASING = dict(length=0.3333, height=0.3, cortex_thickness=0.1, cortex_maxh=0.05, maxh=0.1,
-                top_refinement=4, t_end=75.0, dt=10.0, onset_dt=2.5, observe_dt=5.0)
-
-
-@pytest.mark.slow
-def test_a_bilayer_creases_into_contact_and_is_released_at_75_days():
-    """The paper's 75 days through creasing: the top's stretch falls below the creasing
-    threshold, the sulcus's wall presses on its image (contact, penetration under 2 % of the
-    cortex thickness), no element inverts, and the released body is self-equilibrated."""
-    scene = FoldingScene(**CREASING, outputs="none")
-    results = scene.run()
-    metrics = results.metrics
-    assert results.status == "done", results.error
-    assert metrics["t_reached"] == pytest.approx(75.0)
-    assert metrics["theta_c_reached"] == pytest.approx(1.6)
-    assert metrics["top_stretch_min"] < CREASE_STRETCH
-    assert metrics["self_contact_area"] > 0
-    assert 0 < metrics["self_contact_penetration_max"] < 0.02 * scene.cortex_thickness
-    assert metrics["Je_min"] > 0
-    assert metrics["sulci"] == 0.5
-    assert metrics["release_reaction_rel"] < 1e-6
-    assert metrics["theta_a_max"] > 1
 
 
 def test_the_refined_top_is_meshed_finer_than_the_cortex_below():
