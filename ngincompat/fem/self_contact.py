@@ -54,10 +54,9 @@ body it is meshed as: its boundary is a surface.
 
 *Mirror walls.* A body cut by a symmetry plane (rollers: the normal displacement held on the
 plane) stands for itself and its mirror image. A sulcus centred on the plane has its second
-wall in the image, which the pair search never sees: on the coarse bilayer with a refined top
-the sulcus at a roller end creased at about 60 days, its wall crossed the plane (x1 = -0.0012
-cm at 62 days) and the march stalled, its tangent's smallest eigenvalue -5000 kPa/cm^2 in a
-mode one element wide at that corner. Each plane (point P, unit normal m into the body) gives
+wall in the image, which the pair search never sees: without it the wall creases across the
+plane into its own image and the march stalls (``docs/measurements/folding.md``, "Why it
+stalled at 62 days"). Each plane (point P, unit normal m into the body) gives
 the pair of X with its own image, along m, and the gap
 
     g_m(X) = 2 (x(X) - P) . m,

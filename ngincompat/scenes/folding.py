@@ -610,12 +610,10 @@ class FoldingCase:
         (2.5 days) failed, a full Newton step from the growing folds inverting an element
         after about six iterations. A Newton step is shortened only where it would invert
         an element (non-finite: ``backtrack`` "finite"), not to lower the energy or the
-        residual: with growing axons the residual is not the energy's derivative, and on the
-        default bilayer at 38.8 days a step of 0.625 days converged in 4 full Newton steps,
-        the first raising the residual 300-fold, where the descent line search took steps of
-        1/64 and did not converge in 20 (``docs/measurements/folding.md``, "The march's
-        line search"); on the coarse bilayer with the graded top full steps without any
-        line search cut the march's steps far sooner."""
+        residual: with growing axons the residual is not the energy's derivative, and the
+        full steps that converge first raise it (``docs/measurements/folding.md``, "The
+        march's line search"); full steps without any shortening cut the march's steps far
+        sooner on the coarse bilayer with the graded top."""
         step = min(self.viscous_step(), self.scene.onset_dt)
         options = newton(max_step=step, line_search=True, backtrack="finite", min_step=1e-6)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
