@@ -129,6 +129,21 @@ def _interruptible():
         signal.signal(signal.SIGINT, previous)
 
 
+@contextlib.contextmanager
+def _sigint_held():
+    """Ctrl-C held back on the calling thread in the block and delivered at its end; a worker
+    process started in the block inherits the held signal mask, so that a Ctrl-C arriving
+    while it still imports stays pending until :func:`_init_worker` discards it."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
 def _interrupted(results, seconds=None, message=""):
     """The outcome of a case stopped by Ctrl-C (``results``: its record, if it had begun)."""
     metrics = {} if results is None else results.metrics
@@ -160,6 +175,8 @@ def _init_worker(threads, stop):
     KeyboardInterrupt of its wait for work), and the sweep's ``stop`` event."""
     global _stop
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     config.configure(threads=threads)
     _stop = stop
 
@@ -201,7 +218,10 @@ class _Local:
             initializer=_init_worker, initargs=(threads, self.stop))
 
     def submit(self, task):
-        return self.executor.submit(run_case, task)
+        """Submit ``task``; a worker it starts prints no KeyboardInterrupt of its imports
+        (:func:`_sigint_held`)."""
+        with _sigint_held():
+            return self.executor.submit(run_case, task)
 
     def wait(self, futures):
         done, _ = concurrent.futures.wait(futures, return_when=concurrent.futures.FIRST_COMPLETED)
