@@ -1,6 +1,7 @@
 """The cortical-folding scene (section 3.7): the growth laws at one point, the flat branch in
 closed form, and the onset of buckling against the independent bifurcation analysis."""
 
+import dataclasses
 import functools
 import json
 
@@ -516,6 +517,11 @@ def test_a_failed_march_past_the_creasing_stretch_says_so():
     case._explain_crease(failed)
     assert "fell below 0.65" in failed.error and "t = 62" in failed.error
     assert "theta_c = 1.496" in failed.error and "0.58 at the last step" in failed.error
+    assert "unrefined top" in failed.error and "top_refinement" in failed.error
+    case.scene = dataclasses.replace(case.scene, top_refinement=4.0)   # refined: not blamed
+    refined = Solution(status="not converged", error="buckling: the step fell below min_step")
+    case._explain_crease(refined)
+    assert "fell below 0.65" in refined.error and "unrefined" not in refined.error
     series["stretch"] = [0.8, 0.75, 0.7]
     above = Solution(status="not converged", error="buckling: the step fell below min_step")
     case._explain_crease(above)

@@ -687,12 +687,17 @@ class FoldingCase:
         below = [i for i, v in enumerate(series["stretch"]) if v < CREASE_STRETCH]
         if below and solution.error:
             i = below[0]
+            remedy = ("the unrefined top does not resolve the creases: refine it "
+                      "(top_refinement, e.g. 4) or end the growth before (t_end)"
+                      if self.scene.top_refinement == 1 else
+                      "a finer top (top_refinement, cortex_maxh) or an end of the growth "
+                      "before (t_end) may get through")
             solution.error += (
                 f"; the top surface's elastic stretch fell below {CREASE_STRETCH} (the "
                 f"creasing threshold of a neo-Hookean surface) at t = {series['t'][i]:.4g} "
                 f"(theta_c = {series['theta_c'][i]:.4g}), {series['stretch'][-1]:.3g} at "
-                "the last step: the folds crease at the sulci, which the mesh does not "
-                "resolve; a t_end before that avoids it")
+                f"the last step: the folds crease at the sulci; {remedy} "
+                "(docs/measurements/folding.md)")
 
     def _note(self, stage):
         """After the equilibrium its residual (relative to the start's) and smallest
