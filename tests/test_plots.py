@@ -73,7 +73,22 @@ def test_deformed_figure_draws_each_field_on_the_moved_grid():
     np.testing.assert_allclose(mesh.get_array().reshape(X1.shape), X1 - X3)
     for ax in maps:
         assert ax.collections[0].get_clim() == (-6.0, 6.0)   # both rows, symmetric
+        assert ax.collections[0].colorbar.extend == "neither"  # no peak: nothing clipped
         assert ax.get_xlabel() == "X1 [cm]"
+
+
+def test_a_peak_of_the_deformed_figure_is_beyond_its_colour_bar_which_says_so():
+    """One point of 1000 times the rest (a crease tip's stress) does not set the scale; the
+    colour bar gets an arrow at its top."""
+    X1, X3 = np.meshgrid(np.linspace(0, 2, 41), np.linspace(0, 1, 21))
+    f = X1 + X3
+    f[10, 20] = 1000.0
+    profile = {"X1": X1[0], "X3": X3[:, 0], "f": f, "u": np.zeros(X1.shape + (2,))}
+    fig = plots.deformed_figure({"two": profile}, {"f [kPa]": ("f", "u")},
+                                ("X1", "X3"), "X1 [cm]", "X3 [cm]")
+    image = [ax for ax in fig.axes if ax.collections and ax.get_title()][0].collections[0]
+    assert image.get_clim()[1] < 3.0
+    assert image.colorbar.extend == "max"
 
 
 def test_long_titles_wrap_to_the_figure_and_keep_their_formulas():

@@ -196,8 +196,10 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
         Smallest range of a colour scale (as for the profiles' axes, besides
         ``RELATIVE_FLOOR`` of the largest value): round-off is drawn flat.
 
-    Every column has one colour scale for all rows (so the rows compare); a field of both
-    signs (a stress) gets a diverging scale centred on zero.
+    Every column has one colour scale for all rows (so the rows compare), leaving
+    :data:`MAP_CLIP` per cent of the values beyond each end (a crease tip's peak stress would
+    wash out the rest; the colour bar's arrows say so); a field of both signs (a stress) gets
+    a diverging scale centred on zero.
     """
     panels = {label: keys for label, keys in panels.items()
               if all(k in p for p in rows.values() for k in keys)}
@@ -208,7 +210,7 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
     grid = np.atleast_2d(fig.subplots(len(rows), ncols, squeeze=False))
     for col, (label, (key, disp)) in enumerate(panels.items()):
         norm, cmap = colour_scale(np.concatenate([np.ravel(p[key]) for p in rows.values()]),
-                                  floor=floor)
+                                  floor=floor, clip=MAP_CLIP)
         for row, (name, p) in enumerate(rows.items()):
             ax = grid[row, col]
             U, V = np.meshgrid(p[axes[0]], p[axes[1]])
@@ -225,8 +227,14 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
 
 
 def _panel(fig, ax, image, title, xlabel, ylabel=None):
-    """A colour map's colour bar (three-digit ticks), title and axis labels."""
-    fig.colorbar(image, ax=ax, shrink=0.85, format=tick_format(*image.get_clim()))
+    """A colour map's colour bar (three-digit ticks; an arrow at an end beyond which values
+    lie), title and axis labels."""
+    lo, hi = image.get_clim()
+    data = np.ma.compressed(np.ma.masked_invalid(image.get_array()))
+    below, above = bool(data.size and data.min() < lo), bool(data.size and data.max() > hi)
+    extend = {(False, False): "neither", (True, False): "min", (False, True): "max",
+              (True, True): "both"}[below, above]
+    fig.colorbar(image, ax=ax, shrink=0.85, format=tick_format(lo, hi), extend=extend)
     ax.set_title(title, fontsize="medium")
     ax.set_xlabel(xlabel, fontsize="small")
     if ylabel:

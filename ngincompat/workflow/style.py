@@ -38,6 +38,11 @@ def wrapped(title, width_inches, fontsize=10):
     return "\n".join(textwrap.wrap(kept, chars)).replace("\0", " ")
 
 
+#: How far beyond its clipped range (in widths of that range) the values at an end of a
+#: colour scale must reach for :func:`colour_scale` to clip there.
+PEAK = 0.25
+
+
 def colour_scale(values, signed=None, floor=0.0, clip=0.0):
     """(norm, colour map name) of a field map.
 
@@ -55,14 +60,18 @@ def colour_scale(values, signed=None, floor=0.0, clip=0.0):
     clip : float
         Per cent of the values left beyond each end of the scale (the colour bar's ends then
         mean "or beyond"), so that a few peaks at mesh singularities do not wash out the
-        rest; 0: the scale spans all values.
+        rest; at an end only where they are peaks there (beyond the clipped range by more
+        than :data:`PEAK` times its width); 0: the scale spans all values.
     """
     data = np.ma.filled(np.ma.masked_invalid(np.asarray(values, dtype=float)), np.nan).ravel()
     data = data[np.isfinite(data)]
     if data.size == 0:
         return colors.Normalize(0, 1), "viridis"
-    lo, hi = ((float(v) for v in np.percentile(data, [clip, 100 - clip])) if clip
-              else (float(data.min()), float(data.max())))
+    lo, hi = float(data.min()), float(data.max())
+    if clip:
+        low, high = (float(v) for v in np.percentile(data, [clip, 100 - clip]))
+        beyond = PEAK * (high - low)
+        lo, hi = (low if low - lo > beyond else lo), (high if hi - high > beyond else hi)
     if signed is None:
         signed = data.min() < 0 < data.max()
     least = max(floor, RELATIVE_FLOOR * max(abs(lo), abs(hi)), 1e-300)
