@@ -125,6 +125,21 @@ def test_the_scene_carries_the_field_on_the_deformed_body(bricks):
     assert "points3d" not in data                     # no clipping plane: the surface only
 
 
+def test_a_peak_at_a_point_does_not_set_the_colour_bar_a_smooth_field_does():
+    """On the unit cube (maxh 0.1), x + 1000 exp(-|X - c|^2 / 1e-3) with c a corner (a crease
+    tip's stress) gets the colour bar [0, 1] (the viewer's autoscale off), x alone the
+    viewer's autoscale over its range."""
+    geo = CSGeometry()
+    geo.Add(OrthoBrick(Pnt(0, 0, 0), Pnt(1, 1, 1)))
+    mesh = ngs.Mesh(geo.GenerateMesh(maxh=0.1))
+    peak = ngs.exp(-((ngs.x - 1)**2 + (ngs.y - 1)**2 + (ngs.z - 1)**2) / 1e-3)
+    data = webview.scene(mesh, ngs.x + 1000 * peak, order=1)
+    assert patches(data)[:, 3].max() > 100                  # the peak is drawn
+    assert not data["autoscale"]
+    assert (data["funcmin"], data["funcmax"]) == pytest.approx((0, 1), abs=1e-6)
+    assert webview.scene(mesh, ngs.x, order=1)["autoscale"]
+
+
 def test_a_field_without_a_value_at_a_vertex_is_drawn_whole(bricks):
     """x / x is 1 but 0/0 on the face x = 0, as the hemisphere's meridional |b| on its axis:
     drawn from its projection, every corner carries 1 and none is NaN (a hole in the view)."""

@@ -20,15 +20,12 @@ from matplotlib.figure import Figure
 
 from ngincompat.atomic import atomic_path
 from ngincompat.workflow import surface
-from ngincompat.workflow.style import RELATIVE_FLOOR, colour_scale, tick_format, wrapped
+from ngincompat.workflow.style import (MAP_CLIP, RELATIVE_FLOOR, colour_scale, tick_format,
+                                      wrapped)
 
 #: Curves of at most this many points get a marker at every point.
 FEW = 25
 
-#: Per cent of the values beyond each end of the colour scale of a map drawn from sampled
-#: values (sections, a gathered surface): a few peaks at mesh singularities do not wash out
-#: the rest.
-MAP_CLIP = 0.5
 
 #: (line style, marker) per curve, in order: coinciding curves stay distinguishable.
 STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)), "v"),

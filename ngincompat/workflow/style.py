@@ -38,6 +38,11 @@ def wrapped(title, width_inches, fontsize=10):
     return "\n".join(textwrap.wrap(kept, chars)).replace("\0", " ")
 
 
+#: Per cent of the values beyond each end of the colour scale of a map drawn from sampled
+#: values (sections, a gathered surface, a 3-D view), where they are peaks (:data:`PEAK`): a
+#: few peaks at mesh singularities do not wash out the rest.
+MAP_CLIP = 0.5
+
 #: How far beyond its clipped range (in widths of that range) the values at an end of a
 #: colour scale must reach for :func:`colour_scale` to clip there.
 PEAK = 0.25

@@ -15,7 +15,10 @@ by tests/test_webview.py).
 The page is the scene at the window's size (the viewer sizes itself by the parent of the
 element it draws into) under a header naming the field and its unit (the
 viewer's colour bar has numbers only); the viewer's "Open Controls" panel sets the clipping
-plane, the colour range and the light. The viewer reports its start-up steps with
+plane, the colour range and the light. The colour bar spans the field's range, but where a
+few peaks (a singular edge, a crease tip) would wash the rest out it leaves them beyond its
+ends, as the static figures do (:func:`colour_range`; the Controls' "autoscale" restores the
+whole range). The viewer reports its start-up steps with
 ``console.log``; the page silences those (warnings and errors still reach the console), so a
 page that loads cleanly logs nothing.
 
@@ -40,9 +43,11 @@ from functools import lru_cache
 from pathlib import Path
 
 import ngsolve as ngs
+import numpy as np
 
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import NgincompatError
+from ngincompat.workflow.style import MAP_CLIP, colour_scale
 
 #: The degree of the polynomials a field is projected onto before it is drawn.
 DEGREE = 3
@@ -118,9 +123,31 @@ def scene(mesh, field, deformation=None, *, order=2, camera=None, clipping=None,
                                       strict=True), function=True)
     shown = ngs.GridFunction(ngs.L2(mesh, order=DEGREE))
     shown.Set(field)
-    data = Draw(ngs.BoundaryFromVolumeCF(shown), mesh, **kwargs).GetData()
+    on_boundary = ngs.BoundaryFromVolumeCF(shown)
+    low, high = colour_range(mesh, on_boundary)
+    if low is not None:
+        kwargs.update(min=low, max=high, autoscale=False)
+    data = Draw(on_boundary, mesh, **kwargs).GetData()
     data["mesh_radius"] /= zoom
     return data
+
+
+def colour_range(mesh, field):
+    """(low, high) of the colour bar of ``field`` on the boundary of ``mesh`` where peaks at
+    a few points (a singular edge, a crease tip) would wash the rest out
+    (:func:`~ngincompat.workflow.style.colour_scale` with
+    :data:`~ngincompat.workflow.style.MAP_CLIP`, on the values at the quadrature points of
+    the boundary's elements); (None, None) where the whole range is drawn (the viewer's
+    autoscale)."""
+    kinds = {e.type for e in mesh.Elements(ngs.BND)}
+    points = mesh.MapToAllElements({kind: ngs.IntegrationRule(kind, 2 * DEGREE)
+                                    for kind in kinds}, ngs.BND)
+    values = np.ravel(field(points))
+    values = values[np.isfinite(values)]
+    norm, _ = colour_scale(values, signed=False, clip=MAP_CLIP)
+    if values.size == 0 or (norm.vmin <= values.min() and norm.vmax >= values.max()):
+        return None, None
+    return float(norm.vmin), float(norm.vmax)
 
 
 def page(data, title, caption="") -> str:
