@@ -20,8 +20,7 @@ from matplotlib.figure import Figure
 
 from ngincompat.atomic import atomic_path
 from ngincompat.workflow import surface
-from ngincompat.workflow.style import (MAP_CLIP, RELATIVE_FLOOR, colour_scale, tick_format,
-                                      wrapped)
+from ngincompat.workflow.style import MAP_CLIP, RELATIVE_FLOOR, colour_scale, tick_format, wrapped
 
 #: Curves of at most this many points get a marker at every point.
 FEW = 25
