@@ -90,6 +90,7 @@ def run_case(task):
     folder = Path(task["folder"])
     if _stop is not None and _stop.is_set():
         return _interrupted(None)
+    results = error = None
     try:
         with _interruptible():
             if task.get("threads"):
@@ -98,12 +99,12 @@ def run_case(task):
             try:
                 results = task["scene"].run(folder, overwrite=True, progress=progress,
                                             label=folder.name)
-                error = None
             except ConvergenceError as err:
                 results, error = err.results, _message(err)
     except (Interrupted, KeyboardInterrupt) as err:
-        return _interrupted(getattr(err, "results", None), time.perf_counter() - start,
-                            str(err))
+        if results is None:     # else the run had ended and written its results
+            return _interrupted(getattr(err, "results", None), time.perf_counter() - start,
+                                str(err))
     except Exception as err:
         return _failed(folder, err, time.perf_counter() - start, traceback.format_exc())
     (folder / ERROR_FILE).unlink(missing_ok=True)
