@@ -24,9 +24,15 @@ from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDriven
 from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import SILENT
 from ngincompat.references.bifurcation import critical_growth, onset, prebuckled_cortex
-from ngincompat.scenes.folding import FLOW_RTOL, FoldingScene
+from ngincompat.scenes.folding import CREASE_STRETCH, FLOW_RTOL, FoldingScene
 from ngincompat.studies import folding
 from ngincompat.workflow.pipeline import Solution
+
+#: The smallest bilayer seen to crease with its sulci in contact and reach the paper's 75
+#: days: the coarse bilayer of docs/measurements/folding.md ("Past the creasing threshold")
+#: with a coarse subcortex and its top refined twice; 10,741 dofs.
+CREASING = dict(length=1.0, height=0.6, cortex_thickness=0.1, cortex_maxh=0.05, maxh=0.5,
+                top_refinement=2.0, t_end=75.0, dt=10.0, onset_dt=5.0, observe_dt=10.0)
 
 #: A short, shallow bilayer that buckles like the long one (its substrate is still many
 #: cortical thicknesses deep) on a coarse but adequate mesh: two quadratic elements across
@@ -583,6 +589,25 @@ def test_folded_bilayer_released_is_self_equilibrated_and_bent():
     assert metrics["top_curvature_released"] > 0
     assert 0 < metrics["max_principal_stress_released"] < metrics["max_principal_stress"]
     assert metrics["peak_tension_depth_released"] >= scene.cortex_thickness - 1e-6
+
+
+def test_a_coarse_bilayer_creases_into_self_contact_and_grows_to_75_days():
+    """The paper's 75 days (theta_c = 1.6) past creasing: the top's elastic stretch falls
+    below the creasing threshold, the walls of the sulci touch (a contact line) and do not
+    pass through each other (penetration below 2 % of the cortex), no element inverts, the
+    fold is deeper than the cortex is thick, and the normal axons grow."""
+    scene = FoldingScene(**CREASING, axons="straight", release=False, outputs="none")
+    results = scene.run()
+    metrics = results.metrics
+    assert results.status == "done", results.error
+    assert metrics["t_reached"] == 75.0
+    assert metrics["theta_c_reached"] == pytest.approx(1.6)
+    assert metrics["top_stretch_min"] < CREASE_STRETCH
+    assert metrics["self_contact_area"] > 0
+    assert metrics["self_contact_penetration_max"] < 0.02 * scene.cortex_thickness
+    assert metrics["Je_min"] > 0
+    assert metrics["sulci"] >= 1 and metrics["sulcus_depth"] > scene.cortex_thickness
+    assert metrics["theta_a_max"] > 1.1
 
 
 def test_the_refined_top_is_meshed_finer_than_the_cortex_below():
