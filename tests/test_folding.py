@@ -8,7 +8,7 @@ import json
 import ngsolve as ngs
 import numpy as np
 import pytest
-from conftest import FOLDING_COARSE
+from conftest import FOLDING_COARSE, FOLDING_CREASING
 from scipy.optimize import brentq
 
 from geometries import bilayer, cube
@@ -28,11 +28,9 @@ from ngincompat.scenes.folding import CREASE_STRETCH, FLOW_RTOL, FoldingScene
 from ngincompat.studies import folding
 from ngincompat.workflow.pipeline import Solution
 
-#: The smallest bilayer seen to crease with its sulci in contact and reach the paper's 75
-#: days: the coarse bilayer of docs/measurements/folding.md ("Past the creasing threshold")
-#: with a coarse subcortex and its top refined twice; 10,741 dofs.
-CREASING = dict(length=1.0, height=0.6, cortex_thickness=0.1, cortex_maxh=0.05, maxh=0.5,
-                top_refinement=2.0, t_end=75.0, dt=10.0, onset_dt=5.0, observe_dt=10.0)
+#: The smallest bilayer seen to crease into self-contact (``conftest.FOLDING_CREASING``).
+CREASING = {key: float(value) for key, value in
+            (pair.split("=") for pair in FOLDING_CREASING[1::2])}
 
 #: A short, shallow bilayer that buckles like the long one (its substrate is still many
 #: cortical thicknesses deep) on a coarse but adequate mesh: two quadratic elements across

@@ -23,7 +23,13 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from conftest import FOLDING_COARSE, SKIN_COARSE, local_dask_cluster, peer_stand_in
+from conftest import (
+    FOLDING_COARSE,
+    FOLDING_CREASING,
+    SKIN_COARSE,
+    local_dask_cluster,
+    peer_stand_in,
+)
 
 from ngincompat.cli import EXIT_FAILED_CASES, main
 from ngincompat.workflow import io
@@ -48,12 +54,11 @@ RUN = {
     "atrophy": ["--maxh", "1", "--set", "semi_axes=3,2.5,2", "--set", "gray_thickness=0.5",
                 "--set", "seed=0,0,-2", "--set", "t_end=4", "--set", "dt=1", "--set",
                 "snapshots=1", "--set", "g_order=2"],
+    # without the release, most of the time (two thirds on the coarse bilayer), which
+    # test_folding.py runs; the default cortex mesh (the refinement study's finer ones took
+    # 20 and 43 s); ``ngincompat folding`` runs on a creasing bilayer (``coarse``)
     "folding": [*FOLDING_COARSE, "--set", "release=false", "--set", "cortex_maxh=0.025"],
 }
-#: The folding commands without the release: it is most of their time (two thirds on the
-#: coarse bilayer), and test_folding.py's driver test runs it on these coarse settings; and
-#: with the default cortex mesh (the refinement study's finer ones took 20 and 43 s).
-FOLDING = RUN["folding"]
 #: A folding run with a refined top: the thin default cortex refined twice (its own cortex
 #: of 0.1 cm refined 4 times on the coarse bilayer: 76,441 dofs and 4 min 40 s at load 5).
 FOLDING_REFINED_TOP = ["--set", "cortex_thickness=0.05", "--set", "top_refinement=2"]
@@ -127,8 +132,8 @@ def coarse(argv, scheduler=None):
         return [*argv, "--only", "3.1,3.4", "-q"]
     if command == "expansion":
         return [*argv, "--footprints", "circle", *SKIN_COARSE, "-q"]
-    if command == "folding":
-        return [*argv, "--axons", "curved", *FOLDING, "-q"]
+    if command == "folding":     # the driver on a bilayer that creases into self-contact
+        return [*argv, "--axons", "curved", *FOLDING_CREASING, "--set", "release=false", "-q"]
     if command == "bench":
         return [*argv, *BENCH[argv[1]]]
     if command == "sweep":
