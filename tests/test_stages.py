@@ -176,3 +176,45 @@ def test_checkpoint_restores_the_state_and_refuses_another_mesh(tmp_path):
 def test_the_relaxation_flow_tolerance_must_lie_in_the_unit_interval(flow_rtol):
     with pytest.raises(ParameterError, match=r"flow_rtol.*in \(0, 1\)"):
         RelaxationStage("release", None, None, viscosity=1.0, dt=1.0, flow_rtol=flow_rtol)
+
+
+def test_failed_tries_of_the_relaxation_do_not_use_up_its_steps(monkeypatch):
+    """A flow whose every other try fails (an inverted element: the step is halved, and the
+    next accepted one doubles it again) reaches its equilibrium after 45 accepted steps, 90
+    tries: the budget of 60 counts accepted steps. The flow's residual falls by 0.02 of its
+    start per accepted step; Newton without viscosity is tried once it has fallen 10-fold."""
+    from ngincompat.fem import stages
+
+    state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
+    accepted = []
+
+    class Flow:
+        def __init__(self, problem, options, energy=None):
+            pass
+
+        def minimise(self, record):
+            if record.dt == 0:            # without viscosity: the equilibrium
+                record.residuals = [1e-12]
+                return True
+            Flow.calls = getattr(Flow, "calls", 0) + 1
+            if Flow.calls % 2:
+                record.reason = "residual is not finite"
+                return False
+            record.iterations = 4
+            return True
+
+        def residual(self):
+            return SimpleNamespace(Norm=lambda: 1.0 - 0.02 * len(accepted))
+
+    problem = SimpleNamespace(growing=ngs.Parameter(1.0), dt=ngs.Parameter(0.0), state=state,
+                              frozen_energy=lambda: -float(len(accepted)),
+                              energy=lambda: -float(len(accepted)) - 1.0,
+                              accept_step=lambda: accepted.append(True))
+    monkeypatch.setattr(stages, "NewtonSolver", Flow)
+    monkeypatch.setattr(stages.buckling, "smallest_eigenpairs", lambda *a, **k: ([1.0], None))
+    stage = RelaxationStage("release", problem, SimpleNamespace(restart=lambda eta: None),
+                            viscosity=1.0, dt=1.0)
+    history = stage.run(SILENT)
+    assert history.converged and len(accepted) == 45
+    assert sum(not step.converged for step in history.steps) == 45
+    assert stage.max_steps == 60 < len(history.steps)

@@ -396,7 +396,10 @@ class RelaxationStage:
     Raises
     ------
     ConvergenceError
-        No equilibrium after ``max_steps`` steps, or tau below ``options.min_step``.
+        No equilibrium after ``max_steps`` accepted steps (a failed try, retried with half
+        the step, does not count: tries that invert elements early in a release used up
+        the budget just before the flow reached its equilibrium), or tau below
+        ``options.min_step``.
     """
 
     name: str
@@ -426,12 +429,12 @@ class RelaxationStage:
         saved = problem.state.vec.CreateVector()
         saved.data = problem.state.vec
         self.initial_residual = self._residual(solver)
-        energy, t, tau = problem.frozen_energy(), 0.0, self.dt
+        energy, t, tau, accepted = problem.frozen_energy(), 0.0, self.dt, 0
         attempt = self.initial_residual
         progress.line(f"{label}: residual without viscosity {self.initial_residual:.3g}")
         try:
             with config.task_manager():
-                for _ in range(self.max_steps):
+                while accepted < self.max_steps:
                     problem.dt.Set(tau)
                     record = StepRecord(t=t + tau, dt=tau, converged=False)
                     if solver.minimise(record):
@@ -449,7 +452,7 @@ class RelaxationStage:
                         if tau < self.options.min_step:
                             break
                         continue
-                    t, energy = t + tau, record.energy
+                    t, energy, accepted = t + tau, record.energy, accepted + 1
                     problem.accept_step()
                     saved.data = problem.state.vec
                     residual = self._residual(solver)
@@ -467,8 +470,8 @@ class RelaxationStage:
         finally:
             problem.dt.Set(0.0)
             problem.growing.Set(1.0)
-        raise ConvergenceError(f"{self.name}: no equilibrium after {len(history.steps)} "
-                               f"pseudo-time steps (last step {tau:.3g})", history=history,
+        raise ConvergenceError(f"{self.name}: no equilibrium after {accepted} pseudo-time "
+                               f"steps (last step {tau:.3g})", history=history,
                                t_converged=history.t_reached)
 
     @property
