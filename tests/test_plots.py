@@ -78,10 +78,10 @@ def test_deformed_figure_draws_each_field_on_the_moved_grid():
 
 
 def test_a_peak_of_the_deformed_figure_is_beyond_its_colour_bar_which_says_so():
-    """One point of 1000 times the rest (a crease tip's stress) does not set the scale; the
-    colour bar gets an arrow at its top."""
+    """One point of 1000 times the rest of a stress (a crease tip's) does not set the scale;
+    the colour bar gets an arrow at its top. A field of one sign keeps its whole range."""
     X1, X3 = np.meshgrid(np.linspace(0, 2, 41), np.linspace(0, 1, 21))
-    f = X1 + X3
+    f = X1 - X3                 # a stress: both signs
     f[10, 20] = 1000.0
     profile = {"X1": X1[0], "X3": X3[:, 0], "f": f, "u": np.zeros(X1.shape + (2,))}
     fig = plots.deformed_figure({"two": profile}, {"f [kPa]": ("f", "u")},
@@ -89,6 +89,11 @@ def test_a_peak_of_the_deformed_figure_is_beyond_its_colour_bar_which_says_so():
     image = [ax for ax in fig.axes if ax.collections and ax.get_title()][0].collections[0]
     assert image.get_clim()[1] < 3.0
     assert image.colorbar.extend == "max"
+    profile["f"] = np.abs(f)    # one sign (a growth): its whole range, no arrow
+    fig = plots.deformed_figure({"two": profile}, {"f [-]": ("f", "u")},
+                                ("X1", "X3"), "X1 [cm]", "X3 [cm]")
+    image = [ax for ax in fig.axes if ax.collections and ax.get_title()][0].collections[0]
+    assert image.get_clim()[1] == 1000.0 and image.colorbar.extend == "neither"
 
 
 def test_long_titles_wrap_to_the_figure_and_keep_their_formulas():

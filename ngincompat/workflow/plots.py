@@ -192,10 +192,11 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
         Smallest range of a colour scale (as for the profiles' axes, besides
         ``RELATIVE_FLOOR`` of the largest value): round-off is drawn flat.
 
-    Every column has one colour scale for all rows (so the rows compare), leaving
-    :data:`MAP_CLIP` per cent of the values beyond each end (a crease tip's peak stress would
-    wash out the rest; the colour bar's arrows say so); a field of both signs (a stress) gets
-    a diverging scale centred on zero.
+    Every column has one colour scale for all rows (so the rows compare); a field of both
+    signs (a stress) gets a diverging scale centred on zero, which leaves :data:`MAP_CLIP`
+    per cent of the values beyond its ends where they are peaks (a crease tip's stress would
+    wash out the rest; the colour bar's arrows say so). A field of one sign spans its range:
+    one row's larger growth is not a peak to clip.
     """
     panels = {label: keys for label, keys in panels.items()
               if all(k in p for p in rows.values() for k in keys)}
@@ -205,8 +206,9 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
     fig = Figure(figsize=(4.6 * ncols, 0.5 + len(rows) * (1.0 + 3.4 * aspect)), dpi=110)
     grid = np.atleast_2d(fig.subplots(len(rows), ncols, squeeze=False))
     for col, (label, (key, disp)) in enumerate(panels.items()):
-        norm, cmap = colour_scale(np.concatenate([np.ravel(p[key]) for p in rows.values()]),
-                                  floor=floor, clip=MAP_CLIP)
+        values = np.concatenate([np.ravel(p[key]) for p in rows.values()])
+        signed = np.nanmin(values) < 0 < np.nanmax(values)
+        norm, cmap = colour_scale(values, floor=floor, clip=MAP_CLIP if signed else 0.0)
         for row, (name, p) in enumerate(rows.items()):
             ax = grid[row, col]
             U, V = np.meshgrid(p[axes[0]], p[axes[1]])
@@ -218,7 +220,7 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
             _panel(fig, ax, image, f"{name}: {label}" if name else label, xlabel, ylabel)
     if title:
         fig.suptitle(wrapped(title, fig.get_figwidth(), 12), fontsize="large")
-    fig.tight_layout()
+    fig.tight_layout(h_pad=1.5)    # a row's axis label clear of the next row's title
     return fig
 
 
