@@ -254,8 +254,8 @@ def _skin_growth(*runs):
 
 
 #: Relative difference of two expanders' mean growth below which their order is not
-#: settled: the mean growth changes by up to 3 % between the preview and the paper's
-#: resolution, and the circle and square swap places (docs/measurements/paper-job.md).
+#: settled: the mean growth changes by a few per cent between the preview and the paper's
+#: resolution, and the order of close expanders with it (docs/measurements/paper-job.md).
 UNSETTLED = 0.02
 
 
