@@ -6,6 +6,8 @@ tests/test_expressions.py) at points drawn inside random boxes: every value nump
 lies in the enclosure, and where numpy gives NaN the enclosure proves nothing.
 """
 
+import warnings
+
 import ngsolve as ngs
 import numpy as np
 import pytest
@@ -16,7 +18,7 @@ from test_expressions import EXPRESSION_TEXTS, _reference_env, reference
 from geometries import cube
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
-from ngincompat.mechanics.bounds import enclosure, positive_on
+from ngincompat.mechanics.bounds import Interval, _reciprocal, enclosure, positive_on
 from ngincompat.mechanics.expressions import parse_expression
 from ngincompat.mechanics.growth import check_positive
 from ngincompat.sampling import element_points
@@ -116,3 +118,12 @@ def test_custom_scene_refuses_a_narrow_negative_dip(tmp_path, capsys):
     assert code == 2, err
     assert "between the points where it was sampled" in err
     assert "Traceback" not in err
+
+
+def test_the_reciprocal_of_a_subnormal_side_overflows_quietly_as_numpys():
+    """1 / 1e-320 overflows: the enclosure's side is inf, like numpy's value, and no
+    RuntimeWarning is raised (a random box of the enclosure test once drew such a side)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        inverse = _reciprocal(Interval(np.array([1e-320]), np.array([2e-320])))
+    assert np.isinf(inverse.lo).all() and np.isinf(inverse.hi).all()

@@ -83,9 +83,10 @@ def _mul(a, b):
 
 
 def _reciprocal(a):
-    """1 / a; a side at exactly zero goes to infinity of its sign (numpy: 1 / 0 = inf), an
+    """1 / a; a side at exactly zero goes to infinity of its sign (numpy: 1 / 0 = inf), as
+    does the reciprocal of a subnormal side (it overflows, as numpy's value does); an
     interval across zero is unbounded."""
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):
         lo, hi = 1.0 / a.hi, 1.0 / a.lo
     across = (a.lo < 0) & (a.hi > 0)
     lo = np.where(across | ((a.hi == 0) & (a.lo < 0)), -np.inf, lo)
