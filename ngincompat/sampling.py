@@ -11,21 +11,24 @@ _VERTICES = {
     ngs.ET.HEX: [(a, b, c) for a in (0, 1) for b in (0, 1) for c in (0, 1)],
     ngs.ET.PRISM: [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (0, 1, 1)],
     ngs.ET.PYRAMID: [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1)],
+    ngs.ET.TRIG: [(0, 0), (1, 0), (0, 1)],
+    ngs.ET.QUAD: [(0, 0), (1, 0), (1, 1), (0, 1)],
 }
 
 
-def element_points(mesh, order=4):
-    """The points of an integration rule of ``order`` plus the vertices, in every volume element.
+def element_points(mesh, order=4, vb=ngs.VOL):
+    """The points of an integration rule of ``order`` plus the vertices, in every volume element
+    (``vb`` = ``ngs.BND``: every boundary element).
 
     Returns the mapped points (evaluate a CoefficientFunction ``cf`` there with ``cf(points)``).
     """
     rules = {}
-    for et in {el.type for el in mesh.Elements(ngs.VOL)}:
+    for et in {el.type for el in mesh.Elements(vb)}:
         ir = ngs.IntegrationRule(et, order)
         verts = _VERTICES[et]
         rules[et] = ngs.IntegrationRule([tuple(p) for p in ir.points] + verts,
                                         list(ir.weights) + [0.0] * len(verts))
-    return mesh.MapToAllElements(rules, ngs.VOL)
+    return mesh.MapToAllElements(rules, vb)
 
 
 def element_boxes(mesh, order=4):

@@ -45,6 +45,7 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 
+from ngincompat import sampling
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import NgincompatError
 from ngincompat.workflow.style import MAP_CLIP, colour_scale
@@ -136,13 +137,10 @@ def colour_range(mesh, field):
     """(low, high) of the colour bar of ``field`` on the boundary of ``mesh`` where peaks at
     a few points (a singular edge, a crease tip) would wash the rest out
     (:func:`~ngincompat.workflow.style.colour_scale` with
-    :data:`~ngincompat.workflow.style.MAP_CLIP`, on the values at the quadrature points of
-    the boundary's elements); (None, None) where the whole range is drawn (the viewer's
+    :data:`~ngincompat.workflow.style.MAP_CLIP`, on the values at the integration points and
+    vertices of the boundary's elements); (None, None) where the whole range is drawn (the viewer's
     autoscale)."""
-    kinds = {e.type for e in mesh.Elements(ngs.BND)}
-    points = mesh.MapToAllElements({kind: ngs.IntegrationRule(kind, 2 * DEGREE)
-                                    for kind in kinds}, ngs.BND)
-    values = np.ravel(field(points))
+    values = np.ravel(field(sampling.element_points(mesh, 2 * DEGREE, ngs.BND)))
     values = values[np.isfinite(values)]
     norm, _ = colour_scale(values, signed=False, clip=MAP_CLIP)
     if values.size == 0 or (norm.vmin <= values.min() and norm.vmax >= values.max()):
