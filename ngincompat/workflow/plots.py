@@ -20,7 +20,14 @@ from matplotlib.figure import Figure
 
 from ngincompat.atomic import atomic_path
 from ngincompat.workflow import surface
-from ngincompat.workflow.style import MAP_CLIP, RELATIVE_FLOOR, colour_scale, tick_format, wrapped
+from ngincompat.workflow.style import (
+    MAP_CLIP,
+    RELATIVE_FLOOR,
+    colour_scale,
+    extend,
+    tick_format,
+    wrapped,
+)
 
 #: Curves of at most this many points get a marker at every point.
 FEW = 25
@@ -227,12 +234,8 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
 def _panel(fig, ax, image, title, xlabel, ylabel=None):
     """A colour map's colour bar (three-digit ticks; an arrow at an end beyond which values
     lie), title and axis labels."""
-    lo, hi = image.get_clim()
-    data = np.ma.compressed(np.ma.masked_invalid(image.get_array()))
-    below, above = bool(data.size and data.min() < lo), bool(data.size and data.max() > hi)
-    extend = {(False, False): "neither", (True, False): "min", (False, True): "max",
-              (True, True): "both"}[below, above]
-    fig.colorbar(image, ax=ax, shrink=0.85, format=tick_format(lo, hi), extend=extend)
+    fig.colorbar(image, ax=ax, shrink=0.85, format=tick_format(*image.get_clim()),
+                 extend=extend(image.get_array(), image.norm))
     ax.set_title(title, fontsize="medium")
     ax.set_xlabel(xlabel, fontsize="small")
     if ylabel:

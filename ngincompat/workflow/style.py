@@ -86,3 +86,14 @@ def colour_scale(values, signed=None, floor=0.0, clip=0.0):
     if hi - lo < least:
         lo, hi = (lo + hi - least) / 2, (lo + hi + least) / 2
     return colors.Normalize(lo, hi), "viridis"
+
+
+def extend(values, norm):
+    """The ``extend`` of the colour bar of ``values`` drawn with ``norm``: an arrow at each
+    end beyond which values lie (a scale of :func:`colour_scale` that clipped them)."""
+    data = np.ma.compressed(np.ma.masked_invalid(np.asarray(values, dtype=float)))
+    below = bool(data.size and data.min() < norm.vmin)
+    above = bool(data.size and data.max() > norm.vmax)
+    return {(False, False): "neither", (True, False): "min", (False, True): "max",
+            (True, True): "both"}[below, above]
+

@@ -28,7 +28,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
-from ngincompat.workflow.style import colour_scale, tick_format, wrapped
+from ngincompat.workflow.style import colour_scale, extend, tick_format, wrapped
 
 #: Triangles per panel the subdivision aims at (finer looks no different at the figure's size).
 TRIANGLES = 12000
@@ -186,7 +186,7 @@ def _figure(panels, values, shapes, title, unit, view, ncols):
         ax.tick_params(labelsize="x-small", pad=0)
         ax.set_title(wrapped(panel.title, 3.2), fontsize="medium")
         bar = fig.colorbar(mappable, ax=ax, shrink=0.7, pad=0.16,
-                           format=tick_format(norm.vmin, norm.vmax))
+                           format=tick_format(norm.vmin, norm.vmax), extend=extend(face, norm))
         bar.ax.tick_params(labelsize="small")
     fig.suptitle(title, fontsize="large")
     fig.subplots_adjust(left=0.05, right=0.95, bottom=0.03, top=0.86 if nrows == 1 else 0.92,
