@@ -127,3 +127,43 @@ def test_the_reciprocal_of_a_subnormal_side_overflows_quietly_as_numpys():
         warnings.simplefilter("error")
         inverse = _reciprocal(Interval(np.array([1e-320]), np.array([2e-320])))
     assert np.isinf(inverse.lo).all() and np.isinf(inverse.hi).all()
+
+
+@pytest.mark.parametrize("text, x1", [
+    ("-(1 / min(0, (X1 - X1)))", 0.5),      # drawn by the random test: min(0, +0) is +0
+    ("-(1 / min(0, (X1 - X1)))", 0.0),
+    ("1 / (X1 - X1)", 0.0),
+    ("1 / (-X1)", 0.0),                      # -0
+    ("1 / (X1 * (-1))", 0.0),
+    ("1 / sqrt(-X1)", 0.0),                  # sqrt(-0) = -0
+    ("1 / (-X1)**3", 0.0),
+    ("1 / max(-X1, X1 - X1)", 0.0),
+    ("1 / sin(-X1)", 0.0),
+    ("-(1 / (X1 - 0.5)**2)", 0.5),
+])
+def test_the_sign_of_a_zero_decides_the_reciprocals_infinity_as_in_numpy(text, x1):
+    """1/+0 = inf and 1/-0 = -inf: the enclosure of a point box holds numpy's value whichever
+    zero the expression reaches there."""
+    point = np.array([x1, 0.0, 0.0, 0.0])
+    env = _reference_env(*(np.array([c]) for c in point[:3]), point[3])
+    value = reference(text, env).v[0]
+    low, high = enclosure(text, point[None], point[None])
+    assert np.isinf(value) and low[0] <= value <= high[0], (value, low, high)
+
+
+@pytest.mark.parametrize("text, box_hi", [
+    ("2**((X1 - X1) * log(X3 - X3))", 1.0),  # 0 * -inf inside the box, not at its corners
+    ("1 / (X1 - X1) - 1 / (X1 - X1)", 0.0),  # inf - inf
+])
+def test_a_value_numpy_computes_as_nan_leaves_the_enclosure_unbounded_quietly(text, box_hi):
+    """Drawn by the random test: the enclosure proves nothing where numpy's value is NaN, and
+    computing it raises no RuntimeWarning."""
+    lo, hi = np.zeros(4), np.array([box_hi, 0.0, 0.0, 0.0])
+    env = _reference_env(*(np.array([c]) for c in lo[:3]), lo[3])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert np.isnan(reference(text, env).v[0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        low, high = enclosure(text, lo[None], hi[None])
+    assert low[0] == -np.inf and high[0] == np.inf

@@ -12,6 +12,9 @@ proven or a point with theta <= 0 (or not finite) is found.
 
 Rounding: the end points are moved outward by a few units in the last place after each
 operation (an end point at exactly zero stays), so the enclosure holds in floating point too.
+Signed zeros: 1/+0 = inf but 1/-0 = -inf, so an end point at zero says which zeros the interval
+may hold: a lower end is -0 wherever -0 may occur, an upper end at zero is always +0 (the
+order -0 < +0).
 A value that may be NaN (the square root or logarithm of an interval reaching below zero,
 0 times infinity, the sine of infinity) is enclosed by [-inf, inf]: it cannot be proven
 positive there, and every result computed from it is marked the same.
@@ -55,7 +58,8 @@ class Interval:
             self.nan = np.isnan(lo) | np.isnan(hi) | nan
             # zero and infinity stay: zero is exact (x - x, 0 * y, a box's side at 0)
             self.lo = np.where(self.nan, -np.inf, _outward(lo, -1))
-            self.hi = np.where(self.nan, np.inf, _outward(hi, 1))
+            # -0 + 0 = +0: an upper end at zero allows +0
+            self.hi = np.where(self.nan, np.inf, _outward(hi, 1)) + 0.0
 
     @classmethod
     def point(cls, value, n):
@@ -65,10 +69,18 @@ class Interval:
         return (self.lo <= 0) & (self.hi >= 0)
 
 
+def _negative_zero(low, *ends):
+    """``low`` with its zero made -0 where one of ``ends`` is -0: numpy's min and max may
+    return either of two zeros, and a lower end must allow -0 wherever it may occur."""
+    minus = np.any([(e == 0) & np.signbit(e) for e in ends], axis=0)
+    return np.where((low == 0) & minus, -0.0, low)
+
+
 def _add(a, b):
     # inf + -inf is NaN
     nan = ((a.hi == np.inf) & (b.lo == -np.inf)) | ((a.lo == -np.inf) & (b.hi == np.inf))
-    return Interval(a.lo + b.lo, a.hi + b.hi, nan)
+    with np.errstate(invalid="ignore"):
+        return Interval(a.lo + b.lo, a.hi + b.hi, nan)
 
 
 def _sub(a, b):
@@ -78,21 +90,23 @@ def _sub(a, b):
 def _mul(a, b):
     with np.errstate(invalid="ignore", over="ignore"):
         products = np.stack([a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi])
-    # 0 * inf is NaN: the product is unknown there
-    return Interval(np.min(products, axis=0), np.max(products, axis=0))
+    # 0 * inf is NaN, also where the zero lies inside an interval whose ends are not zero
+    nan = ((a.contains_zero() & (np.isinf(b.lo) | np.isinf(b.hi)))
+           | (b.contains_zero() & (np.isinf(a.lo) | np.isinf(a.hi))))
+    return Interval(_negative_zero(np.min(products, axis=0), *products),
+                    np.max(products, axis=0), nan)
 
 
 def _reciprocal(a):
-    """1 / a; a side at exactly zero goes to infinity of its sign (numpy: 1 / 0 = inf), as
-    does the reciprocal of a subnormal side (it overflows, as numpy's value does); an
-    interval across zero is unbounded."""
+    """1 / a as numpy computes it: 1/+0 = inf and 1/-0 = -inf, so an interval holding +0 (its
+    lower end <= 0 <= its upper end) reaches inf and one holding -0 (a lower end below zero or
+    at -0) reaches -inf; the reciprocal of a subnormal side overflows to infinity, as numpy's
+    value does."""
     with np.errstate(divide="ignore", over="ignore"):
         lo, hi = 1.0 / a.hi, 1.0 / a.lo
-    across = (a.lo < 0) & (a.hi > 0)
-    lo = np.where(across | ((a.hi == 0) & (a.lo < 0)), -np.inf, lo)
-    hi = np.where(across | ((a.lo == 0) & (a.hi > 0)), np.inf, hi)
-    both_zero = (a.lo == 0) & (a.hi == 0)
-    return Interval(np.where(both_zero, -np.inf, lo), np.where(both_zero, np.inf, hi))
+    holds_zero = (a.lo <= 0) & (a.hi >= 0)
+    minus_zero = (holds_zero & (a.lo < 0)) | ((a.lo == 0) & np.signbit(a.lo))
+    return Interval(np.where(minus_zero, -np.inf, lo), np.where(holds_zero, np.inf, hi))
 
 
 def _div(a, b):
@@ -103,10 +117,10 @@ def _neg(a):
     return Interval(-a.hi, -a.lo)
 
 
-def _monotone(f, a, increasing=True):
+def _monotone(f, a):
+    """f(a) for an increasing f that keeps the sign of zero (exp, sqrt, atan, tanh, sinh)."""
     with np.errstate(all="ignore"):
-        lo, hi = f(a.lo), f(a.hi)
-    return Interval(lo, hi) if increasing else Interval(hi, lo)
+        return Interval(f(a.lo), f(a.hi))
 
 
 def _even_power(a, n):
@@ -119,7 +133,8 @@ def _even_power(a, n):
 
 def _sqrt(a):
     # NaN below zero: the box holds a point where theta is NaN unless all of it is >= 0
-    root = _monotone(np.sqrt, Interval(np.maximum(a.lo, 0), np.maximum(a.hi, 0)))
+    # sqrt(-0) = -0: a lower end at -0 stays
+    root = _monotone(np.sqrt, Interval(np.where(a.lo < 0, 0.0, a.lo), np.maximum(a.hi, 0)))
     return Interval(np.where(a.lo < 0, np.nan, root.lo), root.hi)
 
 
@@ -140,8 +155,8 @@ def _power(a, b, exponent):
             magnitude = _even_power(a, abs(exponent))
         else:
             with np.errstate(over="ignore"):
-                magnitude = Interval(np.sign(a.lo) * np.abs(a.lo) ** abs(exponent),
-                                     np.sign(a.hi) * np.abs(a.hi) ** abs(exponent))
+                magnitude = Interval(np.copysign(np.abs(a.lo) ** abs(exponent), a.lo),
+                                     np.copysign(np.abs(a.hi) ** abs(exponent), a.hi))
         return magnitude if exponent > 0 else _reciprocal(magnitude)
     if exponent is not None:
         # a non-integer constant: NaN for a < 0, monotone in a >= 0
@@ -160,7 +175,7 @@ def _periodic(a, f, peak, trough):
     (``peak + 2 pi k``) or a trough."""
     with np.errstate(invalid="ignore"):
         ends = np.stack([f(a.lo), f(a.hi)])
-        lo, hi = np.min(ends, axis=0), np.max(ends, axis=0)
+        lo, hi = _negative_zero(np.min(ends, axis=0), *ends), np.max(ends, axis=0)
 
         def holds(x0):
             k = np.ceil((a.lo - x0) / (2 * np.pi))
@@ -205,8 +220,10 @@ FUNCTIONS = {
     "sinh": lambda a: _monotone(np.sinh, a),
     "cosh": _cosh,
     "abs": _abs,
-    "min": lambda a, b: Interval(np.minimum(a.lo, b.lo), np.minimum(a.hi, b.hi)),
-    "max": lambda a, b: Interval(np.maximum(a.lo, b.lo), np.maximum(a.hi, b.hi)),
+    "min": lambda a, b: Interval(_negative_zero(np.minimum(a.lo, b.lo), a.lo, b.lo),
+                                 np.minimum(a.hi, b.hi)),
+    "max": lambda a, b: Interval(_negative_zero(np.maximum(a.lo, b.lo), a.lo, b.lo),
+                                 np.maximum(a.hi, b.hi)),
 }
 
 _BINARY = {ast.Add: _add, ast.Sub: _sub, ast.Mult: _mul, ast.Div: _div}
