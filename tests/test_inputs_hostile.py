@@ -98,6 +98,14 @@ def test_every_word_parameter_refuses_empty_wrong_and_numeric_values_in_one_line
     assert _refused(scene, key, ("", "no-such-value", "1e308"), tmp_path, capsys) >= 2
 
 
+@pytest.mark.parametrize("key", ["growth", "direction", "material", "fiber"])
+def test_the_custom_scenes_named_choices_refuse_an_unknown_name_naming_the_parameter(
+        key, tmp_path, capsys):
+    """Registered kinds and directions are open sets of names: an unknown one (``fiber=abc``
+    once reported "direction 'abc'") is refused under its own parameter's name."""
+    assert _refused("custom", key, ("no-such-value",), tmp_path, capsys) == 1
+
+
 def test_the_issues_infinite_first_residual_is_refused_as_bad_input_and_writes_nothing(
         tmp_path, capsys):
     """theta = 1 + 1e300 X1 t overflowed the residual at the first step and exited 0, "done"

@@ -73,9 +73,10 @@ def circumferential(axis="e3", center=(0.0, 0.0, 0.0)):
     return DirectionField(ngs.Cross(a, r), "circumferential")
 
 
-def from_name(spec):
+def from_name(spec, parameter="direction"):
     """A direction field from a short name: e1, e2, e3, radial, radial_xy, circumferential,
-    or the bilayer's axons_curved, axons_concentric, axons_straight (default placement)."""
+    or the bilayer's axons_curved, axons_concentric, axons_straight (default placement);
+    ``parameter`` is the name an unknown one is reported under."""
     if spec in _AXES:
         return constant(spec)
     if spec == "radial":
@@ -87,7 +88,7 @@ def from_name(spec):
     if spec.startswith("axons_") and spec[len("axons_"):] in AXONS:
         return axons(spec[len("axons_"):])
     raise ParameterError(
-        f"direction {spec!r} is unknown: allowed e1, e2, e3, radial, radial_xy, "
+        f"{parameter} = {spec!r} is unknown: allowed e1, e2, e3, radial, radial_xy, "
         "circumferential, axons_curved, axons_concentric, axons_straight")
 
 

@@ -81,7 +81,7 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
         self.make_material()
         parse_expression(self.theta, name="theta")
         fields.from_name(self.direction)
-        fields.from_name(self.fiber)
+        fields.from_name(self.fiber, "fiber")
         default = {f.name: f.default for f in dataclasses.fields(self)}
         if self.mesh:
             _check_file("mesh", self.mesh, MESH_EXTENSIONS)
@@ -123,7 +123,7 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
             mesh=mesh, growth=growth, material=material, time=time,
             planes={f"n{i + 1}": n for i, n in enumerate(normals)},
             line=(tuple(start), tuple(end), self.line),
-            fibers=(fields.from_name(self.fiber),) if material.needs_fibers else (),
+            fibers=(fields.from_name(self.fiber, "fiber"),) if material.needs_fibers else (),
             components={f"S{i}{i}": ("S", e[i - 1], e[i - 1]) for i in (1, 2, 3)},
             analytic=not self.theta_file, expression=None if self.theta_file else self.theta)
 
