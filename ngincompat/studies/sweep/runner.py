@@ -29,24 +29,14 @@ its traceback in ``OUT/case_.../error.txt``. Interrupted (Ctrl-C), the sweep sto
 writes the table with every case: those that had not finished are rows "interrupted".
 """
 
-import concurrent.futures
-import contextlib
 import dataclasses
 import json
-import multiprocessing
-import os
-import signal
-import threading
-import time
-import traceback
 import uuid
 from collections import deque
 from pathlib import Path
 
-from ngincompat import config
-from ngincompat.atomic import atomic_path
-from ngincompat.errors import ConvergenceError, Interrupted, ParameterError
-from ngincompat.progress import SILENT, Progress
+from ngincompat.errors import ParameterError
+from ngincompat.progress import SILENT
 from ngincompat.studies.sweep.table import (
     FIXED_COLUMNS,
     JOURNAL,
@@ -54,137 +44,17 @@ from ngincompat.studies.sweep.table import (
     make_table,
     write_table,
 )
+from ngincompat.studies.workers import (
+    LocalPool,
+    error_message,
+    failed,
+    interrupted,
+    outcome,
+    run_case,
+    run_side_by_side,
+)
 from ngincompat.workflow import io, output, tables
-from ngincompat.workflow.results import DONE, INTERRUPTED
-
-#: Status of a case that raised, or whose scene rejected its parameters.
-FAILED = "failed"
-#: Name of a failed case's traceback file, in its folder.
-ERROR_FILE = "error.txt"
-
-
-# --------------------------------------------------------------------------- one case
-
-def run_case(task):
-    """Run one case (in a worker); returns its outcome and never raises.
-
-    Parameters
-    ----------
-    task : dict
-        ``scene`` (a Scene), ``folder``, ``threads`` (NGSolve threads, or None to keep the
-        worker's setting) and ``quiet`` (no progress report; else plain lines on the worker's
-        standard error, each naming the case).
-
-    Returns
-    -------
-    dict
-        ``status`` ("done", "not converged", "interrupted" or "failed"), ``metrics``,
-        ``seconds`` (the sum of the run's timings; for a failed case the wall time until the
-        failure) and ``error`` (message, or None).
-
-    A local worker takes Ctrl-C only while it runs a case (:func:`_init_worker`): the case is
-    then "interrupted", its results.json says so, and nothing is printed; after the sweep
-    was stopped (:data:`_stop`) a case still queued is "interrupted" without running.
-    """
-    start = time.perf_counter()
-    folder = Path(task["folder"])
-    if _stop is not None and _stop.is_set():
-        return _interrupted(None)
-    results = error = None
-    try:
-        with _interruptible():
-            if task.get("threads"):
-                config.configure(threads=task["threads"])
-            progress = Progress(quiet=task["quiet"], bars=False)
-            try:
-                results = task["scene"].run(folder, overwrite=True, progress=progress,
-                                            label=folder.name)
-            except ConvergenceError as err:
-                results, error = err.results, _message(err)
-    except (Interrupted, KeyboardInterrupt) as err:
-        if results is None:     # else the run had ended and written its results
-            return _interrupted(getattr(err, "results", None), time.perf_counter() - start,
-                                str(err))
-    except Exception as err:
-        return _failed(folder, err, time.perf_counter() - start, traceback.format_exc())
-    (folder / ERROR_FILE).unlink(missing_ok=True)
-    return _outcome(results, error)
-
-
-#: Set by the sweep (in a local worker: the event :func:`_init_worker` was given) once it is
-#: interrupted: a case that has not started does not start.
-_stop = None
-
-
-@contextlib.contextmanager
-def _interruptible():
-    """Ctrl-C raises KeyboardInterrupt in the block (in a local worker, which ignores it
-    otherwise); off the main thread (a Dask worker's task) nothing changes."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-
-
-@contextlib.contextmanager
-def _sigint_held():
-    """Ctrl-C held back on the calling thread in the block and delivered at its end; a worker
-    process started in the block inherits the held signal mask, so that a Ctrl-C arriving
-    while it still imports stays pending until :func:`_init_worker` discards it."""
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
-def _interrupted(results, seconds=None, message=""):
-    """The outcome of a case stopped by Ctrl-C (``results``: its record, if it had begun)."""
-    metrics = {} if results is None else results.metrics
-    error = results.error if results is not None else message
-    return {"status": INTERRUPTED, "metrics": metrics, "seconds": seconds,
-            "error": error or "interrupted"}
-
-
-def _outcome(results, error=None):
-    """The outcome of a case from its :class:`~ngincompat.workflow.results.Results`."""
-    return {"status": results.status, "warnings": len(results.warnings),
-            "metrics": results.metrics, "seconds": sum(results.timings.values()),
-            "error": error}
-
-
-def _failed(folder, err, seconds, text):
-    """The outcome of a case that raised ``err``; ``text`` goes to its error.txt."""
-    try:
-        with atomic_path(Path(folder) / ERROR_FILE) as tmp:
-            tmp.write_text(text)
-    except OSError:
-        pass
-    return {"status": FAILED, "metrics": {}, "seconds": seconds, "error": _message(err)}
-
-
-def _init_worker(threads, stop):
-    """Initializer of a local worker process: its number of NGSolve threads, Ctrl-C ignored
-    but while a case runs (:func:`_interruptible`; an idle worker would print the
-    KeyboardInterrupt of its wait for work), and the sweep's ``stop`` event."""
-    global _stop
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-    config.configure(threads=threads)
-    _stop = stop
-
-
-def _message(err):
-    text = " ".join(str(err).split())
-    return f"{type(err).__name__}: {text}" if text else type(err).__name__
+from ngincompat.workflow.results import DONE
 
 
 def _finished(scene, folder):
@@ -199,46 +69,8 @@ def _finished(scene, folder):
     return results if same and results.status == DONE else None
 
 
+
 # --------------------------------------------------------------------------- executors
-
-class _Local:
-    """Local worker processes ("spawn") with a fixed number of NGSolve threads each."""
-
-    def __init__(self, workers, threads, progress):
-        cores = os.cpu_count() or 1
-        self.window = workers
-        threads = threads or max(1, cores // workers)
-        if workers * threads > cores:
-            progress.line(f"warning: {workers} workers x {threads} NGSolve threads exceed "
-                          f"the {cores} cores")
-        progress.line(f"local pool: {workers} workers x {threads} NGSolve threads")
-        context = multiprocessing.get_context("spawn")
-        self.stop = context.Event()
-        self.executor = concurrent.futures.ProcessPoolExecutor(
-            max_workers=workers, mp_context=context,
-            initializer=_init_worker, initargs=(threads, self.stop))
-
-    def submit(self, task):
-        """Submit ``task``; a worker it starts prints no KeyboardInterrupt of its imports
-        (:func:`_sigint_held`)."""
-        with _sigint_held():
-            return self.executor.submit(run_case, task)
-
-    def wait(self, futures):
-        done, _ = concurrent.futures.wait(futures, return_when=concurrent.futures.FIRST_COMPLETED)
-        return done
-
-    def close(self, cancel):
-        """Shut the workers down; with ``cancel`` (an interruption) no case starts any more
-        and the running ones are interrupted (a Ctrl-C at a terminal has reached them
-        already), and their ends are awaited: they write their records quickly."""
-        if cancel:
-            self.stop.set()
-            for process in list(getattr(self.executor, "_processes", {}).values()):
-                with contextlib.suppress(OSError):
-                    os.kill(process.pid, signal.SIGINT)
-        self.executor.shutdown(wait=True, cancel_futures=cancel)
-
 
 class _Dask:
     """An existing Dask cluster, by the address of its scheduler (or a Client)."""
@@ -414,7 +246,7 @@ def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progre
         if results is None:
             todo.append(case)
         else:
-            outcomes[case.index] = {"varied": case.varied, **_outcome(results)}
+            outcomes[case.index] = {"varied": case.varied, **outcome(results)}
     reused = len(outcomes)
     if max_cases is not None:
         todo = todo[:max_cases]
@@ -441,12 +273,12 @@ def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progre
         for case in todo:
             if case.index in rejected:
                 err = rejected[case.index]
-                finish(case, _failed(out / case.name, err, 0.0, f"{_message(err)}\n"))
+                finish(case, failed(out / case.name, err, 0.0, f"{error_message(err)}\n"))
         if runnable:
             _run_all(runnable, scenes, out, workers, threads, scheduler, progress, finish)
     except KeyboardInterrupt:
         for case in todo:           # the cases the interruption kept from ending
-            outcomes.setdefault(case.index, {"varied": case.varied, **_interrupted(None)})
+            outcomes.setdefault(case.index, {"varied": case.varied, **interrupted(None)})
         raise
     finally:
         # the whole table once, also when interrupted; the journal is then redundant
@@ -462,35 +294,15 @@ def _run_all(cases, scenes, out, workers, threads, scheduler, progress, finish):
     if scheduler is not None:
         backend = _Dask(scheduler, workers, threads, progress)
     else:
-        backend = _Local(workers or min(2, len(cases)), threads, progress)
-    running = {}
-    finished = False
+        backend = LocalPool(workers or min(2, len(cases)), threads, progress)
+    tasks = deque((case, {"scene": scenes[case.index], "folder": str(out / case.name),
+                          "threads": None, "quiet": progress.quiet}) for case in cases)
     try:
-        while cases or running:
-            while cases and len(running) < backend.window:
-                case = cases.popleft()
-                task = {"scene": scenes[case.index], "folder": str(out / case.name),
-                        "threads": None, "quiet": progress.quiet}
-                running[backend.submit(task)] = case
-            for future in backend.wait(set(running)):
-                case = running.pop(future)
-                finish(case, _result(future))
-        finished = True
-    finally:
-        backend.close(cancel=not finished)
-        if not finished:
-            for future, case in running.items():    # ended by the interruption
-                if future.done() and not future.cancelled():
-                    finish(case, _result(future))
-            progress.line(f"sweep interrupted; the table {out / RECORD} holds the finished "
-                          "cases; run the sweep again to go on")
-
-
-def _result(future):
-    try:
-        return future.result()
-    except Exception as err:  # the worker died (or the cluster lost it)
-        return {"status": FAILED, "metrics": {}, "seconds": None, "error": _message(err)}
+        run_side_by_side(tasks, backend, finish)
+    except KeyboardInterrupt:
+        progress.line(f"sweep interrupted; the table {out / RECORD} holds the finished "
+                      "cases; run the sweep again to go on")
+        raise
 
 
 def _describe(varied):
