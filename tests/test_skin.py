@@ -5,6 +5,7 @@ follow it through the deflation (the contact model, the default, is tests/test_c
 import json
 import math
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 
@@ -13,7 +14,10 @@ from ngincompat.fem import buckling
 from ngincompat.fem.problem import GrowthMechanics, pin_reactions
 from ngincompat.fem.solver import NewtonSolver
 from ngincompat.fem.stages import PrescribedGrowthStage
+from ngincompat.incompatibility import operators as inc
+from ngincompat.mechanics.growth import AreaGrowth
 from ngincompat.progress import SILENT
+from ngincompat.sampling import element_points
 from ngincompat.scenes import SkinExpansionScene
 from ngincompat.scenes.skin import CLAMP
 
@@ -152,3 +156,20 @@ def test_clamped_and_released_states_are_found_from_the_deflated_one(expanded_ca
     assert values[0] > 0
     assert results.metrics["strain_energy_released"] == pytest.approx(
         released.strain_energy(), rel=1e-12)
+
+
+def test_the_largest_burgers_vector_is_located_where_it_is_largest(expanded_case):
+    """burgers_max_radius is the distance from the centre of the point where |b| takes the
+    value burgers_max (it once was that of the largest |b| on the bottom face only, while the
+    largest sits on the top surface)."""
+    results, case = expanded_case
+    m = results.metrics
+    G, _, _ = inc.incompatibility_projected(AreaGrowth(case.growth.theta, case.N0).Fg,
+                                            case.mesh, COARSE["g_order"])
+    b_norm = ngs.Norm(inc.burgers_vector(G, case.N0.cf))
+    points = element_points(case.mesh)
+    values = np.asarray(b_norm(points)).ravel()
+    xyz = np.asarray(ngs.CF((ngs.x, ngs.y, ngs.z))(points)).reshape(-1, 3)
+    ring = np.abs(np.hypot(xyz[:, 0], xyz[:, 1]) - m["burgers_max_radius"]) < 1e-9
+    assert ring.any()
+    assert np.max(values[ring]) == pytest.approx(m["burgers_max"], rel=1e-9)
