@@ -151,7 +151,8 @@ def _cmd_paper(args):
     from ngincompat.studies import paper
     only = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
     rows = paper.run_all(args.out, progress=Progress(quiet=args.quiet),
-                         overwrite=args.overwrite, resolution=args.resolution, only=only)
+                         overwrite=args.overwrite, resolution=args.resolution, only=only,
+                         jobs=args.jobs)
     print(paper.summary_markdown(rows))
     print(f"report written to {args.out}/report.html; summary to {args.out}/summary.md "
           "(.csv, .json), figures beside them")
@@ -462,6 +463,11 @@ def build_parser():
                    help="replace the runs already in --out (their files are removed first); "
                         "without it, finished runs of the same settings are kept and the "
                         "job continues")
+    p.add_argument("--jobs", metavar="N", type=int,
+                   help="runs side by side, each in a worker process of its own (default: "
+                        "one per core, at most 4, at the preview resolution; 1 at the "
+                        "paper's, whose runs take up to about 11 GB each); 1: one after the "
+                        "other")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
     p.set_defaults(func=_cmd_paper)
 

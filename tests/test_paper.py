@@ -101,3 +101,27 @@ def test_the_biomedical_sections_run_into_one_report(tmp_path, monkeypatch):
         assert (tmp_path / f"view_{label}.html").stat().st_size > 0
     page = (tmp_path / "report.html").read_text()
     assert all(f'id="s{n}"' in page for n in ("3.5", "3.6", "3.7"))
+
+
+def test_runs_side_by_side_give_what_runs_one_after_the_other_give(tmp_path, capsys):
+    """--jobs 2 runs the cases in worker processes, each drawing its figure and view there:
+    the same rows (but for the times), the same files, as --jobs 1 in this process."""
+    summaries = {}
+    for jobs in (1, 2):
+        out = tmp_path / f"jobs{jobs}"
+        assert main(["paper", "--out", str(out), "--only", "3.1,3.4", "--jobs", str(jobs),
+                     "-q"]) == 0
+        summaries[jobs] = json.loads((out / "summary.json").read_text())
+        assert (out / "view_cube.html").stat().st_size > 0
+        assert (out / figures.case_files("cube")[0]).stat().st_size > 0
+    timing = {"seconds", *(f"t_{p}" for p in paper.PHASES)}
+    rows = [[{k: v for k, v in r.items() if k not in timing} for r in summaries[j]["rows"]]
+            for j in (1, 2)]
+    assert rows[0] == rows[1] and [r["case"] for r in rows[0]] == ["cube", "cylinder"]
+    assert sorted(summaries[1]["files"]) == sorted(summaries[2]["files"])
+    capsys.readouterr()
+    assert main(["paper", "--out", str(tmp_path / "zero"), "--only", "3.1", "--jobs", "0",
+                 "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == ["ngincompat: error: --jobs 0: allowed an integer >= 1"]
+    assert not (tmp_path / "zero").exists()

@@ -16,18 +16,23 @@ with the scene's defaults, which are the paper's parameters where the paper give
 The job resumes: a case whose folder holds a finished run of the same settings (and whose
 field figure and view exist) is read back, not recomputed, unless ``overwrite``; so an interrupted
 job continues where it stopped, and ``only`` runs some sections into a folder that holds the
-others.
+others. The cases run side by side in worker processes (``jobs``, :mod:`.workers`), the
+longest sections first; each draws its field figure and view where its fields live, and the
+job draws a section's figures once all its cases have ended.
 """
 
 from __future__ import annotations
 
+import functools
+import os
 import time
+from collections import deque
 from pathlib import Path
 
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.progress import SILENT
 from ngincompat.scenes import HemisphereScene
-from ngincompat.studies import figures, report, views
+from ngincompat.studies import figures, report, views, workers
 from ngincompat.studies.sections import NUMBERS, SECTIONS
 from ngincompat.workflow import io, output, tables
 from ngincompat.workflow.results import DONE
@@ -110,12 +115,31 @@ def row(section, label, results, seconds):
     }
 
 
-def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", only=None):
+def default_jobs(resolution, cores=None):
+    """How many runs :func:`run_all` runs side by side by default: one per core (at most
+    :data:`MAX_JOBS`) at the preview resolution, one at the paper's (a run there takes up
+    to about 11 GB)."""
+    cores = cores or os.cpu_count() or 1
+    return 1 if resolution == "paper" else max(1, min(cores, MAX_JOBS))
+
+
+#: The most runs side by side by default (a preview run takes up to about 1.5 GB).
+MAX_JOBS = 4
+
+
+def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", only=None,
+            jobs=None):
     """Run the sections (``only``: their numbers; default all) at ``resolution``; with
     ``out``, into ``out/<case>`` with the figures, the summary and report.html, resuming
-    finished cases unless ``overwrite``. Returns the summary rows of the cases run now and
-    before. A case that does not converge is a row with its status; the others still run."""
+    finished cases unless ``overwrite``, ``jobs`` runs side by side in worker processes
+    (default :func:`default_jobs`; 1: one after the other in this process). Returns the
+    summary rows of the cases run now and before. A case that does not converge is a row with
+    its status; the others still run."""
     runs = cases(resolution, only)
+    if jobs is None:
+        jobs = default_jobs(resolution)
+    elif not (isinstance(jobs, int) and jobs >= 1):
+        raise ParameterError(f"--jobs {jobs!r}: allowed an integer >= 1")
     if out is None:
         return [_run_case(s, label, scene, None, progress, False)[0]
                 for s, label, scene in runs]
@@ -123,24 +147,55 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
         reuse = {label: _finished(out, label, scene) for _, label, scene in runs}
         _refuse_other_settings(out, runs, reuse, overwrite)
         done = _read_summary(out) if not overwrite else {}
-        results = {}
-        for section in sections(only):
-            for s, label, scene in runs:
-                if s is not section:
-                    continue
-                if reuse[label] is not None:
-                    progress.line(f"{label}: finished before, read from {out / label}")
-                    results[label] = reuse[label]
-                    done[label] = row(s.number, label, reuse[label],
-                                      sum(reuse[label].timings.values()))
-                    continue
-                done[label], results[label] = _run_case(s, label, scene, out, progress,
-                                                        overwrite=True)
-                figures.case_figure(out, label, results[label], resolution)
-                views.case_view(out, label, results[label], resolution)
-            figures.section_figures(out, section, results)
-            _write(out, done, resolution)
-        return [done[label] for _, label, _ in runs]
+        results, drawn = {}, set()
+
+        def finish(section, label, r, seconds):
+            """Record a case that ended; draw each section whose cases have all ended."""
+            results[label], done[label] = r, row(section.number, label, r, seconds)
+            for s in sections(only):
+                labels = [lab for t, lab, _ in runs if t is s]
+                if s.number not in drawn and all(lab in results for lab in labels):
+                    figures.section_figures(out, s, results)
+                    _write(out, done, resolution)
+                    drawn.add(s.number)
+
+        todo = []
+        for s, label, scene in runs:
+            if reuse[label] is None:
+                todo.append((s, label, scene))
+                continue
+            progress.line(f"{label}: finished before, read from {out / label}")
+            finish(s, label, reuse[label], sum(reuse[label].timings.values()))
+        if jobs == 1 or len(todo) <= 1:
+            for s, label, scene in todo:
+                _, r = _run_case(s, label, scene, out, progress, overwrite=True)
+                _draw(out, label, resolution, r)
+                finish(s, label, r, sum(r.timings.values()))
+        else:
+            _side_by_side(todo, out, resolution, min(jobs, len(todo)), progress, finish)
+        return [done[label] for _, label, _ in runs if label in done]
+
+
+def _side_by_side(todo, out, resolution, jobs, progress, finish):
+    """Run the cases ``todo`` in ``jobs`` worker processes, the last sections first (they take
+    longest), each drawing its figure and view where it ran; ``finish`` as each ends."""
+    by_label = {label: (s, label, scene) for s, label, scene in todo}
+    tasks = deque((label, {"scene": scene, "folder": str(out / label), "threads": None,
+                           "quiet": progress.quiet,
+                           "after": functools.partial(_draw, out, label, resolution)})
+                  for _, label, scene in reversed(todo))
+
+    def ended(label, outcome):
+        if outcome["status"] == workers.FAILED:
+            raise RuntimeError(f"{label} failed: {outcome['error']} (its traceback: "
+                               f"{out / label / workers.ERROR_FILE})")
+        if not (out / label / "results.json").is_file():   # interrupted before it began
+            return
+        section = by_label[label][0]
+        r = output.read(out / label)
+        finish(section, label, r, sum(r.timings.values()))
+
+    workers.run_side_by_side(tasks, workers.LocalPool(jobs, None, progress), ended)
 
 
 def _run_case(section, label, scene, out, progress, overwrite):
@@ -153,6 +208,12 @@ def _run_case(section, label, scene, out, progress, overwrite):
     except ConvergenceError as err:
         r = err.results
     return row(section.number, label, r, time.perf_counter() - start), r
+
+
+def _draw(out, label, resolution, results):
+    """The field figure and the interactive view of one case, from its live fields."""
+    figures.case_figure(out, label, results, resolution)
+    views.case_view(out, label, results, resolution)
 
 
 def _finished(out, label, scene):

@@ -41,8 +41,10 @@ def run_case(task):
     ----------
     task : dict
         ``scene`` (a Scene), ``folder``, ``threads`` (NGSolve threads, or None to keep the
-        worker's setting) and ``quiet`` (no progress report; else plain lines on the worker's
-        standard error, each naming the case).
+        worker's setting), ``quiet`` (no progress report; else plain lines on the worker's
+        standard error, each naming the case) and optionally ``after``, a picklable callable
+        given the run's results (also those of a run that did not converge) in the worker,
+        where its NGSolve fields live (the paper job draws its figures there).
 
     Returns
     -------
@@ -70,6 +72,8 @@ def run_case(task):
                                             label=folder.name)
             except ConvergenceError as err:
                 results, error = err.results, error_message(err)
+            if task.get("after") is not None:
+                task["after"](results)
     except (Interrupted, KeyboardInterrupt) as err:
         if results is None:     # else the run had ended and written its results
             return interrupted(getattr(err, "results", None), time.perf_counter() - start,
