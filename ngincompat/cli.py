@@ -67,12 +67,15 @@ def _outputs(text):
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
     energy; the scene's optional outputs (:data:`ngincompat.parameters.OUTPUTS`) are passed
-    on as :class:`~ngincompat.parameters.Outputs`."""
+    on as :class:`~ngincompat.parameters.Outputs`. ``none``: no files besides results.json,
+    what is computed left to ``--set mechanics`` (as ``--set outputs=none``)."""
+    if text.strip() == "none":
+        return {"outputs": "none"}
     items = {item.strip() for item in text.split(",") if item.strip()}
     unknown = items - set(OUTPUT_NAMES)
     if unknown or not items:
         raise ParameterError(f"--outputs {text!r}: allowed a comma list of "
-                             f"{', '.join(OUTPUT_NAMES)}")
+                             f"{', '.join(OUTPUT_NAMES)}, or none")
     return {"mechanics": "mechanics" in items, "outputs": str(Outputs(items & set(OUTPUTS)))}
 
 
@@ -444,7 +447,7 @@ def build_parser():
                    help="what to compute and write: comma list of " + ", ".join(OUTPUT_NAMES)
                    + f" (default: incompatibility,mechanics,{DEFAULT_FILES}, or what --set "
                    "mechanics=... and --set outputs=... say); 'incompatibility' alone builds "
-                   "no mechanics problem")
+                   "no mechanics problem; 'none': no files besides results.json")
     p.add_argument("--overwrite", action="store_true",
                    help="replace a run already in --out (its files are removed first)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")

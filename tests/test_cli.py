@@ -7,6 +7,7 @@ import pytest
 from conftest import SKIN_COARSE
 
 from ngincompat.cli import main
+from ngincompat.errors import ParameterError
 from ngincompat.fem.solver import NewtonSolver
 
 CUBE = ["run", "cube", "--order", "1", "--maxh", "1"]
@@ -97,6 +98,10 @@ def test_outputs_name_every_optional_output_of_a_scene():
     assert _outputs("incompatibility,curvature,growth") == {
         "mechanics": False, "outputs": "growth,curvature"}
     assert _outputs("mechanics") == {"mechanics": True, "outputs": "none"}
+    # as --set outputs=none, the word list -v shows: no files, the mechanics as set
+    assert _outputs("none") == {"outputs": "none"}
+    with pytest.raises(ParameterError, match="or none"):
+        _outputs("none,vtk")
 
 
 def test_version_names_ngincompat_and_ngsolve(capsys):
