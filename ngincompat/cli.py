@@ -469,8 +469,7 @@ def build_parser():
     p.add_argument("--jobs", metavar="N", type=int,
                    help="runs side by side, each in a worker process of its own (default: "
                         "one per core, at most 4, at the preview resolution; 1 at the "
-                        "paper's, whose runs take up to about 11 GB each); 1: one after the "
-                        "other")
+                        "paper's, whose largest runs take many GB); 1: one after the other")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress report")
     p.set_defaults(func=_cmd_paper)
 

@@ -117,13 +117,13 @@ def row(section, label, results, seconds):
 
 def default_jobs(resolution, cores=None):
     """How many runs :func:`run_all` runs side by side by default: one per core (at most
-    :data:`MAX_JOBS`) at the preview resolution, one at the paper's (a run there takes up
-    to about 11 GB)."""
+    :data:`MAX_JOBS`) at the preview resolution, one at the paper's, whose largest runs
+    take many times a preview's memory (docs/measurements/paper-job.md)."""
     cores = cores or os.cpu_count() or 1
     return 1 if resolution == "paper" else max(1, min(cores, MAX_JOBS))
 
 
-#: The most runs side by side by default (a preview run takes up to about 1.5 GB).
+#: The most runs side by side by default: each preview run holds its own mesh and solver.
 MAX_JOBS = 4
 
 
@@ -179,7 +179,7 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
 def _side_by_side(todo, out, resolution, jobs, progress, finish):
     """Run the cases ``todo`` in ``jobs`` worker processes, the last sections first (they take
     longest), each drawing its figure and view where it ran; ``finish`` as each ends."""
-    by_label = {label: (s, label, scene) for s, label, scene in todo}
+    section_of = {label: s for s, label, _ in todo}
     tasks = deque((label, {"scene": scene, "folder": str(out / label), "threads": None,
                            "quiet": progress.quiet,
                            "after": functools.partial(_draw, out, label, resolution)})
@@ -191,9 +191,8 @@ def _side_by_side(todo, out, resolution, jobs, progress, finish):
                                f"{out / label / workers.ERROR_FILE})")
         if not (out / label / "results.json").is_file():   # interrupted before it began
             return
-        section = by_label[label][0]
         r = output.read(out / label)
-        finish(section, label, r, sum(r.timings.values()))
+        finish(section_of[label], label, r, sum(r.timings.values()))
 
     workers.run_side_by_side(tasks, workers.LocalPool(jobs, None, progress), ended)
 
