@@ -86,13 +86,16 @@ def test_a_folder_with_another_run_is_refused_unless_overwrite(tmp_path):
     assert {p.name for p in tmp_path.iterdir()} == {"notes.txt"}
 
 
-def test_overwrite_leaves_only_the_new_runs_files(tmp_path):
+def test_overwrite_leaves_only_the_new_runs_files(tmp_path, caplog):
     """A run with figures, then one without: no figure of the first run is left beside the
-    second's results (two runs mixed in one folder)."""
+    second's results (two runs mixed in one folder), and nothing is said to be kept (the
+    first run's results.json, listed among its files, once was)."""
     CubeScene(order=1, maxh=1.0).run(tmp_path)
     assert (tmp_path / "stress.png").is_file()
-    results = CubeScene(order=1, maxh=1.0, outputs="none").run(tmp_path, overwrite=True)
+    with caplog.at_level(logging.WARNING, logger="ngincompat.workflow.output"):
+        results = CubeScene(order=1, maxh=1.0, outputs="none").run(tmp_path, overwrite=True)
     assert {p.name for p in tmp_path.iterdir()} == {"results.json"} == set(results.files)
+    assert "kept" not in caplog.text
 
 
 def test_the_folder_is_checked_before_the_solve(tmp_path, monkeypatch):

@@ -216,6 +216,8 @@ def _remove_run(out: Path) -> None:
             record = {}
         hashes = record.get("file_hashes")
         for entry in record.get("files", []):
+            if entry == name:
+                continue            # the record itself, removed below
             target = (out / entry).resolve()
             if out.resolve() not in target.parents:
                 continue            # never outside the folder
