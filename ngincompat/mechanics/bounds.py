@@ -118,7 +118,8 @@ def _neg(a):
 
 
 def _monotone(f, a):
-    """f(a) for an increasing f that keeps the sign of zero (exp, sqrt, atan, tanh, sinh)."""
+    """f(a) for an f increasing over a that keeps the sign of zero (exp, sqrt, atan, tanh,
+    sinh; tan between two poles, cosh of |a|)."""
     with np.errstate(all="ignore"):
         return Interval(f(a.lo), f(a.hi))
 
