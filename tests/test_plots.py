@@ -1,6 +1,7 @@
 """Figures a reader can read: no magnified round-off, distinguishable curves, units."""
 
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from ngincompat.scenes import CylinderScene, DiscScene, HemisphereScene
 from ngincompat.workflow import plots
@@ -102,3 +103,23 @@ def test_long_titles_wrap_to_the_figure_and_keep_their_formulas():
     assert len(lines) > 1 and " ".join(lines) == title
     assert all(line.count("$") % 2 == 0 for line in lines)        # no formula cut in two
     assert all(len(line) <= 24 for line in lines if "$" not in line)
+
+
+def test_the_deformed_figure_keeps_every_label_inside_when_the_body_grows_taller():
+    """A fold lifts the top above the reference grid (the preview bilayer: 0.6 cm tall, 0.8
+    folded): the figure's height follows the deformed body, so no axis label is cut off at
+    its edge (the folding figure's X1 labels once were)."""
+    X1, X3 = np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 0.6, 25))
+    u = np.stack([np.zeros_like(X1), 0.35 * X3 * np.cos(2 * np.pi * X1) ** 2], axis=-1)
+    profile = {"X1": X1[0], "X3": X3[:, 0], "f": X1 - X3, "g": X1 + 1.0, "u": u}
+    panels = {"f [kPa]": ("f", "u"), "g [-]": ("g", "u"), "f again [kPa]": ("f", "u"),
+              "g again [-]": ("g", "u")}
+    fig = plots.deformed_figure({"": profile}, panels, ("X1", "X3"), "X1 [cm]", "X3 [cm]",
+                                "a long title over four panels")
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    page = fig.bbox
+    for ax in fig.axes:
+        box = ax.get_tightbbox(renderer)
+        assert box.y0 >= page.y0 - 1 and box.y1 <= page.y1 + 1, (ax.get_title(), box, page)

@@ -208,8 +208,8 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
     panels = {label: keys for label, keys in panels.items()
               if all(k in p for p in rows.values() for k in keys)}
     ncols = max(len(panels), 1)
-    first = next(iter(rows.values()))
-    aspect = np.ptp(first[axes[1]]) / max(np.ptp(first[axes[0]]), 1e-300)
+    aspect = max((_deformed_aspect(p, axes, disp) for p in rows.values()
+                  for _, disp in panels.values()), default=1.0)
     fig = Figure(figsize=(4.6 * ncols, 0.5 + len(rows) * (1.0 + 3.4 * aspect)), dpi=110)
     grid = np.atleast_2d(fig.subplots(len(rows), ncols, squeeze=False))
     for col, (label, (key, disp)) in enumerate(panels.items()):
@@ -229,6 +229,15 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
         fig.suptitle(wrapped(title, fig.get_figwidth(), 12), fontsize="large")
     fig.tight_layout(h_pad=1.5)    # a row's axis label clear of the next row's title
     return fig
+
+
+def _deformed_aspect(profile, axes, disp):
+    """Height over width of the grid of ``profile`` moved by its displacement ``disp``: the
+    deformed body (a fold, a released bilayer) can be taller than the reference one."""
+    U, V = np.meshgrid(profile[axes[0]], profile[axes[1]])
+    d = np.asarray(profile[disp])
+    x, y = U + d[..., 0], V + d[..., 1]
+    return (np.nanmax(y) - np.nanmin(y)) / max(np.nanmax(x) - np.nanmin(x), 1e-300)
 
 
 def _panel(fig, ax, image, title, xlabel, ylabel=None):
