@@ -123,3 +123,25 @@ def test_the_deformed_figure_keeps_every_label_inside_when_the_body_grows_taller
     for ax in fig.axes:
         box = ax.get_tightbbox(renderer)
         assert box.y0 >= page.y0 - 1 and box.y1 <= page.y1 + 1, (ax.get_title(), box, page)
+
+
+def test_a_marked_metric_is_a_dashed_line_in_the_legend_and_a_missing_one_is_left_out():
+    """The folding eigenvalue's curve marks the onset, theta_c where it crosses zero."""
+    from types import SimpleNamespace
+
+    from ngincompat.scenes.folding import FoldingScene, _figures
+    spec = next(f for f in _figures(FoldingScene(), {"depth": {}, "section": {}})
+                if f.file == "eigenvalue.png")
+    assert list(spec.marks.values()) == ["onset_growth"]
+    theta = np.array([1.08, 1.16, 1.24, 1.28, 1.32])
+    results = SimpleNamespace(profiles={"perfect": {"theta_c": theta,
+                                                    "eigenvalue": 15 - 80 * (theta - 1.08)}},
+                              metrics={"onset_growth": 1.2706})
+    ax = plots.figure(results, spec).axes[0]
+    (line,) = [line for line in ax.get_lines() if line.get_linestyle() == "--"]
+    assert line.get_xdata()[0] == 1.2706
+    assert line.get_label().endswith("theta_c = 1.271")
+    assert line.get_label() in [t.get_text() for t in ax.get_legend().get_texts()]
+    results.metrics["onset_growth"] = float("nan")          # no onset: no line
+    assert not [line for line in plots.figure(results, spec).axes[0].get_lines()
+                if line.get_linestyle() == "--"]

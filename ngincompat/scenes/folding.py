@@ -884,7 +884,9 @@ def _figures(scene, profiles):
         Figure("eigenvalue.png", "theta_c", "cortex growth theta_c [-]",
                {"smallest eigenvalue": "eigenvalue"},
                f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
-               f"{title}: perfect branch", profile="perfect"),
+               f"{title}: perfect branch", profile="perfect",
+               marks={"onset (the eigenvalue crosses zero): theta_c = {value:.4g}":
+                      "onset_growth"}),
         Figure("folds.png", "theta_c", "cortex growth theta_c [-]",
                {"fold amplitude": "amplitude"}, f"fold amplitude [{L}]",
                f"{title}: after the onset", right={"smallest eigenvalue": "eigenvalue"},

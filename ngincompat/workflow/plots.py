@@ -39,7 +39,7 @@ STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)),
 
 
 def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_label="",
-                   floor=0.0, right_floor=0.0):
+                   floor=0.0, right_floor=0.0, vlines=None):
     """A matplotlib Figure of curves against one coordinate.
 
     Parameters
@@ -55,11 +55,15 @@ def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_labe
         Legend label -> values on a second axis (labelled ``right_label``).
     floor, right_floor : float
         Smallest range of the left and the right axis.
+    vlines : dict, optional
+        Legend label -> abscissa of a dashed vertical line.
     """
     fig = Figure(figsize=(5.4, 3.8), dpi=120)
     ax = fig.subplots()
     styles = cycle(STYLES)
     lines = _plot(ax, x, curves, styles, colours=None)
+    lines += [ax.axvline(at, ls="--", lw=1, color="0.3", label=label)
+              for label, at in (vlines or {}).items()]
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     _floor(ax, curves.values(), floor)
@@ -142,7 +146,10 @@ def figure(results, spec):
                           spec.xlabel, spec.ylabel, spec.title,
                           right={label: p[k] for label, k in spec.right.items()},
                           right_label=spec.right_label, floor=spec.floor,
-                          right_floor=spec.right_floor)
+                          right_floor=spec.right_floor,
+                          vlines={label.format(value=results.metrics[k]): results.metrics[k]
+                                  for label, k in spec.marks.items()
+                                  if np.isfinite(results.metrics.get(k, np.nan))})
 
 
 def maps_figure(profile, maps, label, title=None):

@@ -81,6 +81,10 @@ class Figure:
         shape with 3 components; "surface": of the displacements at the points.
     view : tuple
         "surface": elevation and azimuth of the camera [degrees].
+    marks : dict
+        "profile": legend label (``{value}`` stands for the metric's value) -> metric key; a
+        dashed vertical line at the metric's value (e.g. the onset of folding on the
+        eigenvalue's curve), left out where it is not finite.
     """
 
     file: str
@@ -98,6 +102,7 @@ class Figure:
     y: str = ""
     deform: dict[str, str] = field(default_factory=dict)
     view: tuple[float, float] = (10.0, 90.0)
+    marks: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass(eq=False)
