@@ -94,7 +94,7 @@ def test_custom_goh_area_growth(tmp_path):
     (["run", "custom", "--out", "o", "--set", "growth=volume"], "growth = 'volume'"),
     (["run", "custom", "--out", "o", "--set", "theta=1 - 2*X1*t"], "must be finite and positive"),
     (["run", "custom", "--out", "o", "--set", "outputs=pdf"], "outputs = 'pdf'"),
-    (["run", "custom", "--out", "o", "--set", "direction=up"], "direction 'up'"),
+    (["run", "custom", "--out", "o", "--set", "direction=up"], "direction = 'up'"),
     (["run", "cube", "--out", "o", "--set", "model=half"], "model = 'half'"),
     (["run", "cube", "--out", "o", "--set", "formulation=hybrid"], "formulation = 'hybrid'"),
     (["run", "disc", "--out", "o", "--set", "formulation=mixed"], "mixed needs a bulk split"),
