@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import functools
 import os
-import time
 from collections import deque
 from pathlib import Path
 
@@ -93,9 +92,9 @@ COLUMNS = ("section", "case", "units", "status", "warnings", "ndof", "newton", "
 UNITS = {"seconds": "s", **{f"t_{p}": "s" for p in PHASES}}
 
 
-def row(section, label, results, seconds):
+def row(section, label, results):
     """The summary row of one run; ``units``: its length and stress units (the sections
-    differ: mm and MPa, cm and kPa)."""
+    differ: mm and MPa, cm and kPa); ``seconds``: the sum of its phases' times."""
     m = results.metrics
     steps = [s for h in results.solver.values() for s in h.steps if s.converged]
     units = results.units
@@ -106,8 +105,8 @@ def row(section, label, results, seconds):
         "warnings": len(results.warnings), "ndof": results.mesh.ndof,
         "newton": results.newton_iterations, "load_steps": len(steps),
         "newton_per_step": max((s.iterations for s in steps), default=0),
-        "seconds": round(seconds, 2), "strain_energy": m.get("strain_energy"),
-        "burgers_max": m.get("burgers_max"),
+        "seconds": round(sum(results.timings.values()), 2),
+        "strain_energy": m.get("strain_energy"), "burgers_max": m.get("burgers_max"),
         "max_principal_stress": m.get("max_principal_stress",
                                       m.get("max_principal_stress_released")),
         **{k: m[k] for k in CHECKS if k in m},
@@ -141,7 +140,7 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
     elif not (isinstance(jobs, int) and jobs >= 1):
         raise ParameterError(f"--jobs {jobs!r}: allowed an integer >= 1")
     if out is None:
-        return [_run_case(s, label, scene, None, progress, False)[0]
+        return [row(s.number, label, _run_case(label, scene, None, progress, False))
                 for s, label, scene in runs]
     with output.folder(out, overwrite=overwrite, resume=not overwrite) as out:
         reuse = {label: _finished(out, label, scene) for _, label, scene in runs}
@@ -149,9 +148,9 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
         done = _read_summary(out) if not overwrite else {}
         results, drawn = {}, set()
 
-        def finish(section, label, r, seconds):
+        def finish(section, label, r):
             """Record a case that ended; draw each section whose cases have all ended."""
-            results[label], done[label] = r, row(section.number, label, r, seconds)
+            results[label], done[label] = r, row(section.number, label, r)
             for s in sections(only):
                 labels = [lab for t, lab, _ in runs if t is s]
                 if s.number not in drawn and all(lab in results for lab in labels):
@@ -165,12 +164,12 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
                 todo.append((s, label, scene))
                 continue
             progress.line(f"{label}: finished before, read from {out / label}")
-            finish(s, label, reuse[label], sum(reuse[label].timings.values()))
+            finish(s, label, reuse[label])
         if jobs == 1 or len(todo) <= 1:
             for s, label, scene in todo:
-                _, r = _run_case(s, label, scene, out, progress, overwrite=True)
+                r = _run_case(label, scene, out, progress, overwrite=True)
                 _draw(out, label, resolution, r)
-                finish(s, label, r, sum(r.timings.values()))
+                finish(s, label, r)
         else:
             _side_by_side(todo, out, resolution, min(jobs, len(todo)), progress, finish)
         return [done[label] for _, label, _ in runs if label in done]
@@ -191,22 +190,19 @@ def _side_by_side(todo, out, resolution, jobs, progress, finish):
                                f"{out / label / workers.ERROR_FILE})")
         if not (out / label / "results.json").is_file():   # interrupted before it began
             return
-        r = output.read(out / label)
-        finish(section_of[label], label, r, sum(r.timings.values()))
+        finish(section_of[label], label, output.read(out / label))
 
     workers.run_side_by_side(tasks, workers.LocalPool(jobs, None, progress), ended)
 
 
-def _run_case(section, label, scene, out, progress, overwrite):
-    """Run one case; returns its summary row and its results (those of the last converged
-    state for a case that did not converge)."""
-    start = time.perf_counter()
+def _run_case(label, scene, out, progress, overwrite):
+    """Run one case; returns its results (those of the last converged state for a case that
+    did not converge)."""
     try:
-        r = scene.run(None if out is None else out / label, overwrite=overwrite,
-                      progress=progress, label=label)
+        return scene.run(None if out is None else out / label, overwrite=overwrite,
+                         progress=progress, label=label)
     except ConvergenceError as err:
-        r = err.results
-    return row(section.number, label, r, time.perf_counter() - start), r
+        return err.results
 
 
 def _draw(out, label, resolution, results):
