@@ -5,9 +5,11 @@ without meshing: so that a scene refuses a mesh that would not fit in memory (``
 Netgen's tetrahedra have edges of about the local mesh size h: a region of volume V where
 every extent is at least h holds about :data:`TETS_PER_CELL` V / h^3 of them (measured 3.5 to
 6.2 on the cube, hemisphere, disc, cylinder and brain); an extent below h counts as h (the
-thin skin patch and the slab of the bilayer are one element thick). Near a point or a face
+thin skin patch is one element thick). Near a point or a face
 meshed finer, the size grows with Netgen's grading g = 0.3 (h(r) = h0 + g r), which adds the
-integral of the cell density over that graded zone. The estimates are in log-safe products of
+integral of the cell density over that graded zone. The bilayer is a plane section
+meshed with triangles (about :data:`TRIANGLES_PER_CELL` per h^2) and extruded to one layer
+of prisms. The estimates are in log-safe products of
 ratios, so a dimension of 1e308 gives an infinite estimate, never a NaN.
 
 Each function takes the builder's keywords (the same defaults) and returns the estimated number
@@ -21,6 +23,8 @@ from .skin_patch import SIDE, THICKNESS
 
 #: Tetrahedra per cell of volume h^3 (measured 3.5 to 6.2).
 TETS_PER_CELL = 5.0
+#: Triangles per cell of area h^2 (measured 1.5 to 2.8 on the bilayer's sections).
+TRIANGLES_PER_CELL = 2.0
 #: Netgen's grading g: the mesh size grows as h(r) = h0 + g r away from a finer point or face.
 GRADING = 0.3
 
@@ -32,6 +36,11 @@ def _cells(extents, h, fill=1.0):
     for extent in extents:
         n *= max(1.0, extent / h)
     return n
+
+
+def triangles(extents, h):
+    """Triangles of size h in a rectangle of the given extents."""
+    return TRIANGLES_PER_CELL * _cells(extents, h)
 
 
 def tets(extents, h, fill=1.0):
@@ -76,19 +85,19 @@ def skin_patch_elements(side=SIDE, thickness=THICKNESS, maxh=1.0, **_):
     return tets((side, side, thickness), maxh)
 
 
-def bilayer_elements(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05,
-                     cortex_maxh=None, top_maxh=None, **_):
+def bilayer_elements(length=3.0, height=1.0, cortex=0.05, maxh=0.05, cortex_maxh=None,
+                     top_maxh=None, **_):
+    """The prisms of the bilayer: the triangles of its section (one layer through the
+    depth)."""
     fine = maxh if cortex_maxh is None else cortex_maxh
     finest = fine if top_maxh is None else top_maxh
-    # the cortex graded from the top face's size: as if all of it were meshed at the
-    # average of the two (an overestimate when the grading reaches ``fine`` within it)
-    top = tets((length, depth, cortex), (fine + finest) / 2)
-    below = tets((length, depth, max(height - cortex, 0.0)), maxh)
-    # graded from the fine interface: per unit length, the integral of the cells across
-    # the depth (at least one) per cell height, (h0 + g z)^-2 dz
-    graded = 0.0
-    if fine < maxh:
-        graded = TETS_PER_CELL * (length / fine) * max(1.0, depth / (2 * fine)) / GRADING
+    # the cortex graded from the top edge's size: as if all of it were meshed at the
+    # average of the two (an underestimate when the grading reaches ``fine`` within it)
+    top = triangles((length, cortex), (fine + finest) / 2)
+    below = triangles((length, max(height - cortex, 0.0)), maxh)
+    # graded from the fine interface: per unit length, the integral of the cells per cell
+    # height, (h0 + g z)^-2 dz
+    graded = TRIANGLES_PER_CELL * (length / fine) / GRADING if fine < maxh else 0.0
     return top + below + graded
 
 

@@ -417,10 +417,11 @@ def bubbles(mesh, order, formulation):
     return {"orderface": order + 1, "orderinner": order + 2}
 
 
-def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None):
+def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None, slab=False):
     """VectorH1 of ``order`` (with the H1 flags ``enrichment``, :func:`bubbles`) with u = 0
     on ``dirichlet`` and the normal component zero on the symmetry planes (boundary name ->
-    axis "x", "y" or "z")."""
+    axis "x", "y" or "z"); on a ``slab`` one prism thick (:func:`geometries.bilayer.extrude`)
+    linear through its depth (:func:`linear_through_depth`)."""
     symmetry = dict(symmetry or {})
     for name, axis in symmetry.items():
         require(axis in ("x", "y", "z"), "symmetry axis", axis, "x, y or z")
@@ -428,7 +429,33 @@ def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None
                 ", ".join(sorted(set(mesh.GetBoundaries()))))
     planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
               for axis in ("x", "y", "z") if axis in symmetry.values()}
-    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
+    space = ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
+    if slab:
+        linear_through_depth(space)
+    return space
+
+
+def linear_through_depth(space):
+    """Lower ``space``'s order to 1 through the depth of a slab one prism thick: on the edges
+    joining a prism's two triangles and on its quadrilateral faces, so that the space is
+    the product of the triangles' polynomials of its order and the linear ones through the
+    depth. A body in plane strain (u2 = 0 on both faces of the slab, its data independent of
+    X2) has a displacement independent of X2, which this space holds: the same solution with
+    the section's nodes on 2 layers instead of the k + 1 of full order k (at k = 2, u1 and
+    u3 on two layers against three; u2's are then all on the faces, held)."""
+    mesh = space.mesh
+    require(all(el.type == ngs.ET.PRISM for el in mesh.Elements(ngs.VOL)), "slab",
+            "a mesh with elements other than prisms", "a slab one prism thick")
+    for element in mesh.Elements(ngs.VOL):
+        v = element.vertices
+        across = {frozenset((v[i].nr, v[i + 3].nr)) for i in range(3)}
+        for edge in element.edges:
+            if frozenset(vertex.nr for vertex in mesh[edge].vertices) in across:
+                space.SetOrder(ngs.NodeId(ngs.EDGE, edge.nr), 1)
+        for face in element.faces:
+            if len(mesh[face].vertices) == 4:
+                space.SetOrder(ngs.NodeId(ngs.FACE, face.nr), 1)
+    space.Update()
 
 
 def rigid_pins(mesh, fes):

@@ -225,21 +225,33 @@ def measure(mesh, boundary, gap, order=2):
             "self_contact_penetration_max": max(0.0, -float(np.min(values, initial=0.0)))}
 
 
+#: The flat boundary elements :func:`boundary_values` integrates over, and the corners whose
+#: edges span them.
+FLAT = {ngs.ET.TRIG: (0, 1, 2), ngs.ET.QUAD: (0, 1, 3)}
+
+
 def boundary_values(mesh, boundary, cf, order):
     """The values of the scalar ``cf`` at the points of NGSolve's rule of ``order`` on every
-    (flat, triangular) element of the ``boundary``, and the points' reference areas (the
-    rule's weights times twice the triangle's area)."""
-    rule = ngs.IntegrationRule(ngs.TRIG, order)
+    element of the ``boundary`` and the points' reference areas, for flat elements:
+    triangles and parallelograms (:data:`FLAT`; the sides of an extruded slab's prisms are
+    rectangles). The weights of NGSolve's rules sum to the reference element's area, 1/2 on
+    the triangle and 1 on the square, so a point's area is its weight times the norm of the
+    cross product of the spanning edges (twice the triangle's area, the parallelogram's)."""
     elements = list(mesh.Elements(ngs.BND))
-    if any(element.type != ngs.ET.TRIG for element in elements):
-        raise ValueError("boundary_values needs a boundary of triangles")
+    if any(element.type not in FLAT for element in elements):
+        raise ValueError("boundary_values needs a boundary of triangles and parallelograms")
+    rules = {kind: ngs.IntegrationRule(kind, order) for kind in FLAT}
     mask = np.array(mesh.Boundaries(boundary).Mask())
-    inside = np.array([mask[element.index] for element in elements])
-    if not inside.any():
+    values = np.asarray(cf(mesh.MapToAllElements(rules, ngs.BND))).ravel()
+    start, inside, weights = 0, [], []
+    for element in elements:
+        p = np.array([mesh[element.vertices[i]].point for i in FLAT[element.type]])
+        n = len(rules[element.type].weights)
+        if mask[element.index]:
+            spanned = np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0]))
+            weights.append(spanned * np.array(rules[element.type].weights))
+            inside.append(np.arange(start, start + n))
+        start += n
+    if not inside:
         return np.zeros(0), np.zeros(0)
-    corners = np.array([[mesh[v].point for v in element.vertices] for element in elements])
-    areas = np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
-                                    corners[:, 2] - corners[:, 0]), axis=1) / 2
-    weights = 2 * areas[:, None] * np.array(rule.weights)[None, :]
-    values = np.asarray(cf(mesh.MapToAllElements(rule, ngs.BND))).reshape(len(elements), -1)
-    return values[inside].ravel(), weights[inside].ravel()
+    return values[np.concatenate(inside)], np.concatenate(weights)

@@ -306,7 +306,7 @@ class AtrophyScene(Scene):
         # a voxel brain has at most the voxels of its image (mni152: maxh in [0.4, 2] cm)
         if self.geometry != "idealized":
             return None
-        return estimate.brain_elements(semi_axes=self.axes(), maxh=self.maxh), False
+        return estimate.brain_elements(semi_axes=self.axes(), maxh=self.maxh), "tet"
 
     def build(self):
         mesh = self.distributed_mesh()

@@ -61,7 +61,7 @@ class CubeScene(prescribed.PrescribedScene):
     def mesh_estimate(self):
         return (estimate.cube_elements(side=self.side, maxh=self.maxh, elements=self.elements,
                                        quarter=self.model == "quarter"),
-                self.elements == "hex")
+                self.elements)
 
     def build(self):
         """The mesh and the prescribed-growth case."""

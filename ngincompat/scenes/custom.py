@@ -98,9 +98,9 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
     def mesh_estimate(self):
         if self.mesh:
             return None
-        # the cube builder's default elements are hexahedra
-        hexahedra = self.geometry == "cube"
-        return estimate.ESTIMATES[self.geometry](maxh=self.maxh), hexahedra
+        # the cube builder's default elements are hexahedra, the bilayer's prisms
+        shape = {"cube": "hex", "bilayer": "prism"}.get(self.geometry, "tet")
+        return estimate.ESTIMATES[self.geometry](maxh=self.maxh), shape
 
     def build(self):
         mesh = load_mesh(self.mesh) if self.mesh else BUILDERS[self.geometry](maxh=self.maxh)

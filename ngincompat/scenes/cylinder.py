@@ -48,7 +48,7 @@ class CylinderScene(prescribed.PrescribedScene):
 
     def mesh_estimate(self):
         return (estimate.cylinder_elements(area=self.area, length=self.length, maxh=self.maxh),
-                False)
+                "tet")
 
     def build(self):
         mesh = cylinder(area=self.area, length=self.length, maxh=self.maxh,

@@ -63,7 +63,7 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
         return make_material(self.material, self.mu, self.nu, self.k1, self.k2, self.kappa)
 
     def mesh_estimate(self):
-        return estimate.disc_elements(R0=self.R0, height=self.height, maxh=self.maxh), False
+        return estimate.disc_elements(R0=self.R0, height=self.height, maxh=self.maxh), "tet"
 
     def build(self):
         mesh = disc(R0=self.R0, height=self.height, maxh=self.maxh, curve_order=self.order)

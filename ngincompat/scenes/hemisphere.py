@@ -73,7 +73,7 @@ class HemisphereScene(prescribed.PrescribedScene):
     def mesh_estimate(self):
         return (estimate.hemisphere_elements(R0=self.R0, maxh=self.maxh,
                                              centre_maxh=self.centre_maxh,
-                                             quarter=self.model == "quarter"), False)
+                                             quarter=self.model == "quarter"), "tet")
 
     def build(self):
         quarter = self.model == "quarter"

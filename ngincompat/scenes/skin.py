@@ -211,7 +211,7 @@ class SkinExpansionScene(Elastic, Scene):
         return self.resume
 
     def mesh_estimate(self):
-        return estimate.skin_patch_elements(maxh=self.maxh), False
+        return estimate.skin_patch_elements(maxh=self.maxh), "tet"
 
     def build(self):
         """The patch, the coupled problem and the stages of section 3.6."""
