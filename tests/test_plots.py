@@ -78,6 +78,21 @@ def test_deformed_figure_draws_each_field_on_the_moved_grid():
         assert ax.get_xlabel() == "X1 [cm]"
 
 
+def test_a_long_panel_title_is_broken_to_the_width_of_its_panel():
+    """Fig. 7's "after release" titles ran under the colour bar's arrow: a title is broken
+    into lines no wider than its panel with the colour bar beside it."""
+    label = "concentric: after release: max principal Cauchy stress [kPa]"
+    fig = plots.deformed_figure({"": _grid_profile(1.0)}, {label: ("f", "u")}, ("X1", "X3"),
+                                "X1 [cm]", "X3 [cm]")
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    fig.draw(renderer)
+    ax = next(ax for ax in fig.axes if ax.collections)
+    bar = ax.collections[0].colorbar.ax
+    title = ax.title.get_window_extent(renderer)
+    assert "\n" in ax.get_title() and ax.get_title().replace("\n", " ") == label
+    assert title.x1 <= bar.get_window_extent(renderer).x0
+
+
 def test_a_peak_of_the_deformed_figure_is_beyond_its_colour_bar_which_says_so():
     """One point of 1000 times the rest of a stress (a crease tip's) does not set the scale;
     the colour bar gets an arrow at its top. A field of one sign keeps its whole range."""

@@ -249,10 +249,12 @@ def _deformed_aspect(profile, axes, disp):
 
 def _panel(fig, ax, image, title, xlabel, ylabel=None):
     """A colour map's colour bar (three-digit ticks; an arrow at an end beyond which values
-    lie), title and axis labels."""
+    lie), title (broken into lines as wide as the axes, clear of the colour bar's arrow) and
+    axis labels."""
     fig.colorbar(image, ax=ax, shrink=0.85, format=tick_format(*image.get_clim()),
                  extend=extend(image.get_array(), image.norm))
-    ax.set_title(title, fontsize="medium")
+    ax.set_title(wrapped(title, ax.get_position().width * fig.get_figwidth(), 10),
+                 fontsize="medium")
     ax.set_xlabel(xlabel, fontsize="small")
     if ylabel:
         ax.set_ylabel(ylabel, fontsize="small")
