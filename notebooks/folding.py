@@ -27,9 +27,9 @@
 # then the incompatibility of the grown state. With `NGINCOMPAT_COARSE=1` (the tests) it is
 # one axon field on a 1 x 0.6 cm bilayer with a 0.1 cm cortex (two quadratic elements across
 # it), a coarse subcortex and 10-day steps, grown to 42 days, just past the onset, without the
-# release (its unloading and relaxation take about ten minutes there); without, the three
-# axon fields on a 1 x 0.5 cm bilayer with the 0.05 cm cortex, in 5-day steps to 50 days,
-# released at the end.
+# release; without, the three axon fields at the scene's defaults: the paper's 3 x 1 cm
+# bilayer with its 0.05 cm cortex grown for the paper's 75 days and released at the end
+# (minutes per axon field: docs/measurements/folding.md, "The paper's 75 days").
 
 # %%
 import os
@@ -45,7 +45,7 @@ from ngincompat.workflow import plots, tables
 COARSE = os.environ.get("NGINCOMPAT_COARSE") == "1"
 settings = (dict(length=1.0, height=0.6, cortex_thickness=0.1, cortex_maxh=0.05, maxh=0.3,
                  t_end=42.0, dt=10.0, onset_dt=10.0, release=False) if COARSE else
-            dict(length=1.0, height=0.5, maxh=0.1, t_end=50.0, dt=5.0, onset_dt=5.0))
+            {})
 axons = ("curved",) if COARSE else folding.AXON_FIELDS
 scene = FoldingScene(**settings)
 print(scene.describe())

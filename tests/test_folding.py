@@ -611,16 +611,19 @@ def test_a_coarse_bilayer_creases_into_self_contact_and_grows_to_75_days():
 
 
 def test_the_refined_top_is_meshed_finer_than_the_cortex_below():
-    """``top_maxh`` refines the top surface: its triangles are smaller than those of the
-    interface by about (cortex_maxh / top_maxh)^2, and a size above cortex_maxh is refused."""
-    def mean_area(mesh, name):
-        areas = [ngs.Integrate(1.0, mesh, ngs.BND, definedon=mesh.Boundaries(name))]
+    """``top_maxh`` refines the top surface: the slab is one prism thick, so the top's
+    rectangles are the depth by their length along X1, and they are shorter than those of
+    the interface by about cortex_maxh / top_maxh = 4; a size above cortex_maxh is refused."""
+    def mean_length(mesh, name):
+        area = ngs.Integrate(1.0, mesh, ngs.BND, definedon=mesh.Boundaries(name))
         count = sum(1 for el in mesh.Elements(ngs.BND) if mesh.GetBoundaries()[el.index] == name)
-        return areas[0] / count
+        return area / 0.05 / count
 
-    mesh = bilayer(length=0.4, height=0.2, cortex=0.05, maxh=0.1, cortex_maxh=0.025,
-                   top_maxh=0.00625)
-    assert mean_area(mesh, "interface") > 8 * mean_area(mesh, "top")
+    mesh = bilayer(length=0.4, height=0.2, depth=0.05, cortex=0.05, maxh=0.1,
+                   cortex_maxh=0.025, top_maxh=0.00625)
+    assert {el.type for el in mesh.Elements(ngs.VOL)} == {ngs.ET.PRISM}
+    assert mean_length(mesh, "top") == pytest.approx(0.00625, rel=0.25)
+    assert mean_length(mesh, "interface") > 3 * mean_length(mesh, "top")
     with pytest.raises(ParameterError, match="top_maxh"):
         bilayer(length=0.4, height=0.2, cortex=0.05, maxh=0.1, cortex_maxh=0.025,
                 top_maxh=0.05)
