@@ -193,10 +193,9 @@ FLOW_RTOL = 1e-3
 
 #: The relaxations try Newton without the viscosity each time the flow's residual has fallen
 #: this much (:class:`~ngincompat.fem.stages.RelaxationStage`'s ``switch``), within at most
-#: ``RELAXATION_STEPS`` pseudo-time steps. The default bilayer released at 75 days creeps:
-#: its flow's residual fell 7.6-fold in 60 steps (concentric axons), short of the 10-fold
-#: that would have tried Newton; with 0.3 and 150 the release converged
-#: (``docs/measurements/folding.md``, "The paper's 75 days").
+#: ``RELAXATION_STEPS`` pseudo-time steps. The default bilayer released at 75 days creeps
+#: toward its equilibrium along a soft mode: with a tenfold fall asked for and 60 steps,
+#: Newton was never tried (``docs/measurements/folding.md``, "The paper's 75 days").
 RELAXATION_SWITCH = 0.3
 RELAXATION_STEPS = 150
 
