@@ -102,6 +102,7 @@ def extrude(section, depth, sides):
     def point(vertex, layer):
         return PointId(vertex.nr + 1 + layer * n)
 
+    neighbours = {}     # edge -> the materials of the triangles beside it
     for element in section.Elements(ngs.VOL):
         a, b, c = element.vertices
         index = materials.index(element.mat) + 1
@@ -110,10 +111,8 @@ def extrude(section, depth, sides):
                                    point(a, 1), point(c, 1), point(b, 1)]))
         mesh.Add(Element2D(face(sides, index), [point(a, 0), point(b, 0), point(c, 0)]))
         mesh.Add(Element2D(face(sides, index), [point(a, 1), point(c, 1), point(b, 1)]))
-    neighbours = {}
-    for element in section.Elements(ngs.VOL):
         for edge in element.edges:
-            neighbours.setdefault(edge.nr, []).append(materials.index(element.mat) + 1)
+            neighbours.setdefault(edge.nr, []).append(index)
     for element in section.Elements(ngs.BND):
         a, b = element.vertices
         inside, *outside = neighbours[element.edges[0].nr]
