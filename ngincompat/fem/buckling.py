@@ -24,6 +24,7 @@ from scipy.sparse.linalg import LinearOperator, eigsh
 from ngincompat import config
 from ngincompat.errors import ConvergenceError, require
 from ngincompat.fem.sparse_lu import free_block
+from ngincompat.fem.work import part
 
 #: The factorisations of K - sigma M tried in turn for the shift-invert operator. First
 #: SuperLU in symmetric mode (:func:`_symmetric_lu`: an LDL^T factorisation, whose D gives
@@ -140,6 +141,7 @@ def _smallest(K, M, count, negative=False):
                            f"smallest of the tangent")
 
 
+@part("eigenpairs")
 def smallest_eigenpairs(problem, count=1, negative=False):
     """The ``count`` smallest eigenvalues omega of K w = omega M w and their modes.
 

@@ -79,6 +79,7 @@ import numpy as np
 from ngincompat.errors import require
 from ngincompat.fem.contact import ramp
 from ngincompat.fem.terms import Term
+from ngincompat.fem.work import part
 
 #: Integration order of the pairs on each element of the boundary.
 INTORDER = 4
@@ -169,8 +170,9 @@ class SelfContact(Term):
         uses until the next update): one search, whose pairs both forms take."""
         (searched, form), (other, own) = self.forms
         self.paired.vec.data = self.u.vec
-        searched.Update(self.u, form, INTORDER, self.reach, keep_pairs=True)
-        other.Update(self.u, own, INTORDER, self.reach, other=searched)
+        with part("contact search"):
+            searched.Update(self.u, form, INTORDER, self.reach, keep_pairs=True)
+            other.Update(self.u, own, INTORDER, self.reach, other=searched)
 
     def accept_step(self):
         self.update()
@@ -190,7 +192,8 @@ class SelfContact(Term):
     def gap(self):
         """The gap g of the current state, freshly paired (a CF on the boundary; 1e300 where
         no facing point is within ``reach``)."""
-        self.probe.Update(self.u, maxdist=self.reach)
+        with part("contact search"):
+            self.probe.Update(self.u, maxdist=self.reach)
         to_pair = self.probe.gap          # x(Y) - x(X) of the probe's update
         gap = to_pair * self.probe.normal
         distance = ngs.Norm(to_pair)

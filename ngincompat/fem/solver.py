@@ -32,6 +32,7 @@ from ngincompat import config, parallel
 from ngincompat.errors import ConvergenceError, Interrupted, require
 from ngincompat.fem.sparse_lu import SuperLUInverse
 from ngincompat.fem.symmetric import SymmetricPart
+from ngincompat.fem.work import part
 from ngincompat.progress import SILENT, Progress
 
 log = logging.getLogger(__name__)
@@ -230,6 +231,9 @@ class SolverHistory:
     steps: list = field(default_factory=list)
     converged: bool = False
     t_reached: float = 0.0
+    #: Seconds per kind of work (:data:`ngincompat.fem.work.KINDS`) while the history was
+    #: made, where the stage's runner measured them.
+    work: dict = field(default_factory=dict)
 
     @property
     def newton_iterations(self):
@@ -244,6 +248,7 @@ class SolverHistory:
         return {"converged": self.converged, "t_reached": self.t_reached,
                 "newton_iterations": self.newton_iterations,
                 "tangent_assemblies": self.tangent_assemblies,
+                "work": dict(self.work),
                 "steps": [asdict(s) for s in self.steps]}
 
 
@@ -282,32 +287,38 @@ class NewtonSolver:
     def energy(self, vec):
         """The problem's energy at ``vec``, summed over the ranks of a distributed mesh; with
         ``energy`` given, its value at the current state (which ``vec`` is)."""
-        if self._energy is not None:
-            return self._energy()
-        return parallel.total(self._mesh, self.problem.form.Energy(vec))
+        with part("energy"):
+            if self._energy is not None:
+                return self._energy()
+            return parallel.total(self._mesh, self.problem.form.Energy(vec))
 
     def residual(self, vec=None):
         """The residual (energy gradient) on free dofs at ``vec`` (default: the current u)."""
         a = self.problem.form
-        a.Apply(self.problem.state.vec if vec is None else vec, self._res)
-        self._res.FV().NumPy()[self._fixed] = 0.0
+        with part("residual"):
+            a.Apply(self.problem.state.vec if vec is None else vec, self._res)
+            self._res.FV().NumPy()[self._fixed] = 0.0
         return self._res
 
     def factorise(self):
         """Assemble the tangent at the current state and factorise it (kept for
         :meth:`direction` until the next call)."""
         p = self.problem
-        p.form.AssembleLinearization(p.state.vec)
+        with part("assembly"):
+            p.form.AssembleLinearization(p.state.vec)
         if self.linear_solver == "direct":
             inverse = self.options.inverse or p.inverse
-            self._inverse = (SuperLUInverse(p.form.mat, p.freedofs) if inverse == "superlu"
-                             else p.form.mat.Inverse(p.freedofs, inverse=inverse))
+            with part("factorisation"):
+                self._inverse = (SuperLUInverse(p.form.mat, p.freedofs)
+                                 if inverse == "superlu"
+                                 else p.form.mat.Inverse(p.freedofs, inverse=inverse))
             return
         if self.linear_solver == "symmetric-gmres":
             if self._symmetric is None:
                 self._symmetric = SymmetricPart(p.form.mat)
-            preconditioner = self._symmetric.of(p.form.mat).Inverse(
-                p.freedofs, inverse="sparsecholesky")
+            with part("factorisation"):
+                preconditioner = self._symmetric.of(p.form.mat).Inverse(
+                    p.freedofs, inverse="sparsecholesky")
             krylov = GMResSolver
         else:
             free = ngs.Projector(p.freedofs, True)
@@ -322,15 +333,16 @@ class NewtonSolver:
         tangents are reused); returns du."""
         p = self.problem
         a, r, du, inv = p.form, self._res, self._du, self._inverse
-        if p.condense:
-            rhs = r.CreateVector()
-            rhs.data = r
-            rhs.data += a.harmonic_extension_trans * r
-            du.data = inv * rhs
-            du.data += a.harmonic_extension * du
-            du.data += a.inner_solve * rhs
-        else:
-            du.data = inv * r
+        with part("linear solve"):
+            if p.condense:
+                rhs = r.CreateVector()
+                rhs.data = r
+                rhs.data += a.harmonic_extension_trans * r
+                du.data = inv * rhs
+                du.data += a.harmonic_extension * du
+                du.data += a.inner_solve * rhs
+            else:
+                du.data = inv * r
         return du
 
     def _acceptable(self, E, E_new, alpha, slope, r_norm):

@@ -25,6 +25,7 @@ from typing import Any, Protocol, runtime_checkable
 
 from ngincompat import parallel
 from ngincompat.errors import ConvergenceError, Interrupted, InterruptedBeforeComputing
+from ngincompat.fem import work
 from ngincompat.fem.solver import SolverHistory
 from ngincompat.progress import SILENT, Progress
 from ngincompat.workflow import output
@@ -90,18 +91,22 @@ def solve_stages(stages, progress: Progress = SILENT, solution: Solution | None 
 
     A stage that does not converge leaves the last converged state and sets the status
     ``"not converged"`` with the reason; an interrupted one sets ``"interrupted"``. Either way
-    the history up to that point is kept. ``after(stage)``, if given, is called after every
+    the history up to that point is kept, with the seconds per kind of work the stage took
+    (``work``: :mod:`ngincompat.fem.work`). ``after(stage)``, if given, is called after every
     stage that converged (to note quantities of that moment). Returns the solution.
     """
     solution = Solution() if solution is None else solution
     for stage in stages:
+        before = work.totals()
         try:
             with timed(solution.timings, stage.name):
                 solution.histories[stage.name] = stage.run(progress)
+                solution.histories[stage.name].work = work.since(before)
                 if after is not None:
                     after(stage)
         except (ConvergenceError, Interrupted) as err:
             if err.history is not None:
+                err.history.work = work.since(before)
                 solution.histories[stage.name] = err.history
             interrupted = isinstance(err, Interrupted)
             solution.status = INTERRUPTED if interrupted else NOT_CONVERGED

@@ -275,4 +275,4 @@ def _history(data: dict) -> SolverHistory:
         s["residuals"] = [math.nan if r is None else r for r in s.get("residuals", [])]
         steps.append(StepRecord(**s))
     return SolverHistory(steps=steps, converged=data["converged"],
-                         t_reached=data["t_reached"])
+                         t_reached=data["t_reached"], work=dict(data.get("work", {})))
