@@ -216,6 +216,21 @@ def test_a_step_doubles_after_at_most_step_up_newton_iterations():
     assert steps(step_up=20, max_step=0.5) == pytest.approx([0.25, 0.5, 0.5, 0.5, 0.25])
 
 
+@pytest.mark.parametrize("hold", [0, 1, 3])
+def test_after_a_cut_step_hold_converged_steps_keep_the_step(hold):
+    """A step of 0.8 needs 5 Newton iterations to 1e-12, one of 0.4 needs 4: with at most 4
+    the first step fails and is halved; the next ``step_hold`` converged steps keep 0.4, the
+    one after them doubles it (``step_up`` = 4)."""
+    problem, _ = _stretched_bar(LAW)
+    solve_coupled(problem, t_end=0.01, dt=0.01, options=NewtonOptions(max_iter=20))
+    history = solve_coupled(problem, t_start=0.01, t_end=0.01 + 0.8 * (hold + 2), dt=0.8,
+                            options=NewtonOptions(max_iter=4, rtol=1e-12, step_hold=hold))
+    steps = [(s.dt, s.converged) for s in history.steps]
+    assert history.converged and steps[0] == (pytest.approx(0.8), False)
+    assert steps[1:hold + 3] == [(pytest.approx(0.4), True)] * (hold + 1) + [
+        (pytest.approx(0.8), True)]
+
+
 def test_viscous_regularisation_lags_and_a_frozen_step_removes_it():
     """Fiber growth at a constant rate in a cube on rollers at one end: with the viscous term
     eta / dt int (u - u_n) . v dV a step ends short of equilibrium (the displacement lags);

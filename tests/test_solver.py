@@ -8,7 +8,13 @@ import pytest
 from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.fem.solver import BACKTRACKS, NewtonOptions, NewtonSolver, solve_growth
+from ngincompat.fem.solver import (
+    BACKTRACKS,
+    NewtonOptions,
+    NewtonSolver,
+    _stalled,
+    solve_growth,
+)
 from ngincompat.fem.symmetric import SymmetricPart
 
 
@@ -183,3 +189,28 @@ def test_symmetric_part_follows_a_matrix_of_another_pattern():
     expected = (_dense(grown) + _dense(grown).T) / 2
     assert np.allclose(_dense(part.of(grown)), expected, rtol=0, atol=1e-15)
     assert _dense(part.of(grown))[0, 2] == 3.0
+
+
+#: Residual norms of two steps of the folding bilayer's march at 65.7 days (curved axons):
+#: one that cycles without converging in 12 iterations, and one that converges.
+CYCLING = [1.5e-4, 2.2e-4, 1.2e-5, 3.0e-5, 3.2e-5, 1.4e-4, 8.8e-6, 2.9e-5, 2.6e-4, 4.6e-2,
+           4.5e-2, 1.4e-2, 1.0e-1]
+CONVERGING = [2.7e-4, 1.7e-3, 9.8e-6, 1.5e-6, 1.6e-11, 1.2e-15]
+SLOW = [1.6e-4, 4.2e-3, 9.9e-05, 4.3e-3, 7.0e-5, 1.0e-1, 4.9e-5, 8.0e-7, 2.0e-8, 1.0e-10]
+
+
+@pytest.mark.parametrize("stall, iteration", [(3, 5), (2, 5), (4, 10)])
+def test_a_step_stalls_once_its_residual_stays_above_its_best_for_stall_iterations(
+        stall, iteration):
+    stalled = [k for k in range(1, len(CYCLING) + 1) if _stalled(CYCLING[:k + 1], stall)]
+    assert stalled and stalled[0] == iteration
+
+
+def test_a_converging_step_never_stalls_nor_any_step_without_stall():
+    for k in range(1, len(CONVERGING)):
+        assert not _stalled(CONVERGING[:k + 1], 3)
+    for k in range(1, len(SLOW)):          # above its best for 2 iterations only
+        assert not _stalled(SLOW[:k + 1], 3)
+        assert not _stalled(CYCLING[:k + 1], 0)
+    with pytest.raises(ParameterError, match="stall"):
+        NewtonOptions(stall=-1)

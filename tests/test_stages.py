@@ -218,3 +218,44 @@ def test_failed_tries_of_the_relaxation_do_not_use_up_its_steps(monkeypatch):
     assert history.converged and len(accepted) == 45
     assert sum(not step.converged for step in history.steps) == 45
     assert stage.max_steps == 60 < len(history.steps)
+
+
+@pytest.mark.parametrize("hold", [0, 2])
+def test_after_a_failed_try_the_relaxation_holds_its_step(monkeypatch, hold):
+    """A flow whose tries longer than 0.5 fail: after each failure the step is halved to
+    0.5 and kept for ``step_hold`` accepted steps before it doubles (and fails) again."""
+    from ngincompat.fem import stages
+
+    state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
+    accepted = []
+
+    class Flow:
+        def __init__(self, problem, options, energy=None):
+            pass
+
+        def minimise(self, record):
+            if record.dt == 0:
+                record.residuals = [1e-12]
+                return True
+            if record.dt > 0.5:
+                record.reason = "residual is not finite"
+                return False
+            record.iterations = 4
+            return True
+
+        def residual(self):
+            return SimpleNamespace(Norm=lambda: 1.0 - 0.1 * len(accepted))
+
+    problem = SimpleNamespace(growing=ngs.Parameter(1.0), dt=ngs.Parameter(0.0), state=state,
+                              frozen_energy=lambda: -float(len(accepted)),
+                              energy=lambda: -float(len(accepted)) - 1.0,
+                              accept_step=lambda: accepted.append(True))
+    monkeypatch.setattr(stages, "NewtonSolver", Flow)
+    monkeypatch.setattr(stages.buckling, "smallest_eigenpairs", lambda *a, **k: ([1.0], None))
+    stage = RelaxationStage("release", problem, SimpleNamespace(restart=lambda eta: None),
+                            viscosity=1.0, dt=1.0, options=NewtonOptions(step_hold=hold))
+    history = stage.run(SILENT)
+    tries = [(step.dt, step.converged) for step in history.steps if step.dt > 0]
+    cycle = [(1.0, False)] + [(0.5, True)] * (hold + 1)
+    assert history.converged and len(accepted) == 9
+    assert tries[:2 * len(cycle)] == cycle * 2

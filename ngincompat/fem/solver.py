@@ -129,6 +129,18 @@ class NewtonOptions:
     step_up : int
         A converged step that took at most this many Newton iterations doubles the next one
         (up to ``max_step``).
+    step_hold : int
+        After a failed step (cut in half), the next ``step_hold`` converged steps do not
+        double the step, however easy: where the march meets a short event (a fold that
+        snaps), doubling after the first easy step fails again and again
+        (docs/measurements/folding.md, "The march's failed steps").
+    stall : int
+        Give a step up as failed once the residual norm has stayed above its smallest value
+        before for this many iterations in a row (from the fifth iteration on; 0: never),
+        rather than after ``max_iter``: a step that does not converge cycles between
+        residuals that never fall below what its first iterations reached, and is retried
+        shorter as it would be at ``max_iter`` (docs/measurements/folding.md, "The march's
+        failed steps").
     line_search : bool
         Backtrack on the energy; without it every Newton step is taken in full (plain Newton,
         kept for comparison: it fails where a full step leaves the domain Je > 0).
@@ -181,6 +193,8 @@ class NewtonOptions:
     extrapolate: bool = False
     max_step: float = float("inf")
     step_up: int = 4
+    step_hold: int = 0
+    stall: int = 0
     reuse_tangent: bool = False
     reuse_contraction: float = 0.1
     linear_solver: str = "auto"
@@ -195,6 +209,8 @@ class NewtonOptions:
         require(self.backtrack in BACKTRACKS, "backtrack", self.backtrack,
                 ", ".join(BACKTRACKS))
         require(self.step_up >= 0, "step_up", self.step_up, ">= 0")
+        require(self.step_hold >= 0, "step_hold", self.step_hold, ">= 0")
+        require(self.stall >= 0, "stall", self.stall, ">= 0")
         require(0 < self.min_step <= 1, "min_step", self.min_step, "in (0, 1]")
         require(self.inverse in (None, *INVERSES), "inverse", self.inverse,
                 ", ".join(INVERSES))
@@ -430,12 +446,31 @@ class NewtonSolver:
                 record.reason = "residual is not finite"
                 return False
             fresh = alpha < 1.0 or r.Norm() > opts.reuse_contraction * r_old
+            if _stalled(record.residuals, opts.stall):
+                record.iterations = it
+                record.reason = (f"the residual stayed above its smallest value for "
+                                 f"{opts.stall} iterations")
+                return False
         record.iterations = opts.max_iter
         if r.Norm() <= max(opts.rtol * r0, opts.atol):
             record.energy = E
             return True
         record.reason = f"no convergence in {opts.max_iter} iterations"
         return False
+
+
+#: The first Newton iteration after which a step may count as stalled (``stall``).
+STALL_FROM = 5
+
+
+def _stalled(residuals, stall):
+    """Have the last ``stall`` residuals (``residuals[0]`` the step's start, one per
+    iteration after it) all stayed above the smallest before them, from iteration
+    :data:`STALL_FROM` on? Never with ``stall`` = 0."""
+    k = len(residuals) - 1
+    if stall == 0 or k < max(STALL_FROM, stall):
+        return False
+    return min(residuals[-stall:]) > min(residuals[:-stall])
 
 
 def _merit(residual_norm):
@@ -551,6 +586,7 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, report, ene
     history = SolverHistory(t_reached=t)
     saved = problem.state.vec.CreateVector()
     saved.data = problem.state.vec          # the last converged state, always
+    held = 0                                # steps still to converge before dt may grow
     with config.task_manager():
         try:
             while t < t_end - 1e-12 * max(1.0, abs(t_end)):
@@ -570,7 +606,9 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, report, ene
                     log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
                     if stop:
                         break
-                    if record.iterations <= options.step_up:
+                    if held:
+                        held -= 1
+                    elif record.iterations <= options.step_up:
                         dt = min(2 * dt, options.max_step)
                     continue
                 problem.state.vec.data = saved
@@ -579,6 +617,7 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, report, ene
                 log.info("step to t = %.4g failed (%s); cutting the step", t + dt,
                          record.reason)
                 dt /= 2
+                held = options.step_hold
                 if dt < options.min_step:
                     raise ConvergenceError(
                         f"growth could not be applied beyond t = {t:.6g}: the step fell below "

@@ -371,10 +371,11 @@ class RelaxationStage:
     for a mode amplitude a, positive for c > 1, where the step converges back toward the
     saddle. A step that raises Phi above Pi(u_n) (beyond round-off, ``1e-12 |Pi|``) is
     rejected like one where Newton fails, and retried at half the size; after one that took
-    at most four Newton iterations tau doubles. The flow so leaves saddles and settles in a
-    stable equilibrium. Its states are only the way there, so each step is solved to the
-    relative residual ``flow_rtol`` (default 1e-3), not ``options.rtol`` (measured on the
-    folding scene's release: :data:`~ngincompat.scenes.folding.FLOW_RTOL`).
+    at most ``options.step_up`` Newton iterations tau doubles, unless it is one of the
+    ``options.step_hold`` accepted steps after a rejected one. The flow so leaves saddles
+    and settles in a stable equilibrium. Its states are only the way there, so each step is
+    solved to the relative residual ``flow_rtol`` (default 1e-3), not ``options.rtol``
+    (measured on the folding scene's release: :data:`~ngincompat.scenes.folding.FLOW_RTOL`).
 
     The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
     ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
@@ -429,7 +430,7 @@ class RelaxationStage:
         saved = problem.state.vec.CreateVector()
         saved.data = problem.state.vec
         self.initial_residual = self._residual(solver)
-        energy, t, tau, accepted = problem.frozen_energy(), 0.0, self.dt, 0
+        energy, t, tau, accepted, held = problem.frozen_energy(), 0.0, self.dt, 0, 0
         attempt = self.initial_residual
         progress.line(f"{label}: residual without viscosity {self.initial_residual:.3g}")
         try:
@@ -449,6 +450,7 @@ class RelaxationStage:
                         progress.line(f"{label}: step {tau:.3g} failed ({record.reason})"
                                       f"; retrying with {tau / 2:.3g}")
                         tau /= 2
+                        held = self.options.step_hold
                         if tau < self.options.min_step:
                             break
                         continue
@@ -465,7 +467,9 @@ class RelaxationStage:
                             history.converged = True
                             return history
                         attempt = residual
-                    if record.iterations <= 4:
+                    if held:
+                        held -= 1
+                    elif record.iterations <= self.options.step_up:
                         tau *= 2
         finally:
             problem.dt.Set(0.0)
