@@ -200,11 +200,24 @@ RELAXATION_SWITCH = 0.3
 RELAXATION_STEPS = 150
 
 
+#: After a cut step, this many converged steps keep the step before it may double again
+#: (:class:`~ngincompat.fem.solver.NewtonOptions`' ``step_hold``, also in the relaxations);
+#: the viscous march gives a step up once its residual has stayed above its best for
+#: ``STALL`` iterations (``stall``). The march meets short events where a fold snaps, which
+#: only steps of a few thousandths of a day get through: doubling after each easy step
+#: failed again at each, and each failed try cost the 12 iterations of its cap
+#: (docs/measurements/folding.md, "The march's failed steps").
+STEP_HOLD = 2
+STALL = 3
+
+
 def newton(**settings):
     """The Newton options of every stage: at most 12 iterations per step, the directions
-    by :data:`LINEAR_SOLVER`, and the stage's own ``settings`` (which may change those)."""
+    by :data:`LINEAR_SOLVER`, :data:`STEP_HOLD` steps held after a cut, and the stage's own
+    ``settings`` (which may change those)."""
     return NewtonOptions(**{"max_iter": 12, "linear_solver": LINEAR_SOLVER,
-                            "krylov_maxiter": KRYLOV_MAXITER, **settings})
+                            "krylov_maxiter": KRYLOV_MAXITER, "step_hold": STEP_HOLD,
+                            **settings})
 
 
 @functools.lru_cache(maxsize=32)
@@ -630,7 +643,8 @@ class FoldingCase:
         march's line search"); full steps without any shortening cut the march's steps far
         sooner on the coarse bilayer with the graded top."""
         step = min(self.viscous_step(), self.scene.onset_dt)
-        options = newton(max_step=step, line_search=True, backtrack="finite", min_step=1e-6)
+        options = newton(max_step=step, line_search=True, backtrack="finite", min_step=1e-6,
+                         stall=STALL)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
                             t_start=self.series["perfect"]["t"][-1], options=options,
                             observe=self._observe_buckling, unit=self.scene.units["time"])
