@@ -188,6 +188,7 @@ def _cmd_bench(args):
         bench,
         costs,
         curvature_rates,
+        folding_costs,
         peer,
         scaling,
         stability,
@@ -199,6 +200,10 @@ def _cmd_bench(args):
     io.git_state()
     if args.case == "scenes":
         lines = costs.main(args.scenes, args.presets, out=args.out, timeout=args.timeout)
+    elif args.case == "folding":
+        lines = folding_costs.main(args.axons, args.preset, threads=args.threads,
+                                   out=args.out, timeout=args.timeout,
+                                   settings=_settings(args.set))
     elif args.case == "peer":
         lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
     elif args.case == "cube":
@@ -266,6 +271,19 @@ def _add_bench(sub):
     p.add_argument("--scenes", nargs="+", metavar="SCENE", help="default: every scene")
     p.add_argument("--presets", nargs="+", metavar="PRESET",
                    help="default: every preset of each scene (preview, default, paper)")
+    p.add_argument("--timeout", type=float, default=3600.0,
+                   help="seconds a run may take before it is stopped (default 3600)")
+    p = case("folding", "what the folding scene costs per axon field, and where its time "
+                        "goes (assembly, factorisation, contact search, ...)")
+    p.add_argument("--axons", nargs="+", choices=FOLDING_AXONS, default=list(FOLDING_AXONS),
+                   help="axon fields (default: all three)")
+    p.add_argument("--preset", choices=PRESETS, default="default",
+                   help="the scene's preset (default: default)")
+    p.add_argument("--threads", type=int, default=1,
+                   help="NGSolve threads per run (default 1; 2 on an otherwise idle "
+                        "2-core machine)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="a folding parameter for every run (repeatable)")
     p.add_argument("--timeout", type=float, default=3600.0,
                    help="seconds a run may take before it is stopped (default 3600)")
     p = case("cube", "run time against error of the cube (energy against the converged "
@@ -388,6 +406,9 @@ def _add_variants(sub, command, help, scene, option, what, choices, func):
 #: :data:`ngincompat.scenes.SCENES`, imports NGSolve and every scene; a test keeps the two
 #: equal).
 SCENE_NAMES = ("cube", "hemisphere", "disc", "cylinder", "skin", "folding", "custom", "atrophy")
+#: The axon fields of the folding scene (:data:`ngincompat.mechanics.fields.AXONS`, which
+#: imports NGSolve; a test keeps the two equal).
+FOLDING_AXONS = ("curved", "concentric", "straight")
 #: The files every scene writes besides results.json when neither --outputs nor
 #: ``--set outputs=...`` says otherwise (the scenes' default ``outputs``; a test keeps them
 #: equal).
@@ -477,7 +498,7 @@ def build_parser():
                   "skin", "--footprints", "expanders", FOOTPRINTS, _cmd_expansion)
     _add_variants(sub, "folding", "the cortical-folding scene for the three axon fields",
                   "folding", "--axons", "axon fields",
-                  ("curved", "concentric", "straight"),     # fields.AXONS, NGSolve-free
+                  FOLDING_AXONS,
                   _cmd_folding)
     _add_bench(sub)
     _add_sweep(sub)

@@ -144,6 +144,12 @@ def test_run_help_gives_the_true_default_of_outputs(capsys):
     assert "default: incompatibility,mechanics,vtk,figures" in text
 
 
+def test_the_cli_names_the_folding_scenes_axon_fields():
+    from ngincompat.cli import FOLDING_AXONS
+    from ngincompat.mechanics import fields
+    assert FOLDING_AXONS == fields.AXONS
+
+
 def test_list_verbose_shows_type_default_unit_and_range(capsys):
     assert main(["list", "-v"]) == 0
     lines = capsys.readouterr().out.splitlines()

@@ -69,3 +69,23 @@ def test_a_preview_measured_alone_is_compared_with_the_earlier_default(tmp_path,
     rows = io.read_json(tmp_path / "scenes.json")["rows"]
     assert [(r["preset"], r["reference"], r["error"]) for r in rows] == [
         ("preview", "default", 0.25), ("default", "default", 0.0)]
+
+
+def test_bench_folding_splits_each_fields_time_into_kinds_of_work(tmp_path, capsys):
+    """``bench folding`` on the coarse bilayer to 10 days: the row of its run, the seconds of
+    each kind of work, which with the rest of the stages add up to the stages' wall time, and
+    one row per stage."""
+    from ngincompat.fem.work import KINDS
+    assert main(["bench", "folding", "--axons", "straight", "--preset", "preview",
+                 "--set", "t_end=10", "--set", "release=false", "--out", str(tmp_path)]) == 0
+    [run] = io.read_json(tmp_path / "fields.json")["rows"]
+    assert (run["axons"], run["status"], run["t_reached"]) == ("straight", "done", 10.0)
+    assert run["newton"] >= 1 and run["failed"] == 0 and run["threads"] == 1
+    [spent] = io.read_json(tmp_path / "work.json")["rows"]
+    stages = io.read_json(tmp_path / "stages.json")["rows"]
+    assert [s["stage"] for s in stages] == ["perfect"]
+    assert spent["assembly"] > 0 and spent["residual"] > 0
+    in_stages = sum(spent[kind] for kind in KINDS) + spent["other in the stages"]
+    assert in_stages == pytest.approx(sum(s["wall_s"] for s in stages))
+    assert spent["outside the stages"] == pytest.approx(run["wall_s"] - in_stages)
+    assert "| axons | assembly [s] | factorisation [s]" in capsys.readouterr().out

@@ -34,6 +34,8 @@ COARSE = {
     "curvature": ["--quick"],
     "stability": ["--quick"],
     "scenes": ["--scenes", "cube", "--presets", "preview"],
+    "folding": ["--axons", "straight", "--preset", "preview", "--set", "t_end=10",
+                "--set", "release=false"],
     "peer": ["--peer", "peer", "--pairs", "1", "--set", "order=2", "--set", "maxh=1"],
     "scaling": ["--quick", "--solvers", "sparsecholesky"],
 }

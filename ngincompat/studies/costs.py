@@ -47,17 +47,19 @@ UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB"}
 TIMEOUT = 3600.0
 
 
-def measure(scene, preset, timeout=TIMEOUT, threads=1):
-    """Run ``scene`` at ``preset`` in a fresh process; returns its results.json as a dict
-    (None when the run wrote none) and the row's cost columns (with ``status`` when the run
-    failed or was stopped after ``timeout`` seconds).
+def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None):
+    """Run ``scene`` at ``preset`` (and the parameters ``settings``, name -> value) in a
+    fresh process; returns its results.json as a dict (None when the run wrote none) and the
+    row's cost columns (with ``status`` when the run failed or was stopped after ``timeout``
+    seconds).
 
     ``threads``: NGSolve threads of the run (``NGS_NUM_THREADS``; 1, every run's default,
     keeps times on a shared machine comparable)."""
     with tempfile.TemporaryDirectory(prefix="ngincompat-cost-") as tmp:
         out, log = Path(tmp) / "run", Path(tmp) / "log"
         command = [sys.executable, "-m", "ngincompat.cli", "run", scene, "--out", str(out),
-                   "--preset", preset, "--set", "outputs=none", "-q"]
+                   "--preset", preset, "--set", "outputs=none", "-q",
+                   *(f"--set={key}={value}" for key, value in (settings or {}).items())]
         load = os.getloadavg()[0]
         start = time.perf_counter()
         with open(log, "w") as stream:

@@ -1,0 +1,107 @@
+"""What the folding scene costs per axon field at a preset, and where its time goes:
+``ngincompat bench folding``.
+
+Each axon field runs in a fresh process (:func:`ngincompat.studies.costs.measure`: wall and
+CPU time, peak memory, the machine's load at its start), one after the other. Three tables:
+
+* ``fields``: per axon field the status, how far the growth went, ndof, Newton iterations,
+  the failed tries (steps that did not converge and were retried shorter), wall and CPU time;
+* ``work``: per axon field the seconds of each kind of work
+  (:data:`ngincompat.fem.work.KINDS`: tangent assembly, factorisation, linear solves,
+  residuals, energies, contact search, eigenpairs) summed over the stages, what else the
+  stages took (Python between the calls, measurements of the march) and the time outside
+  the stages (mesh, incompatibility, output, the process' start);
+* ``stages``: per axon field and stage its wall time, Newton iterations, failed tries and
+  tangents.
+"""
+
+from __future__ import annotations
+
+from ngincompat.errors import ParameterError
+from ngincompat.fem.work import KINDS
+from ngincompat.mechanics import fields
+from ngincompat.progress import SILENT, Progress
+from ngincompat.studies.costs import TIMEOUT, measure
+from ngincompat.workflow import tables
+
+FIELD_COLUMNS = ("axons", "preset", "threads", "status", "t_reached", "ndof", "newton",
+                 "failed", "wall_s", "cpu_s", "peak_mb", "load")
+WORK_COLUMNS = ("axons", *KINDS, "other in the stages", "outside the stages", "wall_s")
+STAGE_COLUMNS = ("axons", "stage", "wall_s", "newton", "failed", "tangents")
+UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB", "t_reached": "day",
+         **dict.fromkeys((*KINDS, "other in the stages", "outside the stages"), "s")}
+
+
+def _failed(history):
+    return sum(1 for step in history["steps"] if not step["converged"])
+
+
+def rows_of(axons, preset, threads, record, cost):
+    """The rows of one run in the three tables (only the first when it wrote no results)."""
+    field_row = {"axons": axons, "preset": preset, "threads": threads, "status": "done",
+                 **cost}
+    if record is None:
+        return field_row, None, []
+    solver = record["solver"]
+    field_row.update(status=cost.get("status", record["status"]),
+                     t_reached=record["metrics"].get("t_reached"),
+                     ndof=record["mesh"]["ndof"],
+                     newton=sum(h["newton_iterations"] for h in solver.values()),
+                     failed=sum(_failed(h) for h in solver.values()))
+    spent = {kind: sum(h.get("work", {}).get(kind, 0.0) for h in solver.values())
+             for kind in KINDS}
+    in_stages = sum(record["timings"].get(stage, 0.0) for stage in solver)
+    work_row = {"axons": axons, **spent,
+                "other in the stages": in_stages - sum(spent.values()),
+                "outside the stages": cost["wall_s"] - in_stages, "wall_s": cost["wall_s"]}
+    stage_rows = [{"axons": axons, "stage": stage, "wall_s": record["timings"].get(stage),
+                   "newton": h["newton_iterations"], "failed": _failed(h),
+                   "tangents": h["tangent_assemblies"]} for stage, h in solver.items()]
+    return field_row, work_row, stage_rows
+
+
+def table(axons=fields.AXONS, preset="default", threads=1, timeout=TIMEOUT, settings=None,
+          progress=SILENT):
+    """Run the folding scene for each axon field of ``axons`` at ``preset`` (with the
+    parameters ``settings``) on ``threads`` NGSolve threads; returns the rows of the three
+    tables (fields, work, stages).
+
+    Raises
+    ------
+    ParameterError
+        An unknown axon field (before anything runs).
+    """
+    for name in axons:
+        if name not in fields.AXONS:
+            raise ParameterError(f"unknown axon field {name!r}: allowed "
+                                 f"{', '.join(fields.AXONS)}")
+    field_rows, work_rows, stage_rows = [], [], []
+    for name in axons:
+        record, cost = measure("folding", preset, timeout, threads=threads,
+                               settings={**(settings or {}), "axons": name})
+        field_row, work_row, stages = rows_of(name, preset, threads, record, cost)
+        field_rows.append(field_row)
+        work_rows += [work_row] if work_row else []
+        stage_rows += stages
+        progress.line(f"folding {name}: {field_row['status']}, {cost['wall_s']} s")
+    return field_rows, work_rows, stage_rows
+
+
+def main(axons=fields.AXONS, preset="default", threads=1, out=None, timeout=TIMEOUT,
+         settings=None):
+    """``ngincompat bench folding``: :func:`table`; returns the lines to print. With ``out``
+    the tables are also written as ``fields``, ``work`` and ``stages`` (.md, .csv, .json)."""
+    field_rows, work_rows, stage_rows = table(axons, preset, threads, timeout, settings,
+                                              progress=Progress())
+    parts = (("fields", field_rows, FIELD_COLUMNS), ("work", work_rows, WORK_COLUMNS),
+             ("stages", stage_rows, STAGE_COLUMNS))
+    lines = []
+    for name, rows, columns in parts:
+        lines += [tables.markdown(rows, list(columns), UNITS), ""]
+        if out is not None:
+            tables.write(out, name, rows, list(columns), UNITS)
+    lines.append(f"(one process per axon field, NGSolve on {threads} thread(s); load: the "
+                 "1-minute load average at its start; failed: tries retried shorter)")
+    if out is not None:
+        lines.append(f"tables written to {out}: fields, work, stages (.md, .csv, .json)")
+    return lines
