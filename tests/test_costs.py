@@ -88,4 +88,6 @@ def test_bench_folding_splits_each_fields_time_into_kinds_of_work(tmp_path, caps
     in_stages = sum(spent[kind] for kind in KINDS) + spent["other in the stages"]
     assert in_stages == pytest.approx(sum(s["wall_s"] for s in stages))
     assert spent["outside the stages"] == pytest.approx(run["wall_s"] - in_stages)
+    [measures] = io.read_json(tmp_path / "metrics.json")["rows"]
+    assert measures["Je_min"] > 0 and measures["burgers_interface_mean"] > 0
     assert "| axons | assembly [s] | factorisation [s]" in capsys.readouterr().out

@@ -12,7 +12,9 @@ CPU time, peak memory, the machine's load at its start), one after the other. Th
   stages took (Python between the calls, measurements of the march) and the time outside
   the stages (mesh, incompatibility, output, the process' start);
 * ``stages``: per axon field and stage its wall time, Newton iterations, failed tries and
-  tangents.
+  tangents;
+* ``metrics``: per axon field the measures of the paper's finding and of the folds
+  (:data:`METRICS`), so that a change that makes a run cheaper shows what it does to them.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from ngincompat.errors import ParameterError
 from ngincompat.fem.work import KINDS
 from ngincompat.mechanics import fields
 from ngincompat.progress import SILENT, Progress
+from ngincompat.scenes.folding import FoldingScene
 from ngincompat.studies.costs import TIMEOUT, measure
 from ngincompat.workflow import tables
 
@@ -28,8 +31,14 @@ FIELD_COLUMNS = ("axons", "preset", "threads", "status", "t_reached", "ndof", "n
                  "failed", "wall_s", "cpu_s", "peak_mb", "load")
 WORK_COLUMNS = ("axons", *KINDS, "other in the stages", "outside the stages", "wall_s")
 STAGE_COLUMNS = ("axons", "stage", "wall_s", "newton", "failed", "tangents")
-UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB", "t_reached": "day",
-         **dict.fromkeys((*KINDS, "other in the stages", "outside the stages"), "s")}
+#: The metrics of the ``metrics`` table.
+METRICS = ("burgers_interface_mean", "max_principal_stress_released", "theta_a_max", "sulci",
+           "sulcus_depth", "fold_amplitude", "Je_min", "self_contact_penetration_max")
+METRICS_COLUMNS = ("axons", *METRICS)
+UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB",
+         "t_reached": FoldingScene.metric_unit("t_reached"),
+         **dict.fromkeys((*KINDS, "other in the stages", "outside the stages"), "s"),
+         **{name: FoldingScene.metric_unit(name) for name in METRICS}}
 
 
 def _failed(history):
@@ -37,11 +46,11 @@ def _failed(history):
 
 
 def rows_of(axons, preset, threads, record, cost):
-    """The rows of one run in the three tables (only the first when it wrote no results)."""
+    """The rows of one run in the four tables (only the first when it wrote no results)."""
     field_row = {"axons": axons, "preset": preset, "threads": threads, "status": "done",
                  **cost}
     if record is None:
-        return field_row, None, []
+        return field_row, None, [], None
     solver = record["solver"]
     field_row.update(status=cost.get("status", record["status"]),
                      t_reached=record["metrics"].get("t_reached"),
@@ -57,14 +66,15 @@ def rows_of(axons, preset, threads, record, cost):
     stage_rows = [{"axons": axons, "stage": stage, "wall_s": record["timings"].get(stage),
                    "newton": h["newton_iterations"], "failed": _failed(h),
                    "tangents": h["tangent_assemblies"]} for stage, h in solver.items()]
-    return field_row, work_row, stage_rows
+    metric_row = {"axons": axons, **{name: record["metrics"].get(name) for name in METRICS}}
+    return field_row, work_row, stage_rows, metric_row
 
 
 def table(axons=fields.AXONS, preset="default", threads=1, timeout=TIMEOUT, settings=None,
           progress=SILENT):
     """Run the folding scene for each axon field of ``axons`` at ``preset`` (with the
-    parameters ``settings``) on ``threads`` NGSolve threads; returns the rows of the three
-    tables (fields, work, stages).
+    parameters ``settings``) on ``threads`` NGSolve threads; returns the rows of the four
+    tables (fields, work, stages, metrics).
 
     Raises
     ------
@@ -75,26 +85,28 @@ def table(axons=fields.AXONS, preset="default", threads=1, timeout=TIMEOUT, sett
         if name not in fields.AXONS:
             raise ParameterError(f"unknown axon field {name!r}: allowed "
                                  f"{', '.join(fields.AXONS)}")
-    field_rows, work_rows, stage_rows = [], [], []
+    field_rows, work_rows, stage_rows, metric_rows = [], [], [], []
     for name in axons:
         record, cost = measure("folding", preset, timeout, threads=threads,
                                settings={**(settings or {}), "axons": name})
-        field_row, work_row, stages = rows_of(name, preset, threads, record, cost)
+        field_row, work_row, stages, metric_row = rows_of(name, preset, threads, record, cost)
         field_rows.append(field_row)
         work_rows += [work_row] if work_row else []
         stage_rows += stages
+        metric_rows += [metric_row] if metric_row else []
         progress.line(f"folding {name}: {field_row['status']}, {cost['wall_s']} s")
-    return field_rows, work_rows, stage_rows
+    return field_rows, work_rows, stage_rows, metric_rows
 
 
 def main(axons=fields.AXONS, preset="default", threads=1, out=None, timeout=TIMEOUT,
          settings=None):
     """``ngincompat bench folding``: :func:`table`; returns the lines to print. With ``out``
-    the tables are also written as ``fields``, ``work`` and ``stages`` (.md, .csv, .json)."""
-    field_rows, work_rows, stage_rows = table(axons, preset, threads, timeout, settings,
-                                              progress=Progress())
+    the tables are also written as ``fields``, ``work``, ``stages`` and ``metrics`` (.md,
+    .csv, .json)."""
+    field_rows, work_rows, stage_rows, metric_rows = table(axons, preset, threads, timeout,
+                                                           settings, progress=Progress())
     parts = (("fields", field_rows, FIELD_COLUMNS), ("work", work_rows, WORK_COLUMNS),
-             ("stages", stage_rows, STAGE_COLUMNS))
+             ("stages", stage_rows, STAGE_COLUMNS), ("metrics", metric_rows, METRICS_COLUMNS))
     lines = []
     for name, rows, columns in parts:
         lines += [tables.markdown(rows, list(columns), UNITS), ""]
@@ -103,5 +115,6 @@ def main(axons=fields.AXONS, preset="default", threads=1, out=None, timeout=TIME
     lines.append(f"(one process per axon field, NGSolve on {threads} thread(s); load: the "
                  "1-minute load average at its start; failed: tries retried shorter)")
     if out is not None:
-        lines.append(f"tables written to {out}: fields, work, stages (.md, .csv, .json)")
+        lines.append(f"tables written to {out}: fields, work, stages, metrics (.md, .csv, "
+                     ".json)")
     return lines
