@@ -71,6 +71,8 @@ RUN_FSAVERAGE = ["--set", "t_end=4", "--set", "dt=1", "--set", "snapshots=1", "-
 #: Coarse settings of ``ngincompat bench CASE``, by case.
 BENCH = {
     "scenes": ["--scenes", "cube", "--presets", "preview"],
+    "folding": ["--axons", "straight", "--preset", "preview", "--set", "t_end=10", "--set",
+                "release=false"],
     "cube": ["--maxh", "1", "--orders", "1", "2"],
     "accuracy": ["--quick"],
     "curvature": ["--quick"],

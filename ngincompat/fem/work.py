@@ -5,9 +5,8 @@ The solver and the terms wrap their costly calls in :func:`part` (``with part("a
 share is the difference of two totals (:func:`since`), which
 :func:`~ngincompat.workflow.pipeline.solve_stages` keeps in each stage's
 :class:`~ngincompat.fem.solver.SolverHistory` (``work``). The kinds are exclusive: a part
-called inside another (the tangent a Lanczos iteration assembles inside "eigenpairs") counts
-for the inner one only, so the kinds of a stage add up to at most its wall time; the rest is
-Python between the calls and what no part names.
+called inside another counts for the inner one only, so the kinds of a stage add up to at
+most its wall time; the rest is Python between the calls and what no part names.
 """
 
 from __future__ import annotations
@@ -25,7 +24,7 @@ KINDS = {
     "residual": "the residual (Apply)",
     "energy": "the energies the line search and the relaxations test",
     "contact search": "the pairs of a self-contact boundary (ContactBoundary.Update)",
-    "eigenpairs": "the smallest eigenpairs of the tangent (buckling)",
+    "eigenpairs": "the smallest eigenpairs of the tangent (buckling), with its assembly",
 }
 
 _totals = dict.fromkeys(KINDS, 0.0)
