@@ -178,11 +178,12 @@ def test_the_relaxation_flow_tolerance_must_lie_in_the_unit_interval(flow_rtol):
         RelaxationStage("release", None, None, viscosity=1.0, dt=1.0, flow_rtol=flow_rtol)
 
 
-def test_failed_tries_of_the_relaxation_do_not_use_up_its_steps(monkeypatch):
-    """A flow whose every other try fails (an inverted element: the step is halved, and the
-    next accepted one doubles it again) reaches its equilibrium after 45 accepted steps, 90
-    tries: the budget of 60 counts accepted steps. The flow's residual falls by 0.02 of its
-    start per accepted step; Newton without viscosity is tried once it has fallen 10-fold."""
+def _relax_a_fake_flow(monkeypatch, fails, fall, options=None):
+    """Run a :class:`RelaxationStage` whose Newton solver is a stand-in: a try of the flow
+    fails where ``fails(tau)`` (as an inverted element), else converges in 4 iterations;
+    the flow's residual falls by ``fall`` of its start per accepted step, and Newton without
+    viscosity converges to a stable state whenever it is tried. Returns the stage, its
+    history and the number of accepted steps."""
     from ngincompat.fem import stages
 
     state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
@@ -196,15 +197,14 @@ def test_failed_tries_of_the_relaxation_do_not_use_up_its_steps(monkeypatch):
             if record.dt == 0:            # without viscosity: the equilibrium
                 record.residuals = [1e-12]
                 return True
-            Flow.calls = getattr(Flow, "calls", 0) + 1
-            if Flow.calls % 2:
+            if fails(record.dt):
                 record.reason = "residual is not finite"
                 return False
             record.iterations = 4
             return True
 
         def residual(self):
-            return SimpleNamespace(Norm=lambda: 1.0 - 0.02 * len(accepted))
+            return SimpleNamespace(Norm=lambda: 1.0 - fall * len(accepted))
 
     problem = SimpleNamespace(growing=ngs.Parameter(1.0), dt=ngs.Parameter(0.0), state=state,
                               frozen_energy=lambda: -float(len(accepted)),
@@ -213,9 +213,23 @@ def test_failed_tries_of_the_relaxation_do_not_use_up_its_steps(monkeypatch):
     monkeypatch.setattr(stages, "NewtonSolver", Flow)
     monkeypatch.setattr(stages.buckling, "smallest_eigenpairs", lambda *a, **k: ([1.0], None))
     stage = RelaxationStage("release", problem, SimpleNamespace(restart=lambda eta: None),
-                            viscosity=1.0, dt=1.0)
-    history = stage.run(SILENT)
-    assert history.converged and len(accepted) == 45
+                            viscosity=1.0, dt=1.0, options=options or NewtonOptions())
+    return stage, stage.run(SILENT), len(accepted)
+
+
+def test_failed_tries_of_the_relaxation_do_not_use_up_its_steps(monkeypatch):
+    """A flow whose every other try fails (an inverted element: the step is halved, and the
+    next accepted one doubles it again) reaches its equilibrium after 45 accepted steps, 90
+    tries: the budget of 60 counts accepted steps. The flow's residual falls by 0.02 of its
+    start per accepted step; Newton without viscosity is tried once it has fallen 10-fold."""
+    tries = []
+
+    def every_other(tau):
+        tries.append(tau)
+        return len(tries) % 2 == 1
+
+    stage, history, accepted = _relax_a_fake_flow(monkeypatch, every_other, 0.02)
+    assert history.converged and accepted == 45
     assert sum(not step.converged for step in history.steps) == 45
     assert stage.max_steps == 60 < len(history.steps)
 
@@ -224,38 +238,9 @@ def test_failed_tries_of_the_relaxation_do_not_use_up_its_steps(monkeypatch):
 def test_after_a_failed_try_the_relaxation_holds_its_step(monkeypatch, hold):
     """A flow whose tries longer than 0.5 fail: after each failure the step is halved to
     0.5 and kept for ``step_hold`` accepted steps before it doubles (and fails) again."""
-    from ngincompat.fem import stages
-
-    state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
-    accepted = []
-
-    class Flow:
-        def __init__(self, problem, options, energy=None):
-            pass
-
-        def minimise(self, record):
-            if record.dt == 0:
-                record.residuals = [1e-12]
-                return True
-            if record.dt > 0.5:
-                record.reason = "residual is not finite"
-                return False
-            record.iterations = 4
-            return True
-
-        def residual(self):
-            return SimpleNamespace(Norm=lambda: 1.0 - 0.1 * len(accepted))
-
-    problem = SimpleNamespace(growing=ngs.Parameter(1.0), dt=ngs.Parameter(0.0), state=state,
-                              frozen_energy=lambda: -float(len(accepted)),
-                              energy=lambda: -float(len(accepted)) - 1.0,
-                              accept_step=lambda: accepted.append(True))
-    monkeypatch.setattr(stages, "NewtonSolver", Flow)
-    monkeypatch.setattr(stages.buckling, "smallest_eigenpairs", lambda *a, **k: ([1.0], None))
-    stage = RelaxationStage("release", problem, SimpleNamespace(restart=lambda eta: None),
-                            viscosity=1.0, dt=1.0, options=NewtonOptions(step_hold=hold))
-    history = stage.run(SILENT)
+    _, history, accepted = _relax_a_fake_flow(monkeypatch, lambda tau: tau > 0.5, 0.1,
+                                              NewtonOptions(step_hold=hold))
     tries = [(step.dt, step.converged) for step in history.steps if step.dt > 0]
     cycle = [(1.0, False)] + [(0.5, True)] * (hold + 1)
-    assert history.converged and len(accepted) == 9
+    assert history.converged and accepted == 9
     assert tries[:2 * len(cycle)] == cycle * 2
