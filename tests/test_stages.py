@@ -178,12 +178,14 @@ def test_the_relaxation_flow_tolerance_must_lie_in_the_unit_interval(flow_rtol):
         RelaxationStage("release", None, None, viscosity=1.0, dt=1.0, flow_rtol=flow_rtol)
 
 
-def _relax_a_fake_flow(monkeypatch, fails, fall, options=None):
+def _relax_a_fake_flow(monkeypatch, fails, fall, options=None, repair=0.0):
     """Run a :class:`RelaxationStage` whose Newton solver is a stand-in: a try of the flow
     fails where ``fails(tau)`` (as an inverted element), else converges in 4 iterations;
-    the flow's residual falls by ``fall`` of its start per accepted step, and Newton without
-    viscosity converges to a stable state whenever it is tried. Returns the stage, its
-    history and the number of accepted steps."""
+    each accepted step lowers the energy by 1, and the update after it (new contact pairs)
+    raises the energy of the same state by ``repair``; the flow's residual falls by
+    ``fall`` of its start per accepted step, and Newton without viscosity converges to a
+    stable state whenever it is tried. Returns the stage, its history and the number of
+    accepted steps."""
     from ngincompat.fem import stages
 
     state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
@@ -207,8 +209,8 @@ def _relax_a_fake_flow(monkeypatch, fails, fall, options=None):
             return SimpleNamespace(Norm=lambda: 1.0 - fall * len(accepted))
 
     problem = SimpleNamespace(growing=ngs.Parameter(1.0), dt=ngs.Parameter(0.0), state=state,
-                              frozen_energy=lambda: -float(len(accepted)),
-                              energy=lambda: -float(len(accepted)) - 1.0,
+                              frozen_energy=lambda: (repair - 1.0) * len(accepted),
+                              energy=lambda: (repair - 1.0) * len(accepted) - 1.0,
                               accept_step=lambda: accepted.append(True))
     monkeypatch.setattr(stages, "NewtonSolver", Flow)
     monkeypatch.setattr(stages.buckling, "smallest_eigenpairs", lambda *a, **k: ([1.0], None))
@@ -244,3 +246,12 @@ def test_after_a_failed_try_the_relaxation_holds_its_step(monkeypatch, hold):
     cycle = [(1.0, False)] + [(0.5, True)] * (hold + 1)
     assert history.converged and accepted == 9
     assert tries[:2 * len(cycle)] == cycle * 2
+
+
+def test_the_relaxation_compares_a_step_with_the_energy_of_its_own_contact_pairs(monkeypatch):
+    """New pairs after each accepted step raise the energy of the same state by 5, more than
+    a step lowers it: measured against the energy before the update every step would look
+    like a rise; measured against the energy with the new pairs, none does."""
+    _, history, accepted = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1, repair=5.0)
+    assert history.converged and accepted == 9
+    assert all(step.converged for step in history.steps)

@@ -370,12 +370,17 @@ class RelaxationStage:
     linear model Phi(u_n+1) - Pi(u_n) = |omega| a^2 c / (2 (c - 1)), c = tau |omega| / eta,
     for a mode amplitude a, positive for c > 1, where the step converges back toward the
     saddle. A step that raises Phi above Pi(u_n) (beyond round-off, ``1e-12 |Pi|``) is
-    rejected like one where Newton fails, and retried at half the size; after one that took
-    at most ``options.step_up`` Newton iterations tau doubles, unless it is one of the
-    ``options.step_hold`` accepted steps after a rejected one. The flow so leaves saddles
-    and settles in a stable equilibrium. Its states are only the way there, so each step is
-    solved to the relative residual ``flow_rtol`` (default 1e-3), not ``options.rtol``
-    (measured on the folding scene's release: :data:`~ngincompat.scenes.folding.FLOW_RTOL`).
+    rejected like one where Newton fails, and retried at half the size. Pi(u_n) is the
+    energy as the terms define it after the last accepted step: a
+    :class:`~ngincompat.fem.self_contact.SelfContact` pairs its points anew there, which
+    changes the energy of the same state (against the energy of the old pairs, the flow of
+    a creased bilayer rejected ever shorter steps; docs/measurements/folding.md, "Two
+    levels of the top's refinement"). After a step that took at most ``options.step_up``
+    Newton iterations tau doubles, unless it is one of the ``options.step_hold`` accepted
+    steps after a rejected one. The flow so leaves saddles and settles in a stable
+    equilibrium. Its states are only the way there, so each step is solved to the relative
+    residual ``flow_rtol`` (default 1e-3), not ``options.rtol`` (measured on the folding
+    scene's release: :data:`~ngincompat.scenes.folding.FLOW_RTOL`).
 
     The residual without viscosity at u_n+1 is -eta / tau M (u_n+1 - u_n). Once it is below
     ``switch`` times its value at the start (:attr:`initial_residual`), Newton solves the
@@ -454,8 +459,10 @@ class RelaxationStage:
                         if tau < self.options.min_step:
                             break
                         continue
-                    t, energy, accepted = t + tau, record.energy, accepted + 1
+                    t, accepted = t + tau, accepted + 1
                     problem.accept_step()
+                    # Pi(u_n) of the next step's terms: a self-contact's new pairs change it
+                    energy = problem.frozen_energy()
                     saved.data = problem.state.vec
                     residual = self._residual(solver)
                     progress.line(f"{label}: pseudo time {t:.4g}{self._unit} "
