@@ -373,9 +373,8 @@ class RelaxationStage:
     rejected like one where Newton fails, and retried at half the size. Pi(u_n) is the
     energy as the terms define it after the last accepted step: a
     :class:`~ngincompat.fem.self_contact.SelfContact` pairs its points anew there, which
-    changes the energy of the same state (against the energy of the old pairs, the flow of
-    a creased bilayer rejected ever shorter steps; docs/measurements/folding.md, "Two
-    levels of the top's refinement"). After a step that took at most ``options.step_up``
+    changes the energy of the same state where its walls touch, and the next step's Phi is
+    made of the new pairs. After a step that took at most ``options.step_up``
     Newton iterations tau doubles, unless it is one of the ``options.step_hold`` accepted
     steps after a rejected one. The flow so leaves saddles and settles in a stable
     equilibrium. Its states are only the way there, so each step is solved to the relative
