@@ -15,8 +15,9 @@ from geometries import cube, skin_patch
 from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import find_compiler
-from ngincompat.fem.solver import NewtonOptions, solve_coupled
+from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import CoupledStage
+from ngincompat.fem.stepping import solve_coupled
 from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation, VolumeConstraint
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import IsotropicGrowth

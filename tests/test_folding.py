@@ -17,7 +17,8 @@ from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.fem import buckling, postprocess
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.shape import circle_curvature, sulci
-from ngincompat.fem.solver import NewtonOptions, solve_coupled
+from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.stepping import solve_coupled
 from ngincompat.fem.terms import GrowthEnergy, RigidPins
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual

@@ -12,7 +12,7 @@ from geometries import cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import GrowthMechanics
-from ngincompat.fem.solver import solve_coupled, solve_growth
+from ngincompat.fem.stepping import solve_coupled, solve_growth
 from ngincompat.fem.terms import GrowthEnergy, RigidPins
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields

@@ -11,7 +11,7 @@ from conftest import values_at
 from geometries import cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem.problem import GrowthMechanics
-from ngincompat.fem.solver import solve_growth
+from ngincompat.fem.stepping import solve_growth
 from ngincompat.mechanics import materials as materials_module
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.mechanics.materials import (

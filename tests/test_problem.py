@@ -9,7 +9,7 @@ from geometries import cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem import postprocess
 from ngincompat.fem.problem import GrowthMechanics
-from ngincompat.fem.solver import solve_growth
+from ngincompat.fem.stepping import solve_growth
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics.growth import IsotropicGrowth, TensorGrowth
 from ngincompat.mechanics.kinematics import deformation_gradient

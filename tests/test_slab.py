@@ -11,7 +11,8 @@ from geometries import bilayer, cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import displacement_space
-from ngincompat.fem.solver import NewtonOptions, solve_coupled
+from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.stepping import solve_coupled
 from ngincompat.fem.terms import GrowthEnergy, RigidPins
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw

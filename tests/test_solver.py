@@ -8,13 +8,8 @@ import pytest
 from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.fem.solver import (
-    BACKTRACKS,
-    NewtonOptions,
-    NewtonSolver,
-    _stalled,
-    solve_growth,
-)
+from ngincompat.fem.solver import BACKTRACKS, NewtonOptions, NewtonSolver, _stalled
+from ngincompat.fem.stepping import solve_growth
 from ngincompat.fem.symmetric import SymmetricPart
 
 

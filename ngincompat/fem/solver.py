@@ -1,5 +1,6 @@
-"""Robust Newton minimisation with load stepping for
-:class:`~ngincompat.fem.problem.GrowthMechanics`.
+"""Robust Newton minimisation for :class:`~ngincompat.fem.problem.GrowthMechanics` and
+:class:`~ngincompat.fem.coupled.CoupledProblem` (the load and time steps around it:
+:mod:`ngincompat.fem.stepping`).
 
 A full growth step from u = 0 at high order makes plain Newton overshoot into Je <= 0, where
 log Je is not defined and the energy is NaN. This solver
@@ -9,17 +10,15 @@ log Je is not defined and the energy is NaN. This solver
 * backtracks along the direction while the energy is not finite or decreases neither the
   energy (Armijo condition) nor, near convergence where the energy is round-off, the residual;
   so a step "too far" is simply shortened,
-* cuts the load step when Newton does not converge, restoring the last converged state,
-* and raises :class:`~ngincompat.errors.ConvergenceError` only when the load step would fall
-  below ``min_step``; the displacement then holds the last converged state.
+* and reports a step it cannot converge as failed (after ``max_iter`` iterations, or once
+  its residual stalls), for :mod:`~ngincompat.fem.stepping` to cut.
 
-Every load step is recorded: time, step size, Newton iterations, residual norms, line-search
-lengths and the energy.
+Every attempted step is recorded (:class:`StepRecord`): time, step size, Newton iterations,
+residual norms, line-search lengths and the energy.
 """
 
 import logging
 import math
-import time as _time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Protocol
@@ -28,12 +27,11 @@ import ngsolve as ngs
 import numpy as np
 from ngsolve.krylovspace import CGSolver, GMResSolver
 
-from ngincompat import config, parallel
-from ngincompat.errors import ConvergenceError, Interrupted, require
+from ngincompat import parallel
+from ngincompat.errors import require
 from ngincompat.fem.sparse_lu import SuperLUInverse
 from ngincompat.fem.symmetric import SymmetricPart
 from ngincompat.fem.work import part
-from ngincompat.progress import SILENT, Progress
 
 log = logging.getLogger(__name__)
 
@@ -42,7 +40,8 @@ class NewtonProblem(Protocol):
     """What :class:`NewtonSolver` uses of a problem, as
     :class:`~ngincompat.fem.problem.GrowthMechanics` and
     :class:`~ngincompat.fem.coupled.CoupledProblem`
-    provide it (:func:`solve_growth` and :func:`solve_coupled` use more of each).
+    provide it (:func:`~ngincompat.fem.stepping.solve_growth` and
+    :func:`~ngincompat.fem.stepping.solve_coupled` use more of each).
 
     Attributes
     ----------
@@ -121,9 +120,10 @@ class NewtonOptions:
         Start each load step from the best compatible approximation of the growth increment
         (:meth:`GrowthMechanics.compatible_displacement`) rather than from the last state.
     extrapolate : bool
-        :func:`solve_coupled` starts each step from the linear extrapolation in time of the
-        last two converged states, u_n + dt / dt_prev (u_n - u_n-1), rather than from u_n
-        (from the second converged step on, and again after a cut step).
+        :func:`~ngincompat.fem.stepping.solve_coupled` starts each step from the linear
+        extrapolation in time of the last two converged states, u_n + dt / dt_prev (u_n -
+        u_n-1), rather than from u_n (from the second converged step on, and again after a
+        cut step).
     max_step : float
         Largest step the adaptive stepping may grow to (time accuracy of coupled growth).
     step_up : int
@@ -476,159 +476,3 @@ def _stalled(residuals, stall):
 def _merit(residual_norm):
     """Stand-in for the energy of a problem without one: 0 where the residual is finite."""
     return 0.0 if math.isfinite(residual_norm) else float("nan")
-
-
-def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Progress = SILENT,
-                 stage="growth"):
-    """Apply prescribed growth from the current time to ``t_end`` in adaptive load steps.
-
-    Parameters
-    ----------
-    problem : GrowthMechanics
-    time : ngsolve.Parameter
-        The growth time that the problem's Fg depends on.
-    options : NewtonOptions
-    t_end : float
-    progress : Progress
-        Where steps and cuts are reported (default: nowhere).
-    stage : str
-        The stage's name in the progress report.
-
-    Returns
-    -------
-    SolverHistory
-
-    Raises
-    ------
-    ConvergenceError
-        When a step would fall below ``options.min_step``; ``problem.u`` and ``time`` then
-        hold the last converged state.
-    """
-    def advance(t, t_new):
-        if options.predictor:
-            before = problem.growth_load()
-            time.Set(t_new)
-            increment = problem.growth_load()
-            increment.data -= before
-            problem.u.vec.data += problem.compatible_displacement(increment)
-        else:
-            time.Set(t_new)
-
-    t0 = time.Get()
-    return _march(problem, options, t0, t_end, (t_end - t0) / options.steps, advance,
-                  restore=lambda t: time.Set(t), accept=None,
-                  report=progress.march(stage, t0, t_end))
-
-
-def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_start=0.0,
-                  schedule=None, on_step=None, progress: Progress = SILENT, stage="growth",
-                  unit="", energy=None):
-    """March a :class:`~ngincompat.fem.coupled.CoupledProblem` in time with adaptive steps.
-
-    Parameters
-    ----------
-    problem : CoupledProblem
-    t_end, dt, t_start : float
-        End time, first time step and start time (the scene's time unit).
-    schedule : callable, optional
-        ``schedule(t)`` sets time-dependent loads (e.g. the volume target) for time t.
-    on_step : callable, optional
-        ``on_step(t)`` after every converged step, e.g. to write a checkpoint; if it returns
-        True, the march ends there (e.g. where an instability was detected).
-    progress : Progress
-        Where steps and cuts are reported, under the name ``stage`` with time ``unit``.
-    energy : callable, optional
-        The energy of the current state whose derivative the residual is (as for
-        :class:`NewtonSolver`), e.g. ``problem.energy`` at frozen growth.
-
-    Returns
-    -------
-    SolverHistory
-
-    Raises
-    ------
-    ConvergenceError
-        Below ``options.min_step``; the state then holds the last converged step.
-    """
-    state = problem.state.vec
-    start, previous = state.CreateVector(), state.CreateVector()
-    times = {"start": t_start, "previous": None}    # of ``start`` and ``previous``
-
-    def advance(t, t_new):
-        problem.dt.Set(t_new - t)
-        if schedule is not None:
-            schedule(t_new)
-        start.data = state                  # the last converged state
-        times["start"] = t
-        if options.extrapolate and times["previous"] is not None:
-            state.data += (t_new - t) / (t - times["previous"]) * (start - previous)
-
-    def restore(t):
-        if schedule is not None:
-            schedule(t)
-
-    def accept(t):
-        previous.data = start
-        times["previous"] = times["start"]
-        problem.accept_step()
-        return on_step is not None and on_step(t)
-
-    return _march(problem, options, t_start, t_end, dt, advance, restore, accept,
-                  progress.march(stage, t_start, t_end, unit), energy)
-
-
-def _march(problem, options, t, t_end, dt, advance, restore, accept, report, energy=None):
-    """The adaptive stepping loop: a failed step is undone and retried at half the size.
-
-    ``report`` (a :class:`~ngincompat.progress.StageProgress`) hears of every converged and
-    every cut step as it happens; ``accept(t)`` returning True ends the march at t."""
-    solver = NewtonSolver(problem, options, energy=energy)
-    history = SolverHistory(t_reached=t)
-    saved = problem.state.vec.CreateVector()
-    saved.data = problem.state.vec          # the last converged state, always
-    held = 0                                # steps still to converge before dt may grow
-    with config.task_manager():
-        try:
-            while t < t_end - 1e-12 * max(1.0, abs(t_end)):
-                dt = min(dt, t_end - t)
-                advance(t, t + dt)
-                record = StepRecord(t=t + dt, dt=dt, converged=False)
-                start = _time.perf_counter()
-                record.converged = solver.minimise(record)
-                record.seconds = _time.perf_counter() - start
-                history.steps.append(record)
-                if record.converged:
-                    t += dt
-                    history.t_reached = t
-                    stop = accept is not None and accept(t)
-                    saved.data = problem.state.vec
-                    report.step(t, dt, record.iterations)
-                    log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
-                    if stop:
-                        break
-                    if held:
-                        held -= 1
-                    elif record.iterations <= options.step_up:
-                        dt = min(2 * dt, options.max_step)
-                    continue
-                problem.state.vec.data = saved
-                restore(t)
-                report.cut(t, dt, record.reason)
-                log.info("step to t = %.4g failed (%s); cutting the step", t + dt,
-                         record.reason)
-                dt /= 2
-                held = options.step_hold
-                if dt < options.min_step:
-                    raise ConvergenceError(
-                        f"growth could not be applied beyond t = {t:.6g}: the step fell below "
-                        f"min_step = {options.min_step:g} ({record.reason})",
-                        history=history, t_converged=t)
-        except KeyboardInterrupt:
-            problem.state.vec.data = saved
-            restore(t)
-            raise Interrupted(f"interrupted at t = {t:.6g}", history=history,
-                              t_converged=t) from None
-        finally:
-            report.close()
-    history.converged = True
-    return history

@@ -1,10 +1,10 @@
 """Stages of a load history, as data: what a case's solve walks through in order.
 
 * :class:`PrescribedGrowthStage`: prescribed growth Fg(X, t) applied from t = 0 to ``t_end``
-  in adaptive load steps (:func:`~ngincompat.fem.solver.solve_growth`), or solved at ``t_end`` at
+  in adaptive load steps (:func:`~ngincompat.fem.stepping.solve_growth`), or solved at ``t_end`` at
   once from a given start state (the state before a load or a support was removed);
 * :class:`CoupledStage`: mechanically coupled growth marched in time
-  (:func:`~ngincompat.fem.solver.solve_coupled`), with growth on or frozen, the enclosed volume
+  (:func:`~ngincompat.fem.stepping.solve_coupled`), with growth on or frozen, the enclosed volume
   and a dead traction driven linearly between two values (inflation, hold, deflation),
   checkpointed after every step when given a checkpoint file;
 * :class:`FallbackStage`: one stage, and where it fails another from the same start;
@@ -33,14 +33,8 @@ from ngincompat import config
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import ConvergenceError, ParameterError, require
 from ngincompat.fem import buckling
-from ngincompat.fem.solver import (
-    NewtonOptions,
-    NewtonSolver,
-    SolverHistory,
-    StepRecord,
-    solve_coupled,
-    solve_growth,
-)
+from ngincompat.fem.solver import NewtonOptions, NewtonSolver, SolverHistory, StepRecord
+from ngincompat.fem.stepping import solve_coupled, solve_growth
 from ngincompat.progress import Progress
 
 

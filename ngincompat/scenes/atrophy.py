@@ -56,7 +56,8 @@ from ngincompat import config, parallel, sampling
 from ngincompat.errors import ParameterError, require
 from ngincompat.fem import depth, postprocess, resolution
 from ngincompat.fem.problem import GrowthMechanics, check_formulation
-from ngincompat.fem.solver import NewtonOptions, SolverHistory, solve_growth
+from ngincompat.fem.solver import NewtonOptions, SolverHistory
+from ngincompat.fem.stepping import solve_growth
 from ngincompat.fem.transport import FisherKPP, diffusion_tensor
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import operators as inc

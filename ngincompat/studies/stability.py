@@ -43,7 +43,8 @@ from geometries import cube
 from ngincompat import config
 from ngincompat.errors import NgincompatError
 from ngincompat.fem.problem import GrowthMechanics
-from ngincompat.fem.solver import NewtonOptions, solve_growth
+from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.stepping import solve_growth
 from ngincompat.mechanics.expressions import parse_expression
 from ngincompat.mechanics.fields import constant
 from ngincompat.mechanics.growth import check_positive, make_growth
