@@ -406,7 +406,7 @@ def _add_variants(sub, command, help, scene, option, what, choices, func):
 #: :data:`ngincompat.scenes.SCENES`, imports NGSolve and every scene; a test keeps the two
 #: equal).
 SCENE_NAMES = ("cube", "hemisphere", "disc", "cylinder", "skin", "folding", "custom", "atrophy")
-#: The axon fields of the folding scene (:data:`ngincompat.mechanics.fields.AXONS`, which
+#: The axon fields of the folding scene (``ngincompat.mechanics.fields.AXONS``, which
 #: imports NGSolve; a test keeps the two equal).
 FOLDING_AXONS = ("curved", "concentric", "straight")
 #: The files every scene writes besides results.json when neither --outputs nor
