@@ -78,7 +78,7 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
         Where steps and cuts are reported, under the name ``stage`` with time ``unit``.
     energy : callable, optional
         The energy of the current state whose derivative the residual is (as for
-        :class:`NewtonSolver`), e.g. ``problem.energy`` at frozen growth.
+        :class:`~ngincompat.fem.solver.NewtonSolver`), e.g. ``problem.energy`` at frozen growth.
 
     Returns
     -------

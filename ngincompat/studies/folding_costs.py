@@ -2,7 +2,7 @@
 ``ngincompat bench folding``.
 
 Each axon field runs in a fresh process (:func:`ngincompat.studies.costs.measure`: wall and
-CPU time, peak memory, the machine's load at its start), one after the other. Three tables:
+CPU time, peak memory, the machine's load at its start), one after the other. Four tables:
 
 * ``fields``: per axon field the status, how far the growth went, ndof, Newton iterations,
   the failed tries (steps that did not converge and were retried shorter), wall and CPU time;
