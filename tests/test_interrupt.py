@@ -1,6 +1,7 @@
 """Ctrl-C at every phase of a run: exit 130, one line that says what was kept, and files that
 say "interrupted" where a run had begun computing; nothing left where it had not."""
 
+import contextlib
 import json
 import os
 import signal
@@ -8,6 +9,7 @@ import signal
 import pytest
 
 from ngincompat.cli import EXIT_INTERRUPTED, main
+from ngincompat.progress import Progress
 from ngincompat.scenes import CubeScene, prescribed
 from ngincompat.workflow import output
 
@@ -38,6 +40,28 @@ def test_ctrl_c_after_the_solve_marks_the_run_interrupted(tmp_path, monkeypatch,
     assert json.loads((out / "results.json").read_text())["status"] == "interrupted"
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "interrupted" in err and "Traceback" not in err
+
+
+def test_ctrl_c_just_after_the_results_are_written_leaves_them_done(tmp_path, monkeypatch,
+                                                                    capsys):
+    """The signal lands as the phase that wrote a complete results.json ends (a sweep's
+    worker hit as its case ends): exit 130, and the finished record stands instead of being
+    rewritten "interrupted"."""
+    original = Progress.phase
+
+    @contextlib.contextmanager
+    def phase(self, name):
+        with original(self, name):
+            yield
+        if name == "writing results":
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(Progress, "phase", phase)
+    out = tmp_path / "run"
+    assert main([*ARGS, "--out", str(out)]) == EXIT_INTERRUPTED
+    record = output.read(out)
+    assert record.status == "done" and record.metrics["strain_energy"] > 0
+    assert "Traceback" not in capsys.readouterr().err
 
 
 def test_ctrl_c_while_meshing_says_nothing_was_written_and_leaves_no_folder(tmp_path,

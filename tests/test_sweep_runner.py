@@ -4,6 +4,7 @@ Every case is the cube at order 1 or 2 on one hexahedron (maxh = 1) without outp
 fraction of a second; most of the time goes into starting the worker processes.
 """
 
+import concurrent.futures
 import json
 import os
 import shutil
@@ -17,6 +18,7 @@ from conftest import local_dask_cluster
 from ngincompat.cli import main
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.studies.sweep import load_sweep, parse_sweep, read_table, run_case, run_sweep
+from ngincompat.studies.workers import interrupted
 from ngincompat.workflow import output
 from ngincompat.workflow.results import MeshInfo, Results
 
@@ -221,6 +223,12 @@ def test_failed_cases_make_the_command_line_exit_4(tmp_path, capfd):
     assert rows[0]["strain_energy"] > 0
 
 
+#: The command line, run with Ctrl-C's default handler whatever this process inherited.
+AS_FROM_A_TERMINAL = ("import signal, sys; signal.signal(signal.SIGINT, "
+                      "signal.default_int_handler); from ngincompat.cli import main; "
+                      "sys.exit(main(sys.argv[1:]))")
+
+
 @pytest.mark.parametrize("when, delay, most_done",
                          [("1 of 8 finished", 0, 3), ("local pool", 0.3, 0)],
                          ids=["after-a-case", "while-workers-import"])
@@ -239,7 +247,9 @@ def test_ctrl_c_ends_a_sweep_with_130_finished_rows_kept_the_rest_interrupted(
                   '[fixed]\nmaxh = 0.5\norder = 3\noutputs = "none"\n'
                   '[vary]\nnu = [0.30, 0.32, 0.34, 0.36, 0.38, 0.40, 0.42, 0.44]')
     out = tmp_path / "out"
-    process = subprocess.Popen([sys.executable, "-m", "ngincompat.cli", "sweep", "run",
+    # as from a terminal, whose commands take SIGINT even where this test runs with it
+    # ignored (pytest started in the background of a script: the CLI keeps it ignored then)
+    process = subprocess.Popen([sys.executable, "-c", AS_FROM_A_TERMINAL, "sweep", "run",
                                 str(path), "--out", str(out), "--workers", "2"],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                start_new_session=True)
@@ -271,6 +281,58 @@ def test_ctrl_c_ends_a_sweep_with_130_finished_rows_kept_the_rest_interrupted(
             if (folder / "results.json").is_file():     # the row is what the run wrote
                 assert output.read(folder).status == "interrupted", row
     assert not (out / ".ngincompat.lock").exists()
+
+
+class _EndsAsTheSignalArrives:
+    """A pool of one worker, in this process, on which the race of a Ctrl-C is forced: the
+    first case runs to its end and writes its results.json, and then the Ctrl-C reaches the
+    sweep before the pool has told it of the end. ``told``: what the pool then says of that
+    case: nothing ("not yet"), or "interrupted" (the worker was hit just after the write)."""
+
+    window = 1
+    told = "not yet"
+
+    def __init__(self, workers, threads, progress):
+        pass
+
+    def submit(self, task):
+        run_case(task)
+        future = concurrent.futures.Future()
+        if self.told == "interrupted":
+            future.set_result(interrupted(None))
+        return future
+
+    def wait(self, futures):
+        raise KeyboardInterrupt
+
+    def close(self, cancel):
+        pass
+
+
+@pytest.mark.parametrize("told", ["not yet", "interrupted"])
+def test_a_case_that_ends_as_the_sweep_is_interrupted_is_a_done_row(tmp_path, monkeypatch,
+                                                                    told):
+    """The forced race of a sweep stopped by Ctrl-C: a case finishes right after the signal.
+    Its row is what its folder holds (done, with its metrics), whatever the pool said; the
+    case that never started is "interrupted"; the journal is gone."""
+    from ngincompat.studies.sweep import runner
+
+    monkeypatch.setattr(_EndsAsTheSignalArrives, "told", told)
+    monkeypatch.setattr(runner, "LocalPool", _EndsAsTheSignalArrives)
+    sweep = parse_sweep({"scene": "cube", "metrics": ["strain_energy"],
+                         "fixed": {"maxh": 1.0, "order": 1, "outputs": "none"},
+                         "vary": {"nu": [0.3, 0.4]}})
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(sweep, out)
+    first, second = read_table(out).rows
+    record = output.read(out / sweep.cases()[0].name)
+    assert record.status == "done"
+    assert first["status"] == "done" and first["error"] is None
+    assert first["strain_energy"] == pytest.approx(record.metrics["strain_energy"], rel=1e-12)
+    assert second["status"] == "interrupted" and second["strain_energy"] is None
+    assert not (out / sweep.cases()[1].name / "results.json").exists()
+    assert not list(out.glob("*.journal.jsonl"))
 
 
 def test_scheduler_without_dask_is_a_parameter_error(tmp_path, monkeypatch):

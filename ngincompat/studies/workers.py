@@ -212,7 +212,10 @@ def run_side_by_side(tasks, backend, finish):
                 key, task = tasks.popleft()
                 running[backend.submit(task)] = key
             for future in backend.wait(set(running)):
-                finish(running.pop(future), result(future))
+                # dropped from running only once finished: an interruption inside finish
+                # leaves it to the finishing below, so that no ended task is lost
+                finish(running[future], result(future))
+                del running[future]
         completed = True
     finally:
         backend.close(cancel=not completed)

@@ -171,6 +171,8 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
     Interrupted
         Ctrl-C: results.json marked "interrupted" (solver history, no metrics) was written;
         the exception's ``results`` holds it.
+    KeyboardInterrupt
+        Ctrl-C after results.json was written complete: the record stands as written.
     """
     if out is None:
         return _run(scene, None, progress, label)
@@ -210,7 +212,10 @@ def _run(scene, out, progress, label):
                 phase = "writing"
                 with progress.phase("writing results"):
                     output.write(results, out)
+                    phase = "written"
         except KeyboardInterrupt:
+            if phase == "written":      # the record is complete: it stands, the caller stops
+                raise
             # the files the write finished (it lists them in results.files) are kept
             kept = [] if results is None or phase != "writing" else results.files
             solution.status, solution.error = INTERRUPTED, f"interrupted while {phase}"

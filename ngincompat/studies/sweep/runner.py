@@ -26,7 +26,9 @@ done anyway (from their folders). A case that does not converge is a row "not co
 the metrics of its last converged state; one that raises is a row "failed" with the error,
 its traceback in ``OUT/case_.../error.txt``. Interrupted (Ctrl-C), the sweep stops its workers
 (a case not started does not start, a running one ends "interrupted" in its results.json) and
-writes the table with every case: those that had not finished are rows "interrupted".
+writes the table with every case, each row of the cases it ran taken from what the case's
+folder holds: a complete results.json of the case is its row whatever the pool said (a case
+can finish between the Ctrl-C and the pool's shutdown), a case without one is "interrupted".
 """
 
 import dataclasses
@@ -54,19 +56,40 @@ from ngincompat.studies.workers import (
     run_side_by_side,
 )
 from ngincompat.workflow import io, output, tables
-from ngincompat.workflow.results import DONE
+from ngincompat.workflow.results import DONE, INTERRUPTED
 
 
-def _finished(scene, folder):
-    """The :class:`~ngincompat.workflow.results.Results` in ``folder`` if they are done and of
-    ``scene`` (same name and parameters), else None."""
+def _record(scene, folder):
+    """The :class:`~ngincompat.workflow.results.Results` in ``folder`` if it holds a complete
+    results.json of ``scene`` (same name and parameters), whatever its status, else None."""
     try:
         results = output.read(folder)
     except ParameterError:
         return None
     same = (results.scene == scene.name
             and results.params == io.jsonable(scene.settings()))
-    return results if same and results.status == DONE else None
+    return results if same else None
+
+
+def _finished(scene, folder):
+    """The record in ``folder`` (:func:`_record`) if it is done, else None."""
+    results = _record(scene, folder)
+    return results if results is not None and results.status == DONE else None
+
+
+def _settled(case, scene, folder, said):
+    """The outcome of an interrupted sweep's ``case``: what its folder holds, whatever the
+    pool ``said`` (None if nothing). A case can end and write its record between the Ctrl-C
+    and the pool's shutdown (or be hit by the signal just after writing it); its folder, not
+    the pool's view, is the one source of truth. A case whose folder holds no record of its
+    own keeps what the pool said, or is "interrupted"."""
+    results = _record(scene, folder)
+    if results is None or results.status == INTERRUPTED:
+        if said is not None and said["status"] != INTERRUPTED:
+            return said
+        return {"varied": case.varied, **interrupted(results)}
+    return {"varied": case.varied, **outcome(results, None if results.status == DONE
+                                              else results.error)}
 
 
 
@@ -277,8 +300,10 @@ def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progre
         if runnable:
             _run_all(runnable, scenes, out, workers, threads, scheduler, progress, finish)
     except KeyboardInterrupt:
-        for case in todo:           # the cases the interruption kept from ending
-            outcomes.setdefault(case.index, {"varied": case.varied, **interrupted(None)})
+        for case in todo:           # each row as its folder has it (see _settled)
+            if case.index not in rejected:
+                outcomes[case.index] = _settled(case, scenes[case.index], out / case.name,
+                                                outcomes.get(case.index))
         raise
     finally:
         # the whole table once, also when interrupted; the journal is then redundant
