@@ -48,7 +48,7 @@ import typing
 from fractions import Fraction
 from typing import Literal
 
-from ngincompat.errors import ParameterError, require
+from ngincompat.errors import ParameterError, require, shown
 
 #: Optional outputs of a run, as named in a scene's ``outputs`` parameter: files, and
 #: ``curvature`` (the curvature of the growth metric in the metrics, fields and figures).
@@ -215,6 +215,10 @@ class _Kind(abc.ABC):
 #: (energies, volumes) stay far from overflow, where 1e308 made inf, nan and crashes
 #: downstream. A parameter that needs more declares a bounded range.
 FLOAT_LIMIT = 1e12
+#: Nonzero numbers of smaller magnitude are refused whatever the range: they are no quantity
+#: distinct from 0, and the arithmetic underflows on them (their products are 0, quotients by
+#: them overflow: a subnormal 1e-320 passed every "(0, x]" and broke deep in the solvers).
+TINY = 1e-300
 
 
 class _Float(_Kind):
@@ -450,8 +454,13 @@ class Parameter:
         except ParameterError as err:       # Outputs names itself with the value given
             raise ParameterError(str(err).replace("outputs = ", f"{self.name} = ", 1)) from None
         except (ValueError, TypeError, OverflowError):
-            raise ParameterError(f"{self.name} = {raw!r} is not a valid {self.kind.name}: "
-                                 f"allowed {self.allowed()}") from None
+            raise ParameterError(f"{self.name} = {shown(raw)} is not a valid "
+                                 f"{self.kind.name}: allowed {self.allowed()}") from None
+        numbers_given = value if isinstance(value, tuple) else (value,)
+        if any(isinstance(v, float) and v != 0 and abs(v) < TINY for v in numbers_given):
+            raise ParameterError(f"{self.name} = {shown(raw)} is below {TINY:g} in magnitude, "
+                                 f"where the arithmetic underflows: allowed {self.allowed()}, "
+                                 f"of magnitude 0 or at least {TINY:g}")
         require(self.kind.valid(value), self.name, value, self.allowed())
         return value
 

@@ -155,7 +155,7 @@ def test_list_verbose_shows_type_default_unit_and_range(capsys):
     lines = capsys.readouterr().out.splitlines()
     cube = lines[:lines.index(next(line for line in lines if line.startswith("hemisphere")))]
     maxh = next(line for line in cube if line.startswith("    maxh "))
-    assert maxh == "    maxh (float, default 0.5 mm): allowed in (0, 1000]"
+    assert maxh == "    maxh (float, default 0.5 mm): allowed in [0.001, 1000]"
     assert "    order (int, default 6): allowed an integer in [1, 10]" in cube
     nu = next(line for line in cube if line.startswith("    nu "))
     assert nu.startswith("    nu (float, default 0.4): allowed ") and "0.5" in nu

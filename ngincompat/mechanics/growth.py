@@ -290,6 +290,8 @@ CHECK_TIMES = tuple(k / 128 for k in range(129))
 
 #: The largest theta whose cube, Jg of isotropic growth, is a finite float (5.6e102).
 THETA_MAX = float(np.cbrt(np.finfo(float).max))
+#: The smallest growth indicator taken (see :func:`check_positive`).
+THETA_FLOOR = 1e-3
 
 
 def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expression=None):
@@ -345,6 +347,15 @@ def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expressio
                 raise ParameterError(
                     f"{what} at X = {where}{when}: the growth indicator must be finite and "
                     "positive (0 < theta < inf) everywhere in the body")
+            if values.min() < THETA_FLOOR:
+                i = int(np.argmin(values))
+                where = "({:.4g}, {:.4g}, {:.4g})".format(*coords[i])
+                when = "" if t is None else f", t = {t:g}"
+                raise ParameterError(
+                    f"theta = {values[i]:.4g} at X = {where}{when} is below {THETA_FLOOR:g}: "
+                    "the growth indicator must be at least that everywhere in the body (a "
+                    "thousandfold shrinking leaves no tissue, and the growth tensor becomes "
+                    "singular in double precision)")
     finally:
         if time is not None:
             time.Set(saved)

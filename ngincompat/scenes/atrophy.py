@@ -42,6 +42,7 @@ measures all work on the case's one mesh and its state (c, theta, u) as the time
 split, that state would be handed between modules at every step.
 """
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
@@ -69,9 +70,11 @@ from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
 from ngincompat.scenes.base import (
     G_ORDER,
+    LENGTH_FLOOR,
     MAX_STEPS,
     MAXH,
     ORDER,
+    TIME_FLOOR,
     Scene,
     check_time_steps,
     param,
@@ -160,9 +163,9 @@ class AtrophyScene(Scene):
                           "per voxel, as the curvature output needs)", choices=ELEMENTS)
     semi_axes: tuple[float, float, float] = param(
         (8.5, 7.0, 6.0), "semi-axes of the idealized brain along e1, e2, e3", "length",
-        range="(0, 100]")
+        range=f"[{LENGTH_FLOOR:g}, 100]")
     gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length",
-                                  range="(0, 10]")
+                                  range=f"[{LENGTH_FLOOR:g}, 10]")
     d_ext: float = param(0.015, "extracellular (isotropic) diffusivity", "length^2/time",
                          range="[0, 100]")
     d_axn: float = param(0.0, "axonal diffusivity added along radial axons in white matter",
@@ -179,7 +182,8 @@ class AtrophyScene(Scene):
     cortex_layers: int = param(2, "layers of prisms (3 tetrahedra each) across the cortex of "
                                "the fsaverage brain; 0: Netgen fills it from the surfaces",
                                range="[0, 8]")
-    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length", range="(0, 100]")
+    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length",
+                               range=f"[{LENGTH_FLOOR:g}, 100]")
     c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)",
                       range="(0, 1]")
     rate_gray: float = param(0.03, "initial rate of volume loss of gray matter at c = 1",
@@ -188,13 +192,16 @@ class AtrophyScene(Scene):
                               "1/time", range="[0, 10]")
     theta_min: float = param(0.7, "smallest volume ratio theta (largest loss 1 - theta_min)",
                              range="(0, 1)")
-    t_end: float = param(40.0, "duration (at most a lifetime)", "time", range="(0, 150]")
-    dt: float = param(0.2, "time step of transport and atrophy", "time", range="(0, 150]")
+    t_end: float = param(40.0, "duration (at most a lifetime)", "time",
+                         range=f"[{TIME_FLOOR:g}, 150]")
+    dt: float = param(0.2, "time step of transport and atrophy", "time",
+                      range=f"[{TIME_FLOOR:g}, 150]")
     snapshots: int = param(4, "equilibria solved at this many equally spaced times",
                            range=f"[1, {MAX_STEPS}]")
     times: tuple[float, ...] = param((), "times of the equilibria and of the frames of "
                                      "fields.pvd instead: comma list in (0, t_end] (t_end is "
-                                     "always one)", "time", range="(0, 150]")
+                                     "always one)", "time",
+                                     range=f"[{TIME_FLOOR:g}, 150]")
     mu_gray: float = MU(1.0, help="shear modulus of gray matter")
     mu_white: float = MU(1.0, help="shear modulus of white matter")
     nu: float = NU(0.49)                # both tissues
@@ -622,7 +629,8 @@ class AtrophyCase:
                 order=order) / self.volume0["total"],
             "max_principal_stress": sampling.maximum(fields["sigma_max_principal"], mesh),
             "strain_energy": problem.strain_energy(),
-            "equilibrium_residual_rel": float(np.linalg.norm(np.array(total))) / size,
+            "equilibrium_residual_rel": _relative(float(np.linalg.norm(np.array(total))),
+                                                  size),
         }
 
     def _depth(self, fields, metrics):
@@ -813,3 +821,11 @@ def _figures(scene, mechanics):
                           f"[{L}]", f"{title}: sections (Fig. 5)", profile="sections",
                           kind="maps"))
     return figures
+
+
+def _relative(value, scale):
+    """``value / scale``; 0 for a body without stress (a seed too small for the mesh to see
+    atrophies nothing: the residual and the stresses are both 0)."""
+    if scale > 0:
+        return value / scale
+    return 0.0 if value == 0 else math.inf

@@ -31,11 +31,23 @@ from ngincompat.scenes import trust
 from ngincompat.workflow import io, pipeline
 from ngincompat.workflow.results import MeshInfo, Results
 
+#: Physical lower bounds, in a scene's own units (mm or cm, MPa or kPa, its time unit): a
+#: value below them is no tissue, and the meshing and solving beneath it break in their own
+#: ways (an OCC or Netgen error, a singular matrix, a division by zero in a metric). A length
+#: at least 1e-3 (1 um in mm, 10 um in cm: a cell, below which tissue is no continuum); a
+#: modulus at least 1e-6 (1 Pa in MPa, softer than any tissue: brain is about 1 kPa); a time
+#: at least 1e-3 of the scene's unit (a minute and a half of a day: growth takes days); a rate
+#: at least 1e-6 per time unit (a millionth of the growth per day or year: none at all).
+LENGTH_FLOOR = 1e-3
+MODULUS_FLOOR = 1e-6
+TIME_FLOOR = 1e-3
+RATE_FLOOR = 1e-6
+
 #: The discretisation parameters of every scene; a scene with other defaults (or its own
 #: help text) calls the same declaration: ``order: int = ORDER(3)``.
 ORDER = Param("polynomial order of the displacement", range="[1, 10]")
 #: A mesh size past the body's is one element across it: at most 1000, a metre in mm.
-MAXH = Param("mesh size", "length", range="(0, 1000]")
+MAXH = Param("mesh size", "length", range=f"[{LENGTH_FLOOR:g}, 1000]")
 #: The nodes of the displacement's order k per element, by the element's shape: a
 #: tetrahedron's share of them k^3 / 6, a hexahedron's k^3, and a prism of a slab one
 #: element thick (:func:`geometries.bilayer`) its triangle's share k^2 / 2 of the section's

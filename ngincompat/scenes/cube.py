@@ -12,7 +12,7 @@ from ngincompat.incompatibility.operators import lattice_normals
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.scenes import prescribed
-from ngincompat.scenes.base import MAXH, ORDER, param
+from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, param
 
 
 @dataclass(frozen=True)
@@ -41,7 +41,8 @@ class CubeScene(prescribed.PrescribedScene):
     distributed = True
 
     # a tissue sample: bodies of at most a metre, theta = 1 + a X1 t at most 1000-fold per mm
-    side: float = param(1.0, "edge length of the cube", "length", range="(0, 1000]")
+    side: float = param(1.0, "edge length of the cube", "length",
+                       range=f"[{LENGTH_FLOOR:g}, 1000]")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X1 t", "1/length",
                      range="[-1000, 1000]")
     order: int = ORDER(6)

@@ -130,7 +130,11 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
 
 def _check_file(name, path, extensions):
     """A file parameter names an existing file of an allowed kind (read later, in build)."""
-    require(Path(path).is_file(), name, path, "an existing file")
+    try:
+        exists = Path(path).is_file()
+    except OSError:             # e.g. a name longer than the file system allows
+        exists = False
+    require(exists, name, path, "an existing file")
     require(str(path).lower().endswith(extensions), name, path,
             "a file ending in " + ", ".join(extensions))
 

@@ -13,7 +13,7 @@ from ngincompat.mechanics import fields
 from ngincompat.mechanics.growth import FiberGrowth
 from ngincompat.mechanics.kinematics import deformation_gradient, elastic_part
 from ngincompat.scenes import prescribed
-from ngincompat.scenes.base import MAXH, ORDER, param
+from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, param
 
 
 @dataclass(frozen=True)
@@ -41,8 +41,9 @@ class CylinderScene(prescribed.PrescribedScene):
     order: int = ORDER(3)
     maxh: float = MAXH(0.25)
     # as the cube's: a tissue sample of at most a metre, theta at most 1000-fold per mm
-    area: float = param(float(np.pi / 4), "cross-section", "length^2", range="(0, 1e6]")
-    length: float = param(1.0, "length", "length", range="(0, 1000]")
+    area: float = param(float(np.pi / 4), "cross-section", "length^2",
+                         range=f"[{LENGTH_FLOOR ** 2:g}, 1e6]")
+    length: float = param(1.0, "length", "length", range=f"[{LENGTH_FLOOR:g}, 1000]")
     a: float = param(0.25, "growth gradient a in theta = 1 + a X2 t", "1/length",
                      range="[-1000, 1000]")
 

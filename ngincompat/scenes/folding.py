@@ -149,7 +149,18 @@ from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import Progress
 from ngincompat.references.bifurcation import Bilayer, onset
 from ngincompat.sampling import element_points
-from ngincompat.scenes.base import G_ORDER, MAXH, ORDER, Scene, check_time_steps, param
+from ngincompat.scenes.base import (
+    G_ORDER,
+    LENGTH_FLOOR,
+    MAXH,
+    MODULUS_FLOOR,
+    ORDER,
+    RATE_FLOOR,
+    TIME_FLOOR,
+    Scene,
+    check_time_steps,
+    param,
+)
 from ngincompat.scenes.trust import Indicator
 from ngincompat.workflow.frames import Frames
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
@@ -300,59 +311,62 @@ class FoldingScene(Scene):
     maxh: float = MAXH(0.15, help="mesh size in the subcortex")
     cortex_maxh: float = param(0.025, "mesh size in the cortex and on the interface "
                                       "(>= 2 quadratic elements across the cortex)", "length",
-                               range="(0, 100]")
+                               range=f"[{LENGTH_FLOOR:g}, 100]")
     top_refinement: float = param(1.0, "cortex_maxh / the mesh size on the top surface, "
                                        "graded to cortex_maxh below (where the folds "
                                        "crease); 1: not refined", range="[1, 100]")
     g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
     growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 10]")
-    length: float = param(3.0, "length of the bilayer (X1)", "length", range="(0, 100]")
-    height: float = param(1.0, "height of the bilayer (X3)", "length", range="(0, 100]")
+    length: float = param(3.0, "length of the bilayer (X1)", "length",
+                          range=f"[{LENGTH_FLOOR:g}, 100]")
+    height: float = param(1.0, "height of the bilayer (X3)", "length",
+                          range=f"[{LENGTH_FLOOR:g}, 100]")
     depth: float = param(0.05, "thickness of the slab (X2, out of plane)", "length",
-                         range="(0, 100]")
-    cortex_thickness: float = param(0.05, "thickness of the cortex", "length", range="(0, 100]")
+                         range=f"[{LENGTH_FLOOR:g}, 100]")
+    cortex_thickness: float = param(0.05, "thickness of the cortex", "length",
+                                    range=f"[{LENGTH_FLOOR:g}, 100]")
     mu_white: float = param(1.0, "shear modulus of the subcortex (white matter)", "stress",
-                            range="(0, 1e6]")
-    mu_ratio: float = param(3.0, "mu_gray / mu_white", range="(0, 1000]")
+                            range=f"[{MODULUS_FLOOR:g}, 1e6]")
+    mu_ratio: float = param(3.0, "mu_gray / mu_white", range="[1e-3, 1000]")
     lam_ratio: float = param(100.0, "lambda / mu in both layers (nearly incompressible; "
                                     "1e6: nu = 0.4999995)",
-                             range="(0, 1e6]")
+                             range="[1e-3, 1e6]")
     cortex_rate: float = param(0.008, "cortex growth rate: theta_c = 1 + cortex_rate t",
-                               "1/time", range="(0, 10]")
+                               "1/time", range=f"[{RATE_FLOOR:g}, 10]")
     axon_rate: float = param(0.08, "G_axn of d theta_a/dt = G_axn <lambda_e - "
-                                   "stretch_crit>", "1/time", range="(0, 100]")
+                                   "stretch_crit>", "1/time", range=f"[{RATE_FLOOR:g}, 100]")
     stretch_crit: float = param(1.0, "axon stretch lambda_e below which axons do not grow",
-                                range="(0, 10]")
+                                range="[0.1, 10]")
     axon_max: float = param(3.0, "saturation of axon growth (eq. 45, gamma = 0)",
                             range="(1, 10]")
     axons: str = param("curved", "axon field: " + ", ".join(AXONS), choices=AXONS)
     t_end: float = param(75.0, "end of growth (the paper's 75 days: theta_c = 1.6 with "
-                               "cortex_rate read per day)", "time", range="(0, 1000]")
+                               "cortex_rate read per day)", "time", range=f"[{TIME_FLOOR:g}, 1000]")
     dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
-                      "time", range="(0, 1000]")
+                      "time", range=f"[{TIME_FLOOR:g}, 1000]")
     approach_dt: float = param(10.0, "largest time step on the perfect branch (at least "
                                      "onset_dt) until 2 onset_dt before the bifurcation "
-                                     "analysis' onset", "time", range="(0, 1000]")
+                                     "analysis' onset", "time", range=f"[{TIME_FLOOR:g}, 1000]")
     onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
-                                  "the onset)", "time", range="(0, 1000]")
+                                  "the onset)", "time", range=f"[{TIME_FLOOR:g}, 1000]")
     observe_dt: float = param(1.25, "growth time between the records of the viscous march "
                                     "(smallest eigenvalue, fold amplitude, top stretch); 0: "
                                     "every step", "time", range="[0, 1000]")
     imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
-                                      "onset / cortex_thickness", range="(0, 0.1]")
+                                      "onset / cortex_thickness", range="[1e-6, 0.1]")
     buckle: bool = param(True, "past the onset, perturb by the buckling mode and follow the "
                                "folds to t_end (false: end at the onset)")
     release: bool = param(True, "at the end remove the supports but the rigid-motion pins "
                                 "(growth frozen)")
     contact_penalty: float = param(1e4, "penalty kappa of the top surface's self-contact "
                                         "(pressure per penetration)", "stress/length",
-                                   range="(0, 1e8]")
+                                   range="[1e-3, 1e8]")
     contact_width: float = param(0.0005, "penetration over which the contact penalty's ramp "
                                          "is rounded", "length", range="[0, 1]")
     viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
                                    "(eta in stress x time / length^2)", "time/length^2",
-                             range="(0, 1e6]")
+                             range="[1e-3, 1e6]")
 
     def __post_init__(self):
         super().__post_init__()

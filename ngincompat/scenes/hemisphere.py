@@ -13,7 +13,7 @@ from ngincompat.fem import postprocess
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.references.radial import solve_radial
 from ngincompat.scenes import prescribed
-from ngincompat.scenes.base import MAXH, ORDER, STEPS, param
+from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, STEPS, param
 
 #: The growth profiles f(R / R0) of Fig. 2f: f(0) = 0, f(1) = 1, as (CF builder, numpy).
 PROFILES = {
@@ -56,8 +56,8 @@ class HemisphereScene(prescribed.PrescribedScene):
     steps: int = STEPS(2, help="initial number of load steps (two take 4 Newton iterations "
                                "each, one 7-9)")
     centre_maxh: float = param(0.05, "mesh size at the centre (theta has a cone point there)",
-                               "length", range="(0, 1000]")
-    R0: float = param(1.0, "radius", "length", range="(0, 1000]")
+                               "length", range=f"[{LENGTH_FLOOR:g}, 1000]")
+    R0: float = param(1.0, "radius", "length", range=f"[{LENGTH_FLOOR:g}, 1000]")
     profile: str = param("linear", "growth profile f: linear, concave or convex",
                          choices=PROFILES)
     flat_face: Literal["free", "symmetry"] = param("free", "flat face: free (the paper's) "

@@ -14,15 +14,16 @@ that allows less (GOH: nu in (0, 0.5)) says so when the scene builds it in ``__p
 
 from dataclasses import dataclass
 
-from ngincompat.scenes.base import Param
+from ngincompat.scenes.base import MODULUS_FLOOR, Param
 
 #: Moduli are at most 1e6 in a scene's stress unit: past every soft tissue (kPa to MPa) and,
 #: in MPa, past the shear modulus of diamond (about 5e5 MPa).
-MU = Param("shear modulus", "stress", range="(0, 1e6]")
+MU = Param("shear modulus", "stress", range=f"[{MODULUS_FLOOR:g}, 1e6]")
 NU = Param("Poisson's ratio", range="(-1, 0.5)")
 K1 = Param("GOH fiber stiffness", "stress", range="[0, 1e6]")
 K2 = Param("GOH fiber nonlinearity (the fiber energy grows as exp(k2 (I4 - 1)^2): at k2 = "
-           "100 it overflows at a fiber stretch of 1.9)", range="(0, 100]")
+           "100 it overflows at a fiber stretch of 1.9; at least 1e-3: a fiber that stiffens "
+           "by 0.1 % at a stretch of 2 does not stiffen)", range="[1e-3, 100]")
 KAPPA = Param("GOH fiber dispersion (0: aligned, 1/3: isotropic)", range="[0, 1/3]")
 
 

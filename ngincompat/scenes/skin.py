@@ -85,6 +85,8 @@ from ngincompat.scenes.base import (
     MAX_STEPS,
     MAXH,
     ORDER,
+    RATE_FLOOR,
+    TIME_FLOOR,
     Scene,
     check_time_steps,
     param,
@@ -156,32 +158,38 @@ class SkinExpansionScene(Elastic, Scene):
                            choices=FOOTPRINTS)
     footprint_area: float = param(24.5, "area of the expander's base, the same for every "
                                         "footprint (7 x 3.5 cm for the rectangle), within "
-                                        "the 10 x 10 cm patch", "area", range="(0, 100]")
+                                        "the 10 x 10 cm patch; at least 1 cm^2: the "
+                                        "smallest expanders' bases", "area",
+                                  range="[1, 100]")
     expander: str = param("contact", "how the expander acts: contact (a rigid dome the skin "
                                      "rests on) or pressure (uniform on the footprint)",
                           choices=EXPANDERS)
     penalty: float = param(1000.0, "contact: pressure per unit penetration (at most 1e6: "
-                                   "a millionfold skin's modulus per cm)", "stress/length",
-                           range="(0, 1e6]")
+                                   "a millionfold skin's modulus per cm; at least "
+                                   "1e-3, a thousandth of it)", "stress/length",
+                           range="[1e-3, 1e6]")
     contact_width: float = param(0.005, "contact: penetration over which the penalty's ramp "
                                         "is rounded (at most the skin's thickness)", "length",
                                  range=f"[0, {THICKNESS}]")
     volume: float = param(50.0, "expander volume at the end of inflation (at most 500: over "
                                 "the largest footprint a dome about as high as the patch is "
-                                "wide)", "volume", range="(0, 500]")
+                                "wide; at least 0.1 cc: the footprint's first "
+                                "millimetre)", "volume", range="[0.1, 500]")
     inflation_steps: int = param(10, "initial number of inflation steps",
                                  range=f"[1, {MAX_STEPS}]")
     hold_days: float = param(7.0, "duration of the hold (at most a year)", "time",
                              range="[0, 365]")
     dt: float = param(1.0, "time step of the hold (halved where Newton needs it)", "time",
-                      range="(0, 365]")
+                      range=f"[{TIME_FLOOR:g}, 365]")
     mu: float = MU(0.55)                # ref. [77], as section 3.1; nu = 0.4 of the block
-    k: float = param(0.1, "Hill law: largest growth rate", "1/time", range="(0, 100]")
-    K: float = param(0.2, "Hill law: stimulus of half the largest rate", range="(0, 10]")
+    k: float = param(0.1, "Hill law: largest growth rate", "1/time",
+                     range=f"[{RATE_FLOOR:g}, 100]")
+    K: float = param(0.2, "Hill law: stimulus of half the largest rate",
+                     range="[1e-3, 10]")
     n: float = param(2.0, "Hill law exponent (at most 20: a switch at K already)",
                      range="[1, 20]")
     theta_crit: float = param(1.05, "elastic area stretch below which skin does not grow",
-                              range="(0, 10]")
+                              range="[0.1, 10]")
     theta_max: float = param(3.0, "saturation of area growth (at most tenfold area)",
                              range="(1, 10]")
     resume: bool = param(False, "continue an interrupted hold from the folder's checkpoint")
