@@ -29,7 +29,7 @@ import sys
 import threading
 import time
 
-from ngincompat import parallel
+from ngincompat import config, parallel
 from ngincompat.errors import (
     ConvergenceError,
     Interrupted,
@@ -152,7 +152,13 @@ def _status_code(rows):
 
 def _cmd_paper(args):
     from ngincompat.studies import paper
-    only = [n.strip() for n in args.only.split(",") if n.strip()] if args.only else None
+    only = None
+    if args.only is not None:
+        only = [n.strip() for n in args.only.split(",") if n.strip()]
+        if not only:        # an empty list is a mistake, not "every section"
+            raise ParameterError(f"--only {args.only!r} names no section: allowed a comma "
+                                 "list of section numbers, e.g. 3.5,3.6 (leave it out for "
+                                 "every section)")
     rows = paper.run_all(args.out, progress=Progress(quiet=args.quiet),
                          overwrite=args.overwrite, resolution=args.resolution, only=only,
                          jobs=args.jobs)
@@ -507,6 +513,11 @@ def build_parser():
 
 def main(argv=None):
     """Run the command line; returns the exit code (see the module docstring)."""
+    try:        # before the parser, whose choices import NGSolve
+        config.check_environment()
+    except ParameterError as err:
+        print(f"ngincompat: error: {err}", file=sys.stderr)
+        return EXIT_INPUT
     parser = build_parser()
     try:
         args = parser.parse_args(argv)

@@ -62,11 +62,33 @@ def configure(threads=None, heap=None):
     return settings()
 
 
+#: The most threads ``NGS_NUM_THREADS`` may ask for: far past any core count this package runs
+#: on (more threads than cores only wait for each other); NGSolve itself fails to import at a
+#: few thousand.
+MAX_THREADS = 256
+
+
+def check_environment(environ=None):
+    """Raise ParameterError, naming the variable and its allowed values, if an environment
+    variable NGSolve reads at import is unusable: ``NGS_NUM_THREADS`` must be empty or an
+    integer in [1, :data:`MAX_THREADS`] (0 ran NGSolve's loops on no thread and computed
+    garbage; a word or a number out of range broke NGSolve's import)."""
+    value = (os.environ if environ is None else environ).get("NGS_NUM_THREADS", "")
+    text = value.strip()
+    if not text:
+        return
+    allowed = f"an integer in [1, {MAX_THREADS}] (NGSolve threads), or unset"
+    shown = value if len(value) <= 40 else value[:40] + "..."
+    require(text.isascii() and text.isdigit() and 1 <= int(text) <= MAX_THREADS,
+            "NGS_NUM_THREADS", shown, allowed)
+
+
 def threads():
     """The NGSolve threads the package runs on: configured, else ``NGS_NUM_THREADS``, else 1."""
     if _configured["threads"] is not None:
         return _configured["threads"]
-    return int(os.environ.get("NGS_NUM_THREADS") or 1)
+    check_environment()
+    return int(os.environ.get("NGS_NUM_THREADS", "").strip() or 1)
 
 
 def settings():

@@ -65,4 +65,19 @@ def require(condition, name, value, allowed):
         The allowed range in words, e.g. ``"> 0"`` or ``"in [0, 1/3]"``.
     """
     if not condition:
-        raise ParameterError(f"{name} = {value!r} is out of range: allowed {allowed}")
+        raise ParameterError(f"{name} = {shown(value)} is out of range: allowed {allowed}")
+
+
+#: The most characters of a value that an error message quotes.
+QUOTE = 70
+
+
+def shown(value):
+    """``value`` as an error message quotes it: its repr, cut to about :data:`QUOTE`
+    characters with the length of the whole (a 5,000-character value is not echoed)."""
+    text = repr(value)
+    if len(text) <= QUOTE:
+        return text
+    if isinstance(value, str):
+        return f"{value[:QUOTE - 3]!r}... ({len(value)} characters)"
+    return f"{text[:QUOTE - 3]}..."

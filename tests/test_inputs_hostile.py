@@ -5,6 +5,7 @@ expression limits, and sweep plans bounded before anything is allocated."""
 import json
 import math
 
+import ngsolve as ngs
 import pytest
 
 from geometries import bilayer, cube, cylinder, disc, estimate, hemisphere, skin_patch
@@ -18,7 +19,10 @@ from ngincompat.studies.sweep import runner, spec, table
 
 # ----------------------------------------------------------------- the generated corpus
 
-HOSTILE = ("1e308", "inf", "-inf", "nan", "0", "-1", "-1e308", "two", "")
+#: Huge, non-finite, wrong, and tiny: a subnormal, and positive values far below any physical
+#: floor (each passed the "(0, x]" ranges and broke deep in meshing, solving or measuring).
+HOSTILE = ("1e308", "inf", "-inf", "nan", "0", "-1", "-1e308", "two", "", "1e-320", "1e-300",
+           "1e-10")
 HOSTILE_INT = ("100000000000000000000",)
 
 
@@ -184,6 +188,8 @@ MESHES = [
     ("disc", lambda: disc(maxh=0.15, curve_order=1), lambda: estimate.disc_elements(maxh=0.15)),
     ("cylinder", lambda: cylinder(maxh=0.15, curve_order=1),
      lambda: estimate.cylinder_elements(maxh=0.15)),
+    ("thin cylinder", lambda: cylinder(area=1e-3, maxh=0.25, curve_order=1),
+     lambda: estimate.cylinder_elements(area=1e-3, maxh=0.25)),
     ("skin", lambda: skin_patch(maxh=1.0, curve_order=1),
      lambda: estimate.skin_patch_elements(maxh=1.0)),
     ("bilayer", lambda: bilayer(maxh=0.3, cortex_maxh=0.05),
@@ -374,3 +380,129 @@ def test_the_mixed_formulation_refuses_nu_at_or_below_0_before_computing(scene, 
     assert len(err) == 1 and err[0].startswith("ngincompat: error: nu = "), err
     assert "mixed formulation" in err[0] and not out.exists()
     SCENES["cube"].from_settings({"nu": "0"})       # the displacement formulation takes it
+
+
+# ------------------------------------------- what an attack of tiny values and odd input found
+
+@pytest.mark.parametrize("scene, setting", [
+    ("cube", "side=1e-10"), ("disc", "height=1e-300"), ("cylinder", "area=1e-320"),
+    ("folding", "length=1e-320"), ("hemisphere", "centre_maxh=1e-300"), ("disc", "k2=1e-320"),
+    ("atrophy", "seed_radius=1e-320"), ("folding", "t_end=1e-320"),
+    ("folding", "depth=1e-320"), ("folding", "mu_white=1e-320"),
+    ("folding", "cortex_rate=1e-320"), ("disc", "k1=1e-320")])
+def test_tiny_positive_values_are_refused_before_meshing_in_one_line(scene, setting, tmp_path,
+                                                                     capsys):
+    """Each passed its "(0, x]" range and ended in a traceback (OCC, Netgen, a division by
+    zero, a singular matrix) or ran for minutes: now refused by the parameter's physical
+    floor, or as a subnormal number, naming it."""
+    key = setting.split("=")[0]
+    out = tmp_path / "out"
+    assert main(["run", scene, "--set", setting, "--out", str(out), "-q"]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"ngincompat: error: {key} = "), lines
+    assert "Traceback" not in captured.err and not out.exists()
+
+
+def test_a_stress_free_atrophy_has_a_zero_relative_residual():
+    """A seed the mesh does not see (seed_radius at its floor, 10 um, in a 1 cm mesh)
+    atrophies nothing: stresses and residual are 0, and their ratio was a ZeroDivisionError."""
+    from ngincompat.scenes.atrophy import _relative
+
+    assert _relative(0.0, 0.0) == 0.0 and _relative(2.0, 4.0) == 0.5
+    assert _relative(1e-3, 0.0) == math.inf
+
+
+def test_the_discs_checks_are_left_out_of_a_state_that_never_grew():
+    """A disc whose first growth step fails (k1 = 1e6 in the preview) is measured at t = 0,
+    where b of eq. (22) is zero: the checks relative to it were a ZeroDivisionError."""
+    case = SCENES["disc"](maxh=0.5, order=1).build()
+    assert case.verify(None, {"b_e3": ngs.CF((0.0, 0.0, 0.0))}) == {}
+
+
+@pytest.mark.parametrize("value", ["0", "abc", "-1", "100000", "1.5", "\uff13"])
+def test_an_unusable_ngs_num_threads_is_refused_in_one_line(value, monkeypatch, capsys,
+                                                            tmp_path):
+    """NGSolve reads NGS_NUM_THREADS when it is imported: 0 computed garbage, a word raised a
+    traceback, -1 and 100000 broke NGSolve's import. Checked before anything is imported."""
+    monkeypatch.setenv("NGS_NUM_THREADS", value)
+    assert main(["run", "cube", "--out", str(tmp_path / "out"), "-q"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("ngincompat: error: NGS_NUM_THREADS = "), err
+    assert "[1, 256]" in err[0] and not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("content", ["", "garbage\n"], ids=["empty", "garbage"])
+def test_an_unreadable_msh_file_is_bad_input_not_meshios_exit(content, tmp_path, capsys):
+    """meshio prints its error and calls sys.exit(1) when no reader takes a file, which
+    ``except Exception`` let through: exit 1 with meshio's words instead of exit 2."""
+    path = tmp_path / "box.msh"
+    path.write_text(content)
+    assert main(["run", "custom", "--set", f"mesh={path}", "--out", str(tmp_path / "out"),
+                 "-q"]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("ngincompat: error: mesh = "), lines
+    assert "box.msh" in lines[0] and "gmsh" in lines[0] and captured.out == ""
+
+
+def test_a_5000_character_path_or_value_is_refused_with_a_short_message():
+    from ngincompat.scenes import CustomScene
+
+    for settings in ({"mesh": "/tmp/" + "a" * 5000 + ".msh"},
+                     {"theta_file": "/tmp/" + "b" * 5000 + ".npz"},
+                     {"maxh": "1" * 5000 + "x"}):
+        with pytest.raises(ParameterError) as info:
+            CustomScene.from_settings(settings)
+        key = next(iter(settings))
+        assert str(info.value).startswith(f"{key} = ") and len(str(info.value)) < 250
+
+
+@pytest.mark.parametrize("text, what", [("0x10", "'0x10'"), ("1_0", "'1_0'"),
+                                        ("1 + 0o7 * t", "'0o7'"), ("\uff54", "character")])
+def test_theta_takes_decimal_numbers_and_ascii_only(text, what):
+    """Python's parser reads 0x10, 1_0 and a full-width t (as t): none is how a growth law is
+    written, and the message should not pretend they are."""
+    with pytest.raises(ExpressionError, match=what):
+        parse_expression(text, name="theta")
+    parse_expression("1 + 0.5*t + .25*X1 + 2e-1*X2 + 1E+0*X3 + 3.", name="theta")   # taken
+
+
+def test_a_folder_marked_read_only_is_refused_even_as_root(tmp_path, capsys):
+    """As root, os.access says a chmod 555 folder is writable, and the run was written into
+    it; the documentation says read-only folders are refused."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        assert main(["run", "cube", "--out", str(folder), "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "read-only" in err[0], err
+        assert list(folder.iterdir()) == []
+    finally:
+        folder.chmod(0o755)
+
+
+@pytest.mark.parametrize("settings, key", [
+    (["--set", "theta=1e-320"], "theta"), (["--set", "theta=1e-10"], "theta"),
+    (["--set", "theta=1 - 0.9999*X1"], "theta")], ids=["subnormal", "tiny", "near-zero-edge"])
+def test_a_degenerate_growth_is_bad_input_not_a_solve_that_fails(settings, key, tmp_path,
+                                                                capsys):
+    """theta = 1e-320 was reported "not converged" (exit 3): it is no growth a tissue can
+    have, refused (exit 2) below the floor of the growth indicator, naming it and where."""
+    out = tmp_path / "out"
+    code = main(["run", "custom", *settings, "--set", "maxh=1", "--set", "order=1",
+                 "--out", str(out), "-q"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith(f"ngincompat: error: {key} = ") and "0.001" in err[0], err
+
+
+@pytest.mark.parametrize("only", ["", " , "])
+def test_the_paper_job_with_an_empty_section_list_is_refused(only, tmp_path, capsys):
+    """--only '' ran every section, silently."""
+    out = tmp_path / "paper"
+    assert main(["paper", "--only", only, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--only" in err[0] and "names no section" in err[0], err
+    assert not out.exists()

@@ -33,12 +33,13 @@ times is evaluated once; it stays differentiable (``CF.Diff``) in X1, X2, X3.
 
 import ast
 import math
+import re
 import sys
 
 import ngsolve as ngs
 import numpy as np
 
-from ngincompat.errors import ExpressionError
+from ngincompat.errors import ExpressionError, shown
 
 #: Integer exponents up to this size are expanded into products (repeated squaring, exact up to
 #: a few roundings); larger ones use ``|a|**n`` with the sign of ``a**n``.
@@ -52,8 +53,9 @@ MAX_PRODUCT_EXPONENT = 64
 MAX_LENGTH = 2000
 MAX_DEPTH = 100
 MAX_NODES = 1000
-#: How many characters of an expression an error message quotes.
-QUOTE = 70
+#: The numbers an expression may write: decimal, with an optional fraction and exponent
+#: (Python's parser would also take 0x10, 1_0 and full-width digits).
+DECIMAL = re.compile(r"(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
 
 _BIG = sys.float_info.max
 #: ``(v + _ROUND) - _ROUND`` is v rounded to the nearest integer for 0 <= v < 2**52.
@@ -275,12 +277,6 @@ def _number(value):
         return math.inf
 
 
-def _quote(text):
-    """``text`` as an error message quotes it: its repr, cut to about :data:`QUOTE`
-    characters."""
-    if len(text) <= QUOTE:
-        return repr(text)
-    return f"{text[:QUOTE - 3]!r}... ({len(text)} characters)"
 
 
 def _check_size(tree, text, name):
@@ -291,11 +287,11 @@ def _check_size(tree, text, name):
         node, depth = stack.pop()
         nodes += 1
         if depth > MAX_DEPTH:
-            raise ExpressionError(f"{name} = {_quote(text)} is nested more than {MAX_DEPTH} "
+            raise ExpressionError(f"{name} = {shown(text)} is nested more than {MAX_DEPTH} "
                                   f"levels deep (a sum of n terms nests n levels): "
                                   f"allowed at most {MAX_DEPTH}")
         if nodes > MAX_NODES:
-            raise ExpressionError(f"{name} = {_quote(text)} has more than {MAX_NODES} terms "
+            raise ExpressionError(f"{name} = {shown(text)} has more than {MAX_NODES} terms "
                                   f"and operations: allowed at most {MAX_NODES}")
         stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
 
@@ -306,15 +302,26 @@ def _parse(text, name):
     if not isinstance(text, str) or not text.strip():
         raise ExpressionError(f"{name} must be a non-empty expression in X1, X2, X3 and t")
     if len(text) > MAX_LENGTH:
-        raise ExpressionError(f"{name} = {_quote(text)} has {len(text)} characters: allowed "
+        raise ExpressionError(f"{name} = {shown(text)} has {len(text)} characters: allowed "
                               f"at most {MAX_LENGTH}")
+    foreign = next((c for c in text if not c.isascii()), None)
+    if foreign is not None:
+        raise ExpressionError(f"{name} = {shown(text)} has the character {foreign!r}: "
+                              "allowed ASCII letters, digits and operators only")
+    source = text.strip()
     try:
-        tree = ast.parse(text.strip(), mode="eval")
+        tree = ast.parse(source, mode="eval")
     except (SyntaxError, MemoryError, RecursionError) as err:
         reason = err.msg if isinstance(err, SyntaxError) else "nested too deeply"
-        raise ExpressionError(f"{name} = {_quote(text)} is not a valid expression: "
+        raise ExpressionError(f"{name} = {shown(text)} is not a valid expression: "
                               f"{reason}") from None
     _check_size(tree, text, name)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+            literal = ast.get_source_segment(source, node)
+            if literal is not None and not DECIMAL.fullmatch(literal):
+                raise ExpressionError(f"{name} = {shown(text)} writes the number "
+                                      f"{literal!r}: allowed decimal numbers (2, 0.5, 1e-3)")
     return tree
 
 
@@ -371,7 +378,7 @@ def parse_expression(text, time=None, name="expression"):
             if node.id in names:
                 return names[node.id]
             raise ExpressionError(
-                f"{name} = {_quote(text)} uses the unknown name {node.id!r}; "
+                f"{name} = {shown(text)} uses the unknown name {node.id!r}; "
                 f"allowed names: {', '.join(sorted(names))}")
         if isinstance(node, ast.BinOp) and type(node.op) in (*_NUMPY_BINARY, ast.Pow):
             return _binary(type(node.op), build(node.left), build(node.right))
@@ -383,7 +390,7 @@ def parse_expression(text, time=None, name="expression"):
             arity = _ARITY.get(node.func.id, 1)
             if len(node.args) != arity:
                 raise ExpressionError(
-                    f"{name} = {_quote(text)}: {node.func.id}() takes {arity} argument(s)")
+                    f"{name} = {shown(text)}: {node.func.id}() takes {arity} argument(s)")
             return FUNCTIONS[node.func.id](*(build(a) for a in node.args))
         if isinstance(node, ast.Call):
             called = node.func.id if isinstance(node.func, ast.Name) else ast.unparse(node.func)
@@ -391,7 +398,7 @@ def parse_expression(text, time=None, name="expression"):
         else:
             what = f"'{ast.unparse(node)}'"
         raise ExpressionError(
-            f"{name} = {_quote(text)} contains {what}, which is not allowed; "
+            f"{name} = {shown(text)} contains {what}, which is not allowed; "
             f"use numbers, X1, X2, X3, t, R, + - * / ** and {', '.join(sorted(FUNCTIONS))}")
 
     value = build(tree)

@@ -385,10 +385,13 @@ def _check_input_file(path, allowed, name):
         path = Path(os.fspath(path))
     except TypeError:
         raise ParameterError(f"{name} = {path!r} is not a file name") from None
-    if path.is_dir():
-        raise file_error(path, "is a directory, not a file", name)
-    if not path.exists():
-        raise file_error(path, "does not exist", name)
+    try:
+        if path.is_dir():
+            raise file_error(path, "is a directory, not a file", name)
+        if not path.exists():
+            raise file_error(path, "does not exist", name)
+    except OSError as err:      # e.g. a name longer than the file system allows
+        raise file_error(path, f"cannot be looked up: {err.strerror}", name) from None
     if suffix_of(path, allowed) is None:
         raise file_error(path, f"unknown extension '{''.join(path.suffixes) or path.name}'; "
                                f"allowed: {', '.join(allowed)}", name)

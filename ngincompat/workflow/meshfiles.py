@@ -14,6 +14,8 @@ Every error is a :class:`~ngincompat.errors.ParameterError` that names the param
 (``mesh``), the file and the reason on one line.
 """
 
+import contextlib
+import io
 import logging
 from pathlib import Path
 
@@ -48,7 +50,14 @@ def read(path, suffix):
 
 def file_error(path, reason, name="mesh"):
     """The error for an input file: names the parameter, the file and the reason, one line."""
-    return ParameterError(f"{name} = '{path}': {reason}")
+    text = str(path)
+    if len(text) > PATH_QUOTE:      # its start and its file name, not thousands of characters
+        text = f"{text[:PATH_QUOTE // 2]}...{text[-PATH_QUOTE // 2:]}"
+    return ParameterError(f"{name} = '{text}': {reason}")
+
+
+#: The most characters of a file's path that an error message quotes.
+PATH_QUOTE = 300
 
 
 def suffix_of(path, allowed):
@@ -133,11 +142,16 @@ def _read_meshio(path, file_format):
     """Read a mesh with meshio; check it and build its Netgen mesh (see :func:`read`)."""
     import meshio
 
+    said = io.StringIO()
     try:
-        data = meshio.read(path, file_format=file_format)
-    except Exception as exc:            # meshio raises many types for a damaged file
+        # meshio prints its readers' errors and ends the process (SystemExit) when none read
+        # the file: both are kept here and told in the one-line error
+        with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+            data = meshio.read(path, file_format=file_format)
+    except (Exception, SystemExit) as exc:  # meshio raises many types for a damaged file
+        reason = one_line(said.getvalue()) if isinstance(exc, SystemExit) else one_line(exc)
         raise file_error(path, f"cannot be read as a {file_format} file (truncated or "
-                               f"damaged?): {one_line(exc)}") from None
+                               f"damaged?): {reason}") from None
     points = np.asarray(data.points, dtype=float)
     if points.shape[1] != 3:
         raise file_error(path, f"is a {points.shape[1]}-D mesh: {_ALLOWED}")

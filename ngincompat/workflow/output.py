@@ -23,6 +23,7 @@ import logging
 import os
 import socket
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -99,8 +100,7 @@ def prepare(out, overwrite: bool = False, resume: bool = False, run_files=()) ->
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
         raise ParameterError(f"--out {out} cannot be created: {err.strerror}") from None
-    if not os.access(out, os.W_OK | os.X_OK):
-        raise ParameterError(f"--out {out} is not writable")
+    _check_writable(out)
     _acquire(out)
     try:
         marker = next((out / m for m in MARKERS if (out / m).is_file()), None)
@@ -116,6 +116,21 @@ def prepare(out, overwrite: bool = False, resume: bool = False, run_files=()) ->
         release(out)
         raise
     return out
+
+
+def _check_writable(out):
+    """Refuse a folder marked read-only (no write permission for anyone: root, whom the bits
+    do not stop, is held to them too) or one a file cannot be created in (tried: a read-only
+    file system, access control lists)."""
+    if not out.stat().st_mode & 0o222:
+        raise ParameterError(f"--out {out} is read-only (no write permission): choose "
+                             "another folder, or make it writable")
+    try:
+        descriptor, probe = tempfile.mkstemp(prefix=".ngincompat-probe-", dir=out)
+    except OSError as err:
+        raise ParameterError(f"--out {out} is not writable: {err.strerror}") from None
+    os.close(descriptor)
+    os.unlink(probe)
 
 
 @contextlib.contextmanager
