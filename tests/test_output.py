@@ -241,6 +241,32 @@ def test_a_full_disk_leaves_no_truncated_file_under_its_final_name(tmp_path, mon
     assert not out.exists()     # no part file, no lock, no temp: the empty folder removed
 
 
+def test_a_disk_that_fills_after_the_fields_leaves_nothing_and_the_rerun_runs(tmp_path,
+                                                                           monkeypatch,
+                                                                           capsys):
+    """fields.vtu and the figures were written, then results.json found the disk full: the
+    files stayed without a record, and the next run refused them as another's."""
+    from ngincompat.cli import EXIT_NOT_WRITTEN, main
+
+    written = []
+    real = output.io.write_json
+
+    def full(path, data):
+        written.extend(p.name for p in path.parent.iterdir())
+        raise OSError(28, "No space left on device", str(path))
+
+    monkeypatch.setattr(output.io, "write_json", full)
+    out = tmp_path / "run"
+    args = ["run", "cube", "--out", str(out), "--maxh", "1", "--order", "1", "-q"]
+    assert main(args) == EXIT_NOT_WRITTEN
+    assert "fields.vtu" in written     # the disk filled after the fields were written
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "No space left" in err and "Traceback" not in err
+    assert not out.exists()
+    monkeypatch.setattr(output.io, "write_json", real)
+    assert main(args) == 0 and output.read(out).status == "done"
+
+
 def test_permissions_taken_away_during_the_run_exit_5_in_one_line(tmp_path, monkeypatch,
                                                                    capsys):
     """The folder was writable when checked; results.json is then refused (a folder made

@@ -279,9 +279,10 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     last. A state with a metric that is not finite (:meth:`Results.non_finite`) was not
     computed: none of its files are written, only results.json and the frames.
 
-    Interrupted (Ctrl-C) or failing part-way, the files finished so far are in
-    ``results.files`` (the time series then lists exactly the frames written) and the
-    exception goes on.
+    Interrupted (Ctrl-C), the files finished so far are in ``results.files`` (the time
+    series then lists exactly the frames written) and the exception goes on. A write the
+    machine refuses (OSError: a full disk) removes the files it had written before the error
+    goes on: without their record no run owns them.
 
     On a distributed mesh every rank writes its part of the VTK output (``fields.pvd`` and
     one ``.vtu`` per part); rank 0 alone writes results.json and the figures; the growth
@@ -292,18 +293,31 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     outputs = wanted(results) if outputs is None else outputs
     files: list[str] = []
     try:
-        if not _write_outputs(results, out, outputs, files):
-            return results
-    finally:
-        results.files = [*files, *[f for f in results.files if f not in files]]
-    results.files = ["results.json", *[f for f in results.files if f != "results.json"]]
-    results.timings["output"] = time.perf_counter() - start
-    # what the run wrote, by content: --overwrite removes these files only as they were
-    hashes = {f: _sha256(out / f) for f in results.files if (out / f).is_file()}
-    units = field_units(results.fields, results.units) if "vtk" in outputs else {}
-    io.write_json(out / "results.json", {**results.to_dict(), "field_units": units,
-                                         "file_hashes": hashes})
+        try:
+            if not _write_outputs(results, out, outputs, files):
+                return results
+        finally:
+            results.files = [*files, *[f for f in results.files if f not in files]]
+        results.files = ["results.json", *[f for f in results.files if f != "results.json"]]
+        results.timings["output"] = time.perf_counter() - start
+        # what the run wrote, by content: --overwrite removes these files only as they were
+        hashes = {f: _sha256(out / f) for f in results.files if (out / f).is_file()}
+        units = field_units(results.fields, results.units) if "vtk" in outputs else {}
+        io.write_json(out / "results.json", {**results.to_dict(), "field_units": units,
+                                             "file_hashes": hashes})
+    except OSError:
+        _discard(out, results.files)
+        raise
     return results
+
+
+def _discard(out: Path, names) -> None:
+    """Remove the files ``names`` of a write that failed (a full disk, permissions taken
+    away): without their results.json no run would own them, and the next run into the
+    folder would refuse them as another's."""
+    for name in names:
+        with contextlib.suppress(OSError):
+            (out / name).unlink(missing_ok=True)
 
 
 def _write_outputs(results: Results, out: Path, outputs: set[str], files: list[str]) -> bool:
