@@ -125,3 +125,37 @@ def test_runs_side_by_side_give_what_runs_one_after_the_other_give(tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["ngincompat: error: --jobs 0: allowed an integer >= 1"]
     assert not (tmp_path / "zero").exists()
+
+
+def test_sigterm_to_a_paper_job_with_workers_ends_it_cleanly(tmp_path):
+    """A batch system's stop (SIGTERM to every process of the job) while two workers run
+    cases: exit 130 in one line, no traceback (the workers died of it: BrokenProcessPool,
+    naming an error.txt that did not exist), no lock left in any folder, and the cases
+    that were running marked "interrupted" in their records."""
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    out = tmp_path / "paper"
+    process = subprocess.Popen([sys.executable, "-m", "ngincompat.cli", "paper", "--only",
+                                "3.1,3.4", "--jobs", "2", "--out", str(out)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    lines, started = [], 0
+    for line in process.stderr:
+        lines.append(line)
+        started += "] growth" in line
+        if started >= 2:          # both workers are computing their cases
+            os.killpg(process.pid, signal.SIGTERM)
+            break
+    _, rest = process.communicate(timeout=300)
+    err = "".join(lines) + rest
+    assert process.returncode == 130, err
+    assert "Traceback" not in err and "BrokenProcessPool" not in err and "error.txt" not in err
+    assert not list(out.rglob(".ngincompat.lock")), err
+    records = {p.parent.name: json.loads(p.read_text())["status"]
+               for p in out.glob("*/results.json")}
+    assert records and set(records.values()) <= {"done", "interrupted"}, err
+    rows = json.loads((out / "summary.json").read_text())["rows"]    # what has ended
+    assert {r["case"]: r["status"] for r in rows} == records

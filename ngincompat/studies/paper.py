@@ -165,13 +165,18 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
                 continue
             progress.line(f"{label}: finished before, read from {out / label}")
             finish(s, label, reuse[label])
-        if jobs == 1 or len(todo) <= 1:
-            for s, label, scene in todo:
-                r = _run_case(label, scene, out, progress, overwrite=True)
-                _draw(out, label, resolution, r)
-                finish(s, label, r)
-        else:
-            _side_by_side(todo, out, resolution, min(jobs, len(todo)), progress, finish)
+        try:
+            if jobs == 1 or len(todo) <= 1:
+                for s, label, scene in todo:
+                    r = _run_case(label, scene, out, progress, overwrite=True)
+                    _draw(out, label, resolution, r)
+                    finish(s, label, r)
+            else:
+                _side_by_side(todo, out, resolution, min(jobs, len(todo)), progress, finish)
+        except KeyboardInterrupt:       # Ctrl-C, SIGTERM: the summary of what has ended
+            if done:
+                _write(out, done, resolution)
+            raise
         return [done[label] for _, label, _ in runs if label in done]
 
 
@@ -186,8 +191,9 @@ def _side_by_side(todo, out, resolution, jobs, progress, finish):
 
     def ended(label, outcome):
         if outcome["status"] == workers.FAILED:
-            raise RuntimeError(f"{label} failed: {outcome['error']} (its traceback: "
-                               f"{out / label / workers.ERROR_FILE})")
+            traceback = out / label / workers.ERROR_FILE
+            raise RuntimeError(f"{label} failed: {outcome['error']}" + (
+                f" (its traceback: {traceback})" if traceback.is_file() else ""))
         if not (out / label / "results.json").is_file():   # interrupted before it began
             return
         finish(section_of[label], label, output.read(out / label))

@@ -91,16 +91,25 @@ _stop = None
 
 @contextlib.contextmanager
 def _interruptible():
-    """Ctrl-C raises KeyboardInterrupt in the block (in a local worker, which ignores it
-    otherwise); off the main thread (a Dask worker's task) nothing changes."""
+    """Ctrl-C and SIGTERM raise KeyboardInterrupt in the block (in a local worker, which
+    ignores them otherwise): a batch system's stop, sent to every process of the job, ends
+    the case "interrupted" with its record and its folder's lock released, where the
+    default SIGTERM killed the worker (a broken pool, a stale lock). Off the main thread (a
+    Dask worker's task) nothing changes."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    previous = (signal.signal(signal.SIGINT, signal.default_int_handler),
+                signal.signal(signal.SIGTERM, _terminate))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        signal.signal(signal.SIGINT, previous[0])
+        signal.signal(signal.SIGTERM, previous[1])
+
+
+def _terminate(signum, frame):
+    raise KeyboardInterrupt
 
 
 @contextlib.contextmanager
@@ -144,11 +153,12 @@ def failed(folder, err, seconds, text):
 
 
 def _init_worker(threads, stop):
-    """Initializer of a local worker process: its number of NGSolve threads, Ctrl-C ignored
-    but while a case runs (:func:`_interruptible`; an idle worker would print the
-    KeyboardInterrupt of its wait for work), and the pool's ``stop`` event."""
+    """Initializer of a local worker process: its number of NGSolve threads, Ctrl-C and
+    SIGTERM ignored but while a case runs (:func:`_interruptible`; an idle worker would print
+    the KeyboardInterrupt of its wait for work), and the pool's ``stop`` event."""
     global _stop
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)     # the pool ends an idle worker itself
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     config.configure(threads=threads)
