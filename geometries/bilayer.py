@@ -8,7 +8,7 @@ from netgen.occ import Glue, OCCGeometry, WorkPlane, X, Y
 
 from ngincompat.errors import require
 
-from ._common import check_mesh_args
+from ._common import check_mesh_args, interruptible
 
 
 def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_order=1,
@@ -71,7 +71,8 @@ def bilayer(length=3.0, height=1.0, depth=0.05, cortex=0.05, maxh=0.05, curve_or
     top.maxh = cortex_maxh
     sub.edges.Max(Y).maxh = cortex_maxh
     top.edges.Max(Y).maxh = top_maxh
-    section = ngs.Mesh(OCCGeometry(Glue([sub, top]), dim=2).GenerateMesh(maxh=maxh))
+    section = ngs.Mesh(interruptible(
+        lambda: OCCGeometry(Glue([sub, top]), dim=2).GenerateMesh(maxh=maxh)))
     return extrude(section, depth, sides="sides")
 
 

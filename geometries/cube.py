@@ -8,6 +8,8 @@ from ngsolve.meshes import MakeStructured3DMesh
 
 from ngincompat.errors import require
 
+from ._common import interruptible
+
 #: Face names: the faces X1 = 0 and X1 = side are ``left`` and ``right``, X2 = 0 / side are
 #: ``front`` / ``back``, X3 = 0 / side are ``bottom`` / ``top``.
 FACES = ("left", "right", "front", "back", "bottom", "top")
@@ -61,7 +63,7 @@ def cube(side=1.0, maxh=0.25, elements="hex", curve_order=1, material="tissue", 
     for k, axis in enumerate((X, Y, Z)):
         box.faces.Min(axis).name = FACES[2 * k]
         box.faces.Max(axis).name = FACES[2 * k + 1]
-    mesh = ngs.Mesh(OCCGeometry(box).GenerateMesh(maxh=maxh))
+    mesh = ngs.Mesh(interruptible(lambda: OCCGeometry(box).GenerateMesh(maxh=maxh)))
     if curve_order > 1:
         mesh.Curve(curve_order)
     return mesh

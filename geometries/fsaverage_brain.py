@@ -47,6 +47,7 @@ from netgen.meshing import Mesh as NetgenMesh
 
 from ngincompat.errors import ParameterError, require
 
+from ._common import interruptible
 from .voxel_brain import cache_dir
 
 HEMISPHERES = ("left", "right")
@@ -322,7 +323,7 @@ def _fill(points, faces, sides, maxh):
         mesh.Add(Element2D(kinds.index(tuple(int(d) for d in pair)) + 1,
                            [ids[i] for i in face]))
     try:
-        mesh.GenerateVolumeMesh(mp=MeshingParameters(maxh=maxh))
+        interruptible(lambda: mesh.GenerateVolumeMesh(mp=MeshingParameters(maxh=maxh)))
     except Exception as err:     # Netgen raises its own kinds when the surface is bad
         raise ParameterError(f"fsaverage: Netgen could not fill the surfaces ({err})") \
             from None

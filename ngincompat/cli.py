@@ -582,5 +582,20 @@ def _dispatch(args):
         return EXIT_NOT_WRITTEN
 
 
+def run():
+    """The program ``ngincompat``: :func:`main` on the process's arguments, and its exit code
+    as the process's. After a meshing that Ctrl-C or SIGTERM stopped, the process ends at
+    once (its output flushed, its folder released): Netgen's teardown can crash the
+    interpreter's exit then (``geometries._common.stopped``)."""
+    code = main()
+    from geometries import _common
+
+    if _common.stopped:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    run()

@@ -103,3 +103,39 @@ def test_sigterm_from_outside_ends_a_run_as_interrupted(tmp_path):
     assert progress[-1].startswith("[cube] interrupted after"), lines
     assert not any("finished in" in line for line in lines)
     assert "Traceback" not in "".join(lines)
+
+
+#: The command line with Ctrl-C's default handler, whatever this process inherited (a test
+#: started in a script's background has SIGINT ignored, which the command line keeps).
+AS_FROM_A_TERMINAL = ("import signal; signal.signal(signal.SIGINT, "
+                      "signal.default_int_handler); from ngincompat.cli import run; run()")
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_a_long_meshing_stops_within_seconds_of_the_signal(tmp_path, signum):
+    """A 1000 mm cylinder takes minutes to mesh (it passes the element count); Netgen kept
+    Ctrl-C waiting until the mesh was done, and SIGTERM took 370 s. Now the signal ends the
+    run within seconds: exit 130, one line, no folder and no lock left."""
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "run"
+    process = subprocess.Popen([sys.executable, "-c", AS_FROM_A_TERMINAL, "run", "cylinder",
+                                "--preset", "preview", "--set", "length=1000", "--out",
+                                str(out)], stderr=subprocess.PIPE, text=True)
+    lines = []
+    for line in process.stderr:
+        lines.append(line)
+        if "meshing ..." in line:
+            time.sleep(1.0)                 # well into Netgen's mesher
+            sent = time.perf_counter()
+            process.send_signal(signum)
+            break
+    lines += process.stderr.readlines()
+    code = process.wait(timeout=120)
+    took = time.perf_counter() - sent
+    assert code == EXIT_INTERRUPTED, lines
+    assert "interrupted while meshing" in lines[-1] and "Traceback" not in "".join(lines)
+    assert not out.exists()
+    assert took < 30, took      # minutes without the guard; seconds (imports, exit) with it
