@@ -134,7 +134,7 @@ def test_frames_at_chosen_times_make_a_pvd_time_series(tmp_path):
 
 
 @pytest.mark.parametrize("times, message", [
-    ("0,5", r"times.*in \(0, 150\]"), ("5,11", r"times.*\(0, t_end = 10\]"),
+    ("0,5", r"times.*in \[0.001, 150\]"), ("5,11", r"times.*\(0, t_end = 10\]"),
     ((5.0, 11.0), r"times.*\(0, t_end = 10\]"),
     ("a,b", r"^times = 'a,b' is not a valid list of floats: allowed a comma list of numbers"),
 ])

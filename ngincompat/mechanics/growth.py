@@ -347,7 +347,7 @@ def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expressio
                 raise ParameterError(
                     f"{what} at X = {where}{when}: the growth indicator must be finite and "
                     "positive (0 < theta < inf) everywhere in the body")
-            if values.min() < THETA_FLOOR:
+            if values.size and values.min() < THETA_FLOOR:   # (a rank may hold no element)
                 i = int(np.argmin(values))
                 where = "({:.4g}, {:.4g}, {:.4g})".format(*coords[i])
                 when = "" if t is None else f", t = {t:g}"
