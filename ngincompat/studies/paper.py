@@ -191,9 +191,9 @@ def _side_by_side(todo, out, resolution, jobs, progress, finish):
 
     def ended(label, outcome):
         if outcome["status"] == workers.FAILED:
-            traceback = out / label / workers.ERROR_FILE
+            error_file = out / label / workers.ERROR_FILE
             raise RuntimeError(f"{label} failed: {outcome['error']}" + (
-                f" (its traceback: {traceback})" if traceback.is_file() else ""))
+                f" (its traceback: {error_file})" if error_file.is_file() else ""))
         if not (out / label / "results.json").is_file():   # interrupted before it began
             return
         finish(section_of[label], label, output.read(out / label))
