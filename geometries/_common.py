@@ -46,7 +46,14 @@ def interruptible(meshing):
     thread's end (a thread left meshing crashed the interpreter's exit), clears the flag and
     raises the interrupt. The thread blocks SIGINT and SIGTERM, which the kernel would
     otherwise hand to any thread (one that reached the mesher's thread aborted the process
-    at its exit)."""
+    at its exit).
+
+    Only where :data:`threaded` is set (by the command line's process, which ends at once
+    after a stopped meshing: :func:`ngincompat.cli.run`); elsewhere ``meshing()`` is called
+    directly and an interrupt waits for the mesh. A process that goes on after a stopped
+    meshing can crash in Netgen's teardown of it: a sweep's worker did, a broken pool."""
+    if not threaded:
+        return meshing()
     from netgen.libngpy import _meshing
 
     outcome = {}
@@ -81,6 +88,8 @@ def interruptible(meshing):
 
 #: Seconds between the checks of an interrupt while Netgen meshes.
 WAIT = 0.1
+#: Whether :func:`interruptible` meshes in a thread of its own (see there).
+threaded = False
 #: The seconds each stopped meshing took to stop, in this process. After one, the
 #: interpreter's exit can crash in Netgen's teardown (at random, about every other time: a
 #: segmentation fault after the process has said all it had to say), which the command line

@@ -152,13 +152,10 @@ def _status_code(rows):
 
 def _cmd_paper(args):
     from ngincompat.studies import paper
-    only = None
-    if args.only is not None:
-        only = [n.strip() for n in args.only.split(",") if n.strip()]
-        if not only:        # an empty list is a mistake, not "every section"
-            raise ParameterError(f"--only {args.only!r} names no section: allowed a comma "
-                                 "list of section numbers, e.g. 3.5,3.6 (leave it out for "
-                                 "every section)")
+    only = None if args.only is None else [n.strip() for n in args.only.split(",") if n.strip()]
+    if only == []:          # an empty list is a mistake, not "every section"
+        raise ParameterError(f"--only {args.only!r} names no section: allowed a comma list of "
+                             "section numbers, e.g. 3.5,3.6 (leave it out for every section)")
     rows = paper.run_all(args.out, progress=Progress(quiet=args.quiet),
                          overwrite=args.overwrite, resolution=args.resolution, only=only,
                          jobs=args.jobs)
@@ -583,13 +580,13 @@ def _dispatch(args):
 
 
 def run():
-    """The program ``ngincompat``: :func:`main` on the process's arguments, and its exit code
-    as the process's. After a meshing that Ctrl-C or SIGTERM stopped, the process ends at
-    once (its output flushed, its folder released): Netgen's teardown can crash the
-    interpreter's exit then (``geometries._common.stopped``)."""
-    code = main()
+    """The program ``ngincompat``: :func:`main` on the process's arguments, Netgen's mesher
+    stopped by Ctrl-C and SIGTERM (``geometries._common.interruptible``) and, after that,
+    an immediate end: Netgen's teardown can crash the interpreter's exit then."""
     from geometries import _common
 
+    _common.threaded = True
+    code = main()
     if _common.stopped:
         sys.stdout.flush()
         sys.stderr.flush()
