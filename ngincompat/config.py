@@ -77,10 +77,9 @@ def check_environment(environ=None):
     text = value.strip()
     if not text:
         return
-    allowed = f"an integer in [1, {MAX_THREADS}] (NGSolve threads), or unset"
-    shown = value if len(value) <= 40 else value[:40] + "..."
     require(text.isascii() and text.isdigit() and 1 <= int(text) <= MAX_THREADS,
-            "NGS_NUM_THREADS", shown, allowed)
+            "NGS_NUM_THREADS", value,
+            f"an integer in [1, {MAX_THREADS}] (NGSolve threads), or unset")
 
 
 def threads():

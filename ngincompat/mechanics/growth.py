@@ -336,26 +336,25 @@ def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expressio
             values = np.asarray(theta(points)).ravel()
             finite = np.isfinite(values) & (np.abs(values) < THETA_MAX)
             bad = ~finite | (values <= 0)
-            if bad.any():
-                i = int(np.argmin(np.where(finite, values, -np.inf)))
-                where = "({:.4g}, {:.4g}, {:.4g})".format(*coords[i])
-                when = "" if t is None else f", t = {t:g}"
-                what = (f"theta = {values[i]:.4g}" if finite[i] else
-                        f"theta is not finite (theta = {values[i]})"
-                        if not np.isfinite(values[i]) else
-                        f"theta = {values[i]:.4g} overflows its cube, the volume growth Jg")
+            low = finite & (values < THETA_FLOOR)
+            if not (bad.any() or low.any()):
+                continue
+            i = int(np.argmin(np.where(finite, values, -np.inf)))
+            at = "X = ({:.4g}, {:.4g}, {:.4g})".format(*coords[i]) + (
+                "" if t is None else f", t = {t:g}")
+            if not bad.any():
                 raise ParameterError(
-                    f"{what} at X = {where}{when}: the growth indicator must be finite and "
-                    "positive (0 < theta < inf) everywhere in the body")
-            if values.size and values.min() < THETA_FLOOR:   # (a rank may hold no element)
-                i = int(np.argmin(values))
-                where = "({:.4g}, {:.4g}, {:.4g})".format(*coords[i])
-                when = "" if t is None else f", t = {t:g}"
-                raise ParameterError(
-                    f"theta = {values[i]:.4g} at X = {where}{when} is below {THETA_FLOOR:g}: "
-                    "the growth indicator must be at least that everywhere in the body (a "
-                    "thousandfold shrinking leaves no tissue, and the growth tensor becomes "
-                    "singular in double precision)")
+                    f"theta = {values[i]:.4g} at {at} is below {THETA_FLOOR:g}: the growth "
+                    "indicator must be at least that everywhere in the body (a thousandfold "
+                    "shrinking leaves no tissue, and the growth tensor becomes singular in "
+                    "double precision)")
+            what = (f"theta = {values[i]:.4g}" if finite[i] else
+                    f"theta is not finite (theta = {values[i]})"
+                    if not np.isfinite(values[i]) else
+                    f"theta = {values[i]:.4g} overflows its cube, the volume growth Jg")
+            raise ParameterError(
+                f"{what} at {at}: the growth indicator must be finite and "
+                "positive (0 < theta < inf) everywhere in the body")
     finally:
         if time is not None:
             time.Set(saved)
