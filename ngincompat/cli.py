@@ -206,7 +206,7 @@ def _cmd_bench(args):
     elif args.case == "folding":
         lines = folding_costs.main(args.axons, args.preset, threads=args.threads,
                                    out=args.out, timeout=args.timeout,
-                                   settings=_settings(args.set))
+                                   settings=_settings(args.set), baseline=args.baseline)
     elif args.case == "peer":
         lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
     elif args.case == "cube":
@@ -287,6 +287,8 @@ def _add_bench(sub):
                         "2-core machine)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="a folding parameter for every run (repeatable)")
+    p.add_argument("--baseline", metavar="CHECKOUT", help="also run each field on this "
+                   "checkout of another version, after this one (before and after)")
     p.add_argument("--timeout", type=float, default=3600.0,
                    help="seconds a run may take before it is stopped (default 3600)")
     p = case("cube", "run time against error of the cube (energy against the converged "

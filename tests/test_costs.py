@@ -1,6 +1,8 @@
 """``ngincompat bench scenes``: each (scene, preset) in its own process, its cost measured and
 its accuracy metric against the closed form or the finest run."""
 
+from pathlib import Path
+
 import pytest
 
 from ngincompat.cli import main
@@ -90,4 +92,21 @@ def test_bench_folding_splits_each_fields_time_into_kinds_of_work(tmp_path, caps
     assert spent["outside the stages"] == pytest.approx(run["wall_s"] - in_stages)
     [measures] = io.read_json(tmp_path / "metrics.json")["rows"]
     assert measures["Je_min"] > 0 and measures["burgers_interface_mean"] > 0
-    assert "| axons | assembly [s] | factorisation [s]" in capsys.readouterr().out
+    assert "| axons | version | assembly [s] | factorisation [s]" in capsys.readouterr().out
+
+
+def test_bench_folding_runs_each_field_on_a_baseline_checkout_after_this_one(tmp_path, capsys):
+    """``--baseline`` a checkout (here this one): each field twice, this version first, the
+    same results from the same code; a folder that is no checkout is refused in one line."""
+    root = Path(__file__).resolve().parents[1]
+    assert main(["bench", "folding", "--axons", "straight", "--preset", "preview",
+                 "--set", "t_end=10", "--set", "release=false", "--baseline", str(root),
+                 "--out", str(tmp_path)]) == 0
+    runs = io.read_json(tmp_path / "fields.json")["rows"]
+    assert [(r["axons"], r["version"], r["status"]) for r in runs] == [
+        ("straight", "this", "done"), ("straight", "baseline", "done")]
+    this, baseline = io.read_json(tmp_path / "metrics.json")["rows"]
+    assert this.pop("version") == "this" and baseline.pop("version") == "baseline"
+    assert this == baseline
+    assert main(["bench", "folding", "--baseline", str(tmp_path)]) == 2
+    assert "baseline" in capsys.readouterr().err

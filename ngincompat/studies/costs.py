@@ -47,14 +47,18 @@ UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB"}
 TIMEOUT = 3600.0
 
 
-def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None):
+def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None, source=None):
     """Run ``scene`` at ``preset`` (and the parameters ``settings``, name -> value) in a
     fresh process; returns its results.json as a dict (None when the run wrote none) and the
     row's cost columns (with ``status`` when the run failed or was stopped after ``timeout``
     seconds).
 
     ``threads``: NGSolve threads of the run (``NGS_NUM_THREADS``; 1, every run's default,
-    keeps times on a shared machine comparable)."""
+    keeps times on a shared machine comparable). ``source``: a checkout of another version
+    of the program (the folder holding its ``ngincompat`` package), run instead of this one
+    (``PYTHONPATH``), in the same environment."""
+    path = os.pathsep.join(filter(None, (str(source) if source else None,
+                                         os.environ.get("PYTHONPATH"))))
     with tempfile.TemporaryDirectory(prefix="ngincompat-cost-") as tmp:
         out, log = Path(tmp) / "run", Path(tmp) / "log"
         command = [sys.executable, "-m", "ngincompat.cli", "run", scene, "--out", str(out),
@@ -64,7 +68,8 @@ def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None):
         start = time.perf_counter()
         with open(log, "w") as stream:
             proc = subprocess.Popen(command, stdout=stream, stderr=subprocess.STDOUT,
-                                    env={**os.environ, "NGS_NUM_THREADS": str(threads)})
+                                    env={**os.environ, "NGS_NUM_THREADS": str(threads),
+                                         **({"PYTHONPATH": path} if path else {})})
             code, usage = _wait(proc, start + timeout)
         cost = {"wall_s": round(time.perf_counter() - start, 2),
                 "cpu_s": round(usage.ru_utime + usage.ru_stime, 2),

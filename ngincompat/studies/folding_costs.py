@@ -15,9 +15,15 @@ CPU time, peak memory, the machine's load at its start), one after the other. Fo
   tangents;
 * ``metrics``: per axon field the measures of the paper's finding and of the folds
   (:data:`METRICS`), so that a change that makes a run cheaper shows what it does to them.
+
+With a ``baseline`` (a checkout of another version, e.g. a ``git worktree`` of the commit
+before a change) each field runs on it right after this version, under the same load: the
+rows' ``version`` says which ("this" or "baseline"), before and after in one run.
 """
 
 from __future__ import annotations
+
+from pathlib import Path
 
 from ngincompat.errors import ParameterError
 from ngincompat.fem.work import KINDS
@@ -27,14 +33,14 @@ from ngincompat.scenes.folding import FoldingScene
 from ngincompat.studies.costs import TIMEOUT, measure
 from ngincompat.workflow import tables
 
-FIELD_COLUMNS = ("axons", "preset", "threads", "status", "t_reached", "ndof", "newton",
+FIELD_COLUMNS = ("axons", "version", "preset", "threads", "status", "t_reached", "ndof", "newton",
                  "failed", "wall_s", "cpu_s", "peak_mb", "load")
-WORK_COLUMNS = ("axons", *KINDS, "other in the stages", "outside the stages", "wall_s")
-STAGE_COLUMNS = ("axons", "stage", "wall_s", "newton", "failed", "tangents")
+WORK_COLUMNS = ("axons", "version", *KINDS, "other in the stages", "outside the stages", "wall_s")
+STAGE_COLUMNS = ("axons", "version", "stage", "wall_s", "newton", "failed", "tangents")
 #: The metrics of the ``metrics`` table.
 METRICS = ("burgers_interface_mean", "max_principal_stress_released", "theta_a_max", "sulci",
            "sulcus_depth", "fold_amplitude", "Je_min", "self_contact_penetration_max")
-METRICS_COLUMNS = ("axons", *METRICS)
+METRICS_COLUMNS = ("axons", "version", *METRICS)
 UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB",
          "t_reached": FoldingScene.metric_unit("t_reached"),
          **dict.fromkeys((*KINDS, "other in the stages", "outside the stages"), "s"),
@@ -45,10 +51,10 @@ def _failed(history):
     return sum(1 for step in history["steps"] if not step["converged"])
 
 
-def rows_of(axons, preset, threads, record, cost):
+def rows_of(axons, preset, threads, record, cost, version="this"):
     """The rows of one run in the four tables (only the first when it wrote no results)."""
-    field_row = {"axons": axons, "preset": preset, "threads": threads, "status": "done",
-                 **cost}
+    field_row = {"axons": axons, "version": version, "preset": preset, "threads": threads,
+                 "status": "done", **cost}
     if record is None:
         return field_row, None, [], None
     solver = record["solver"]
@@ -60,21 +66,24 @@ def rows_of(axons, preset, threads, record, cost):
     spent = {kind: sum(h.get("work", {}).get(kind, 0.0) for h in solver.values())
              for kind in KINDS}
     in_stages = sum(record["timings"].get(stage, 0.0) for stage in solver)
-    work_row = {"axons": axons, **spent,
+    work_row = {"axons": axons, "version": version, **spent,
                 "other in the stages": in_stages - sum(spent.values()),
                 "outside the stages": cost["wall_s"] - in_stages, "wall_s": cost["wall_s"]}
-    stage_rows = [{"axons": axons, "stage": stage, "wall_s": record["timings"].get(stage),
+    stage_rows = [{"axons": axons, "version": version, "stage": stage,
+                   "wall_s": record["timings"].get(stage),
                    "newton": h["newton_iterations"], "failed": _failed(h),
                    "tangents": h["tangent_assemblies"]} for stage, h in solver.items()]
-    metric_row = {"axons": axons, **{name: record["metrics"].get(name) for name in METRICS}}
+    metric_row = {"axons": axons, "version": version,
+                  **{name: record["metrics"].get(name) for name in METRICS}}
     return field_row, work_row, stage_rows, metric_row
 
 
 def table(axons=fields.AXONS, preset="default", threads=1, timeout=TIMEOUT, settings=None,
-          progress=SILENT):
+          progress=SILENT, baseline=None):
     """Run the folding scene for each axon field of ``axons`` at ``preset`` (with the
-    parameters ``settings``) on ``threads`` NGSolve threads; returns the rows of the four
-    tables (fields, work, stages, metrics).
+    parameters ``settings``) on ``threads`` NGSolve threads, and after each on the checkout
+    ``baseline`` if given; returns the rows of the four tables (fields, work, stages,
+    metrics).
 
     Raises
     ------
@@ -86,25 +95,33 @@ def table(axons=fields.AXONS, preset="default", threads=1, timeout=TIMEOUT, sett
             raise ParameterError(f"unknown axon field {name!r}: allowed "
                                  f"{', '.join(fields.AXONS)}")
     field_rows, work_rows, stage_rows, metric_rows = [], [], [], []
+    versions = {"this": None, **({"baseline": baseline} if baseline else {})}
     for name in axons:
-        record, cost = measure("folding", preset, timeout, threads=threads,
-                               settings={**(settings or {}), "axons": name})
-        field_row, work_row, stages, metric_row = rows_of(name, preset, threads, record, cost)
-        field_rows.append(field_row)
-        work_rows += [work_row] if work_row else []
-        stage_rows += stages
-        metric_rows += [metric_row] if metric_row else []
-        progress.line(f"folding {name}: {field_row['status']}, {cost['wall_s']} s")
+        for version, source in versions.items():
+            record, cost = measure("folding", preset, timeout, threads=threads,
+                                   settings={**(settings or {}), "axons": name},
+                                   source=source)
+            field_row, work_row, stages, metric_row = rows_of(name, preset, threads, record,
+                                                              cost, version)
+            field_rows.append(field_row)
+            work_rows += [work_row] if work_row else []
+            stage_rows += stages
+            metric_rows += [metric_row] if metric_row else []
+            progress.line(f"folding {name} ({version}): {field_row['status']}, "
+                          f"{cost['wall_s']} s")
     return field_rows, work_rows, stage_rows, metric_rows
 
 
 def main(axons=fields.AXONS, preset="default", threads=1, out=None, timeout=TIMEOUT,
-         settings=None):
+         settings=None, baseline=None):
     """``ngincompat bench folding``: :func:`table`; returns the lines to print. With ``out``
     the tables are also written as ``fields``, ``work``, ``stages`` and ``metrics`` (.md,
     .csv, .json)."""
-    field_rows, work_rows, stage_rows, metric_rows = table(axons, preset, threads, timeout,
-                                                           settings, progress=Progress())
+    if baseline is not None and not (Path(baseline) / "ngincompat" / "cli.py").is_file():
+        raise ParameterError(f"baseline = {baseline!r} is out of range: allowed a checkout "
+                             "of ngincompat (a folder with ngincompat/cli.py)")
+    field_rows, work_rows, stage_rows, metric_rows = table(
+        axons, preset, threads, timeout, settings, progress=Progress(), baseline=baseline)
     parts = (("fields", field_rows, FIELD_COLUMNS), ("work", work_rows, WORK_COLUMNS),
              ("stages", stage_rows, STAGE_COLUMNS), ("metrics", metric_rows, METRICS_COLUMNS))
     lines = []
