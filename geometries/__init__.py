@@ -4,7 +4,8 @@ boundaries and materials all carry names.
 Every builder takes its dimensions as keywords with the paper's values as defaults, ``maxh``
 and ``curve_order``, validates them (a :class:`ngincompat.errors.ParameterError` names the
 parameter and its range) and returns a curved tetrahedral mesh; the cube can also be
-hexahedral. Lengths are in the unit of the scene (mm for the idealized scenes, cm for skin and
+hexahedral, and the bilayer is a plane section (a mesh of triangles) of a body in plane
+strain. Lengths are in the unit of the scene (mm for the idealized scenes, cm for skin and
 brain).
 """
 
@@ -20,5 +21,8 @@ from .skin_patch import FOOTPRINTS, footprint_area, footprint_size, skin_patch
 BUILDERS = {"cube": cube, "hemisphere": hemisphere, "disc": disc, "cylinder": cylinder,
             "skin_patch": skin_patch, "bilayer": bilayer, "brain": brain}
 
-__all__ = ["BUILDERS", "FOOTPRINTS", "bilayer", "brain", "brain_geometry", "cube", "cylinder",
-           "disc", "footprint_area", "footprint_size", "hemisphere", "skin_patch"]
+#: The builders of three-dimensional bodies (the bilayer's is a section).
+SOLIDS = {name: builder for name, builder in BUILDERS.items() if name != "bilayer"}
+
+__all__ = ["BUILDERS", "FOOTPRINTS", "SOLIDS", "bilayer", "brain", "brain_geometry", "cube",
+           "cylinder", "disc", "footprint_area", "footprint_size", "hemisphere", "skin_patch"]

@@ -8,9 +8,8 @@ every extent is at least h holds about :data:`TETS_PER_CELL` V / h^3 of them (me
 thin skin patch is one element thick). Near a point or a face
 meshed finer, the size grows with Netgen's grading g = 0.3 (h(r) = h0 + g r), which adds the
 integral of the cell density over that graded zone. The bilayer is a plane section
-meshed with triangles (about :data:`TRIANGLES_PER_CELL` per h^2) and extruded to one layer
-of prisms. The estimates are in log-safe products of
-ratios, so a dimension of 1e308 gives an infinite estimate, never a NaN.
+meshed with triangles (about :data:`TRIANGLES_PER_CELL` per h^2). The estimates are in
+log-safe products of ratios, so a dimension of 1e308 gives an infinite estimate, never a NaN.
 
 Each function takes the builder's keywords (the same defaults) and returns the estimated number
 of elements; :data:`ESTIMATES` maps the builders' names (:data:`geometries.BUILDERS`) to them.
@@ -99,8 +98,7 @@ def skin_patch_elements(side=SIDE, thickness=THICKNESS, maxh=1.0, **_):
 
 def bilayer_elements(length=3.0, height=1.0, cortex=0.05, maxh=0.05, cortex_maxh=None,
                      top_maxh=None, **_):
-    """The prisms of the bilayer: the triangles of its section (one layer through the
-    depth)."""
+    """The triangles of the bilayer's section."""
     fine = maxh if cortex_maxh is None else cortex_maxh
     finest = fine if top_maxh is None else top_maxh
     # the cortex graded from the top edge's size: as if all of it were meshed at the

@@ -28,7 +28,7 @@ FOLDING_COARSE = ["--set", "length=0.5", "--set", "height=0.3", "--set", "maxh=0
                   "--set", "t_end=10", "--set", "dt=10", "--set", "onset_dt=10"]
 
 #: Command-line settings of the smallest bilayer seen to crease with its sulci in contact and
-#: reach the paper's 75 days on the prism slab (docs/measurements/folding.md, "The paper's 75
+#: reach the paper's 75 days (docs/measurements/folding.md, "The paper's 75
 #: days"): its subcortex coarse and its top refined 4 times (refined twice, its folds deepen
 #: without their walls touching).
 FOLDING_CREASING = ["--set", "length=1", "--set", "height=0.6", "--set", "cortex_thickness=0.1",

@@ -124,9 +124,9 @@ def coupled_block(mesh, order=2):
     growth = GrowthEnergy("fiber", fields.constant("e1"), law, NeoHookean(1.0, 100.0),
                           growth_order=order - 1)
     problem = CoupledProblem(mesh, [growth, RigidPins()], order=order)
-    x, z = ngs.x, ngs.z
-    problem.u.Set(ngs.CoefficientFunction((0.2 * x + 0.1 * x * x + 0.02 * x * z, 0.0,
-                                           -0.03 * x * x)))
+    x, z = ngs.x, (ngs.x, ngs.y, ngs.z)[mesh.dim - 1]    # z: the vertical
+    along, down = 0.2 * x + 0.1 * x * x + 0.02 * x * z, -0.03 * x * x
+    problem.u.Set(ngs.CF((along, 0.0, down) if mesh.dim == 3 else (along, down)))
     growth.theta.Set(1.2 + 0.2 * ngs.x)
     growth.theta_old.vec.data = growth.theta.vec
     return problem
@@ -138,7 +138,7 @@ def test_eigenpairs_are_those_of_the_residuals_derivative():
     (NGSolve integrates it more coarsely on tetrahedra) was off by 8e-5 on this test's former
     state (compressed, :func:`coupled_block`) and had modes of its own at a folded
     equilibrium (-1.49 at one that is stable)."""
-    problem = coupled_block(bilayer(length=0.4, height=0.2, depth=0.05, cortex=0.05,
+    problem = coupled_block(bilayer(length=0.4, height=0.2, cortex=0.05,
                                     maxh=0.1, cortex_maxh=0.025))
     problem.dt.Set(1.0)                 # a step's dt: the tangent is taken at frozen growth
     values, modes = buckling.smallest_eigenpairs(problem, count=2)
@@ -166,7 +166,7 @@ def test_eigenpairs_fall_back_to_lu_when_a_factorisation_gives_inaccurate_pairs(
     """A shift-invert operator whose pairs are not those of K (here K^-1 scaled by 1.001, as
     an inaccurate factorisation of an indefinite K could give) is rejected by the pairs'
     residual and the next factorisation is used; with none left the call raises."""
-    problem = coupled_block(bilayer(length=0.4, height=0.2, depth=0.05, cortex=0.05,
+    problem = coupled_block(bilayer(length=0.4, height=0.2, cortex=0.05,
                                     maxh=0.1, cortex_maxh=0.025))
     exact, _ = buckling.smallest_eigenpairs(problem, count=2)
     operator = buckling._inverse_operator
@@ -197,7 +197,7 @@ def test_eigenpairs_fall_back_to_lu_when_a_factorisation_gives_inaccurate_pairs(
 def test_eigenpairs_are_reproducible_and_signed():
     """The same state gives the same modes, each with its largest dof positive (a mode seeds
     the buckled branch: with a random sign the folds' phase changed from run to run)."""
-    problem = coupled_block(bilayer(length=0.4, height=0.2, depth=0.05, cortex=0.05,
+    problem = coupled_block(bilayer(length=0.4, height=0.2, cortex=0.05,
                                     maxh=0.1, cortex_maxh=0.025))
     first, second = (buckling.smallest_eigenpairs(problem, count=3) for _ in range(2))
     np.testing.assert_array_equal(first[0], second[0])
@@ -375,8 +375,9 @@ def test_folds_grow_after_the_onset(onset_run):
 
 def test_flat_branch_is_the_homogeneous_state_in_closed_form():
     """Before the onset (theta_c = 1.08): the subcortex unstrained, stress-free and not
-    growing (lambda_e = 1 along the curved axons), the cortex in the state F = diag(1, 1,
-    lambda3) with sigma33 = 0 (:func:`prebuckled_cortex`), to 1e-6 of mu_gray."""
+    growing (lambda_e = 1 along the curved axons), the cortex in the state F = diag(1,
+    lambda2, 1) with sigma22 = 0 (plane strain in the section, X2 vertical:
+    :func:`prebuckled_cortex`, whose out-of-plane axis is its second), to 1e-6 of mu_gray."""
     scene = FoldingScene(**{**SMALL, "length": 0.5, "height": 0.3, "maxh": 0.15,
                             "axons": "curved"}, t_end=10.0, dt=10.0, release=False)
     results = scene.run()
@@ -384,12 +385,12 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
     state = prebuckled_cortex(theta_c, scene.mu_gray, scene.lam_ratio * scene.mu_gray)
     mesh, sigma, theta = results.domain, results.fields["sigma"], results.fields["theta"]
     for x1 in (0.05, 0.25, 0.45):
-        cortex = mesh(x1, 0.02, 0.28)
+        cortex = mesh(x1, 0.28)
         s = np.reshape(sigma(cortex), (3, 3))
-        np.testing.assert_allclose(np.diag(s), [state.sigma11, state.sigma22, 0.0],
+        np.testing.assert_allclose(np.diag(s), [state.sigma11, 0.0, state.sigma22],
                                    atol=1e-6 * scene.mu_gray)
         assert theta(cortex) == pytest.approx(theta_c, abs=1e-10)
-        sub = mesh(x1, 0.02, 0.1)
+        sub = mesh(x1, 0.1)
         np.testing.assert_allclose(sigma(sub), 0.0, atol=1e-6 * scene.mu_white)
         assert theta(sub) == pytest.approx(1.0, abs=1e-10)
     assert "onset_growth" not in results.metrics
@@ -401,9 +402,9 @@ def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path
     """``ngincompat folding`` for one axon field on the coarse flat state (theta_c = 1.08,
     before the onset, no axon growth; then released, which bends it, cortex outward):
     Fg = I + (theta_c - 1) e1 (x) e1 in the cortex, I below, so Curl Fg is the jump at the
-    interface, (Curl Fg)_21 = dFg_11/dX3, and b = G^T e2 points along e1. Across the
-    interface int (Curl Fg_h)_21 dX3 = theta_c - 1 exactly (the interpolant equals Fg away
-    from it) and G = Fg Curl Fg / Jg weighs it by 1/theta_c above and 1 below: int b1 dX3
+    interface, (Curl Fg)_31 = -dFg_11/dX2, and b = G^T e3 points along e1. Across the
+    interface int (Curl Fg_h)_31 dX2 = -(theta_c - 1) exactly (the interpolant equals Fg
+    away from it) and G = Fg Curl Fg / Jg weighs it by 1/theta_c above and 1 below: -int b1 dX2
     lies in [(theta_c - 1) / theta_c, theta_c - 1]; b vanishes in the subcortex away from
     the interface, and the largest |b| is at the interface."""
     settings = dict(pair.split("=") for pair in FOLDING_COARSE[1::2])
@@ -416,16 +417,16 @@ def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path
     r = results["curved"]
     scene = FoldingScene.from_settings({**settings, "axons": "curved"})
     theta_c = 1 + scene.cortex_rate * scene.t_end
-    s, values = postprocess.sample_line(r.domain, {"b": r.fields["b"]}, (0.25, 0.02, 0.0),
-                                        (0.25, 0.02, scene.height), n=3001)
-    b1 = values["b"][:, 0]
+    s, values = postprocess.sample_line(r.domain, {"b": r.fields["b"]}, (0.25, 0.0),
+                                        (0.25, scene.height), n=3001)
+    b1 = -values["b"][:, 0]
     integral = np.sum((b1[1:] + b1[:-1]) / 2 * np.diff(s))
     assert (theta_c - 1) / theta_c - 1e-3 < integral < theta_c - 1 + 1e-3
     below = s < scene.height - scene.cortex_thickness - scene.maxh
     np.testing.assert_allclose(values["b"][below], 0.0, atol=1e-9)
     assert rows[0]["burgers_max"] == pytest.approx(r.metrics["burgers_max"])
     # grown to t_end on the flat branch: nothing inverted, the top nowhere in contact, and
-    # the band of one cortex thickness about the interface holds part of int |b| dX3
+    # the band of one cortex thickness about the interface holds part of int |b| dX2
     m = r.metrics
     assert m["t_reached"] == pytest.approx(scene.t_end)
     assert m["theta_c_reached"] == pytest.approx(theta_c)
@@ -435,7 +436,7 @@ def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path
     assert 0.25 * (theta_c - 1) / theta_c < band <= theta_c - 1 + 1e-3
     assert abs(rows[0]["burgers_max_depth"] - scene.cortex_thickness) <= scene.cortex_maxh
     section = r.profiles["section"]
-    assert section["u"].shape == (len(section["X3"]), len(section["X1"]), 2)
+    assert section["u"].shape == (len(section["X2"]), len(section["X1"]), 2)
     # the release's viscous steps are solved to FLOW_RTOL only, its last Newton solve (no
     # viscosity, dt = 0) to the full tolerance
     flow = [step for stage in ("unloading", "release") for step in r.solver[stage].steps
@@ -488,25 +489,25 @@ def test_top_curvature_of_a_prescribed_circular_bending():
     case = scene.build()
     radius = 0.8
     s = ngs.x - scene.length / 2
-    case.problem.u.Set(ngs.CF((radius * ngs.sin(s / radius) - s, 0,
+    case.problem.u.Set(ngs.CF((radius * ngs.sin(s / radius) - s,
                                -radius * (1 - ngs.cos(s / radius)))))
     assert case.top_curvature(case.problem.u) == pytest.approx(1 / radius, rel=1e-4)
-    case.problem.u.Set(ngs.CF((0, 0, 0.01 * ngs.x)))
+    case.problem.u.Set(ngs.CF((0, 0.01 * ngs.x)))
     assert case.top_curvature(case.problem.u) == pytest.approx(0.0, abs=1e-9)
 
 
 def test_top_stretch_of_prescribed_displacements():
     """The top surface's elastic stretch |F e1| / theta_c: sqrt((1 + a)^2 + c^2) / theta_c
-    for u = (a X1, 0, c X1), and 1 / theta_c for a bending onto a circle, which does not
+    for u = (a X1, c X1), and 1 / theta_c for a bending onto a circle, which does not
     stretch the top line (to the interpolation error)."""
     scene = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1})
     case = scene.build()
     a, c, theta_c = -0.3, 0.2, 1.25
-    case.problem.u.Set(ngs.CF((a * ngs.x, 0, c * ngs.x)))
+    case.problem.u.Set(ngs.CF((a * ngs.x, c * ngs.x)))
     assert case.top_stretch(case.problem.u, theta_c) == pytest.approx(
         np.hypot(1 + a, c) / theta_c, rel=1e-10)
     radius, s = 0.8, ngs.x - scene.length / 2
-    case.problem.u.Set(ngs.CF((radius * ngs.sin(s / radius) - s, 0,
+    case.problem.u.Set(ngs.CF((radius * ngs.sin(s / radius) - s,
                                -radius * (1 - ngs.cos(s / radius)))))
     assert case.top_stretch(case.problem.u, theta_c) == pytest.approx(1 / theta_c, rel=1e-4)
 
@@ -612,17 +613,16 @@ def test_a_coarse_bilayer_creases_into_self_contact_and_grows_to_75_days():
 
 
 def test_the_refined_top_is_meshed_finer_than_the_cortex_below():
-    """``top_maxh`` refines the top surface: the slab is one prism thick, so the top's
-    rectangles are the depth by their length along X1, and they are shorter than those of
-    the interface by about cortex_maxh / top_maxh = 4; a size above cortex_maxh is refused."""
+    """``top_maxh`` refines the top surface: its segments are shorter than those of the
+    interface by about cortex_maxh / top_maxh = 4; a size above cortex_maxh is refused."""
     def mean_length(mesh, name):
-        area = ngs.Integrate(1.0, mesh, ngs.BND, definedon=mesh.Boundaries(name))
+        length = ngs.Integrate(1.0, mesh, ngs.BND, definedon=mesh.Boundaries(name))
         count = sum(1 for el in mesh.Elements(ngs.BND) if mesh.GetBoundaries()[el.index] == name)
-        return area / 0.05 / count
+        return length / count
 
-    mesh = bilayer(length=0.4, height=0.2, depth=0.05, cortex=0.05, maxh=0.1,
+    mesh = bilayer(length=0.4, height=0.2, cortex=0.05, maxh=0.1,
                    cortex_maxh=0.025, top_maxh=0.00625)
-    assert {el.type for el in mesh.Elements(ngs.VOL)} == {ngs.ET.PRISM}
+    assert {el.type for el in mesh.Elements(ngs.VOL)} == {ngs.ET.TRIG}
     assert mean_length(mesh, "top") == pytest.approx(0.00625, rel=0.25)
     assert mean_length(mesh, "interface") > 3 * mean_length(mesh, "top")
     with pytest.raises(ParameterError, match="top_maxh"):

@@ -51,7 +51,7 @@ BUILDS = {
     "cylinder": (cylinder, {}, math.pi / 4, {"left", "right", "mantle"}, {"tissue"}, 0.3),
     "skin_patch": (skin_patch, {"footprint": "circle"}, 30.0,
                    {"footprint", "bottom", "top", "periphery", "footprint_wall"}, {"skin"}, 2.0),
-    "bilayer": (bilayer, {}, 0.15, {"left", "right", "top", "bottom", "sides", "interface"},
+    "bilayer": (bilayer, {}, 3.0, {"left", "right", "top", "bottom", "interface"},
                 {"cortex", "subcortex"}, 0.1),
     "brain": (brain, {}, 4 / 3 * math.pi * 8.5 * 7 * 6, {"surface", "interface"},
               {"gray", "white"}, 2.5),
@@ -71,11 +71,12 @@ def test_every_geometry_builds_at_two_sizes_with_volume_and_names(name):
     assert elements[1] > elements[0]
 
 
-def test_bilayer_cortex_is_the_top_layer():
+def test_bilayer_cortex_is_the_top_layer_of_the_section():
     mesh = bilayer(maxh=0.1)
+    assert mesh.dim == 2
     cortex = ngs.Integrate(1, mesh, definedon=mesh.Materials("cortex"))
-    assert cortex == pytest.approx(3.0 * 0.05 * 0.05, rel=1e-8)
-    assert ngs.Integrate(ngs.z, mesh, definedon=mesh.Materials("cortex")) / cortex == \
+    assert cortex == pytest.approx(3.0 * 0.05, rel=1e-8)
+    assert ngs.Integrate(ngs.y, mesh, definedon=mesh.Materials("cortex")) / cortex == \
         pytest.approx(0.975, rel=1e-8)
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import random_points, values_at
 
-from geometries import cube
+from geometries import bilayer, cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import GrowthMechanics
@@ -285,3 +285,24 @@ def test_bilayer_axon_orientations(unit_cube_hex):
     np.testing.assert_allclose(curved, d / np.linalg.norm(d, axis=1)[:, None], rtol=1e-12)
     with pytest.raises(ParameterError, match="axons = 'wavy'"):
         fields.axons("wavy")
+
+
+def test_bilayer_axon_orientations_on_the_section():
+    """On the section of a body in plane strain (X2 vertical, X3 out of plane): straight
+    axons are e2, curved ones fan out in the plane from the focus below the middle,
+    concentric ones are orthogonal to them and in the plane; another vertical is refused."""
+    mesh = bilayer(length=1.0, height=1.0, cortex=0.05, maxh=0.2)
+    pts = random_points(12)[:, :2] * 0.9 + 0.05
+    points = mesh(pts[:, 0], pts[:, 1])
+    kw = dict(interface=0.95, length=1.0, vertical="e2")
+    straight, curved, concentric = (
+        np.asarray(fields.axons(kind, **kw).cf(points))
+        for kind in ("straight", "curved", "concentric"))
+    np.testing.assert_allclose(straight, np.tile([0, 1.0, 0], (12, 1)))
+    d = np.column_stack([pts - [0.5, 0.95 - 3.0], np.zeros(12)])
+    np.testing.assert_allclose(curved, d / np.linalg.norm(d, axis=1)[:, None], rtol=1e-12)
+    np.testing.assert_allclose(np.sum(curved * concentric, axis=1), 0, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(concentric, axis=1), 1, rtol=1e-12)
+    np.testing.assert_allclose(concentric[:, 2], 0, atol=1e-12)
+    with pytest.raises(ParameterError, match="vertical = 'e1'"):
+        fields.axons("curved", vertical="e1")

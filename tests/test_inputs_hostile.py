@@ -153,7 +153,7 @@ def test_the_corpus_covers_every_scene_and_the_named_hostile_inputs():
     assert {s for s, _ in CORPUS} == set(SCENES)
     for scene, key in [("hemisphere", "R0"), ("disc", "R0"), ("disc", "height"),
                        ("cylinder", "area"), ("cylinder", "length"), ("folding", "height"),
-                       ("folding", "length"), ("folding", "depth"), ("cube", "side"),
+                       ("folding", "length"), ("folding", "cortex_thickness"), ("cube", "side"),
                        ("cube", "mu"), ("atrophy", "t_end"), ("folding", "axon_rate"),
                        ("skin", "growth_order"), ("folding", "growth_order"), ("skin", "K"),
                        ("skin", "volume"), ("folding", "cortex_rate"), ("atrophy", "seed")]:
@@ -388,7 +388,7 @@ def test_the_mixed_formulation_refuses_nu_at_or_below_0_before_computing(scene, 
     ("cube", "side=1e-10"), ("disc", "height=1e-300"), ("cylinder", "area=1e-320"),
     ("folding", "length=1e-320"), ("hemisphere", "centre_maxh=1e-300"), ("disc", "k2=1e-320"),
     ("atrophy", "seed_radius=1e-320"), ("folding", "t_end=1e-320"),
-    ("folding", "depth=1e-320"), ("folding", "mu_white=1e-320"),
+    ("folding", "cortex_thickness=1e-320"), ("folding", "mu_white=1e-320"),
     ("folding", "cortex_rate=1e-320"), ("disc", "k1=1e-320")])
 def test_tiny_positive_values_are_refused_before_meshing_in_one_line(scene, setting, tmp_path,
                                                                      capsys):

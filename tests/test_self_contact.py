@@ -22,7 +22,6 @@ from netgen.occ import (
 )
 from scipy.optimize import brentq
 
-from geometries.bilayer import extrude
 from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.self_contact import SelfContact
@@ -42,12 +41,12 @@ H, G0, D = 1.0, 0.05, 0.15
 MU, LAM = 1.0, 10.0
 
 
-@pytest.fixture(scope="module", params=["tetrahedra", "prisms"])
+@pytest.fixture(scope="module", params=["tetrahedra", "section"])
 def blocks(request):
-    """The two blocks meshed with tetrahedra, or as a section of two squares extruded to one
-    layer of prisms (:func:`geometries.bilayer.extrude`: the facing faces are rectangles, as
-    the folding bilayer's top)."""
-    if request.param == "prisms":
+    """The two blocks meshed with tetrahedra, or in plane strain as their section, two
+    squares (a two-dimensional mesh: the facing faces are segments, as the folding bilayer's
+    top)."""
+    if request.param == "section":
         lower = WorkPlane().Rectangle(1, H).Face()
         upper = WorkPlane().MoveTo(0, H + G0).Rectangle(1, H).Face()
         for block in (lower, upper):
@@ -55,8 +54,7 @@ def blocks(request):
             block.name = "body"
         lower.edges.Min(Y).name, lower.edges.Max(Y).name = "bottom", "gap"
         upper.edges.Min(Y).name, upper.edges.Max(Y).name = "gap", "top"
-        section = OCCGeometry(Compound([lower, upper]), dim=2).GenerateMesh(maxh=0.5)
-        return extrude(ngs.Mesh(section), 1.0, sides="ys")
+        return ngs.Mesh(OCCGeometry(Compound([lower, upper]), dim=2).GenerateMesh(maxh=0.5))
     lower = Box(Pnt(0, 0, 0), Pnt(1, 1, H))
     upper = Box(Pnt(0, 0, H + G0), Pnt(1, 1, 2 * H + G0))
     for block in (lower, upper):
@@ -70,6 +68,29 @@ def blocks(request):
     return ngs.Mesh(OCCGeometry(Compound([lower, upper])).GenerateMesh(maxh=0.5))
 
 
+def height(mesh):
+    """The vertical coordinate: X3 of a body, X2 of a section (plane strain)."""
+    return (ngs.x, ngs.y, ngs.z)[mesh.dim - 1]
+
+
+def vertical(mesh, value):
+    """The vector field ``value`` times the vertical unit vector (of the mesh's dimension)."""
+    return ngs.CF((0,) * (mesh.dim - 1) + (value,))
+
+
+def rollers(mesh, *names):
+    """Symmetry planes: the side faces on rollers, and ``names`` held vertically."""
+    axes = ("x", "y", "z")[:mesh.dim]
+    planes = {"xs": "x", "ys": "y"} if mesh.dim == 3 else {"xs": "x"}
+    return {**planes, **{name: axes[-1] for name in names}}
+
+
+def mirror(mesh, level):
+    """The horizontal plane at ``level``, its normal upward, as a mirror of
+    :class:`SelfContact` (a point and a unit normal of three components)."""
+    return ((0, 0, level), (0, 0, 1)) if mesh.dim == 3 else ((0, level, 0), (0, 1, 0))
+
+
 def pressed(mesh, penalty, width=0.0):
     """The blocks on rollers (sides, bottom, top), the top moved down by D: a uniaxial strain
     once the gap has closed. Solved by Newton at fixed pairs, the pairs updated after each
@@ -78,8 +99,8 @@ def pressed(mesh, penalty, width=0.0):
     growth = GrowthEnergy("fiber", fields.constant("e1"), ConstantRateLaw(0.0),
                           NeoHookean(MU, LAM))
     problem = CoupledProblem(mesh, [growth, contact], order=2,
-                             symmetry={"xs": "x", "ys": "y", "bottom": "z", "top": "z"})
-    problem.u.Set(ngs.CF((0, 0, -D * ngs.IfPos(ngs.z - H - G0 / 2, 1, 0))))
+                             symmetry=rollers(mesh, "bottom", "top"))
+    problem.u.Set(vertical(mesh, -D * ngs.IfPos(height(mesh) - H - G0 / 2, 1, 0)))
     contact.update()
     first = None
     for _ in range(30):
@@ -99,7 +120,7 @@ def closed_form(penalty, width):
     """The uniaxial strain of the closed gap: stretch lam = (2H - D + G0 + delta) / 2H with the
     penetration delta where the penalty's pressure kappa r(delta) balances the compressive
     nominal stress -P33 = -(mu (lam - 1 / lam) + lambda ln(lam) / lam) of the neo-Hookean
-    material (eq. 36 with F = diag(1, 1, lam))."""
+    material (eq. 36 with F = diag(1, 1, lam); of a section in plane strain diag(1, lam, 1))."""
     def stretch(delta):
         return (2 * H - D + G0 + delta) / (2 * H)
 
@@ -120,7 +141,7 @@ def test_blocks_pressed_together_are_the_closed_form_uniaxial_strain(blocks, pen
     width = 1e-4
     problem, contact = pressed(blocks, penalty, width)
     delta, lam, _ = closed_form(penalty, width)
-    strain = ngs.Grad(problem.u)[2, 2]
+    strain = ngs.Grad(problem.u)[blocks.dim - 1, blocks.dim - 1]
     volume = ngs.Integrate(1.0, blocks)
     # the stretch is uniform and the closed form's, in both blocks
     assert ngs.Integrate(strain, blocks) / volume == pytest.approx(lam - 1, rel=1e-6)
@@ -191,8 +212,8 @@ def test_a_mirror_far_away_carries_nothing(upper_block):
 def test_open_gap_carries_nothing(blocks):
     """Pushed by less than the gap, the blocks do not touch: no contact, no stress."""
     contact = SelfContact("gap", 1e3, 0.0, reach=0.3)
-    problem = CoupledProblem(blocks, [contact], order=2, symmetry={"bottom": "z"})
-    problem.u.Set(ngs.CF((0, 0, -0.5 * G0 * ngs.IfPos(ngs.z - H - G0 / 2, 1, 0))))
+    problem = CoupledProblem(blocks, [contact], order=2, symmetry=rollers(blocks, "bottom"))
+    problem.u.Set(vertical(blocks, -0.5 * G0 * ngs.IfPos(height(blocks) - H - G0 / 2, 1, 0)))
     contact.update()
     residual = problem.state.vec.CreateVector()
     problem.form.Apply(problem.state.vec, residual)
@@ -219,15 +240,18 @@ def test_a_bent_wall_is_not_in_contact_with_itself():
 
 
 @pytest.mark.parametrize("width", [0.0, 0.01])
-@pytest.mark.parametrize("mirrors", [(), [((0, 0, H + G0 / 2), (0, 0, 1))]])
-def test_energy_residual_and_tangent_agree_by_finite_differences(blocks, width, mirrors):
+@pytest.mark.parametrize("mirrored", [False, True])
+def test_energy_residual_and_tangent_agree_by_finite_differences(blocks, width, mirrored):
     """At a state with the upper block sunk into the lower one (and into its image in the
     plane between them) and sheared, the residual is the derivative of the term's energy and
     the tangent the residual's."""
+    mirrors = [mirror(blocks, H + G0 / 2)] if mirrored else []
     contact = SelfContact("gap", 1e3, width, reach=0.3, mirrors=mirrors)
     problem = CoupledProblem(blocks, [contact], order=2, condense=False)
-    problem.u.Set(ngs.CF((0.02 * ngs.z, 0.01 * ngs.x * ngs.z,
-                          -(G0 + 0.03 + 0.01 * ngs.x) * ngs.IfPos(ngs.z - H - G0 / 2, 1, 0))))
+    z = height(blocks)
+    sunk = -(G0 + 0.03 + 0.01 * ngs.x) * ngs.IfPos(z - H - G0 / 2, 1, 0)
+    problem.u.Set(ngs.CF((0.02 * z, 0.01 * ngs.x * z, sunk) if blocks.dim == 3 else
+                         (0.02 * z, sunk)))
     contact.update()
     state = problem.state.vec
     start = state.CreateVector()

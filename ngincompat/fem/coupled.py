@@ -52,9 +52,6 @@ class CoupledProblem:
         Compile the residual of the growth term to C++
         (:func:`~ngincompat.fem.problem.compiled`); None: from
         :data:`~ngincompat.fem.problem.REALCOMPILE_NDOF` dofs on.
-    slab : bool
-        The mesh is a slab one prism thick in plane strain: the displacement is linear
-        through its depth (:func:`~ngincompat.fem.problem.linear_through_depth`).
 
     Attributes
     ----------
@@ -76,15 +73,14 @@ class CoupledProblem:
 
     def __init__(self, mesh: ngs.Mesh, terms: Sequence[Term], order: int = 2,
                  dirichlet: str = "", symmetry: Mapping[str, str] | None = None,
-                 condense: bool = True, realcompile: bool | None = None, slab: bool = False):
+                 condense: bool = True, realcompile: bool | None = None):
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         ensure_heap(order)
         self.mesh, self.order, self.condense = mesh, order, condense
         self.terms = tuple(terms)
         self.dt = ngs.Parameter(0.0)
         self.growing = ngs.Parameter(1.0)
-        self.space = displacement_space(mesh, order, dirichlet, dict(symmetry or {}),
-                                        slab=slab)
+        self.space = displacement_space(mesh, order, dirichlet, dict(symmetry or {}))
         added = [tuple(term.spaces(self)) for term in self.terms]
         self.fes = ngs.FESpace([self.space] + [s for spaces in added for s in spaces])
         self.state = ngs.GridFunction(self.fes)

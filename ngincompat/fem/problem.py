@@ -97,11 +97,12 @@ def compiled(cf, realcompile, maxderiv=1):
     residual"). An energy (a ``Variation``) is differentiated twice for its tangent:
     ``maxderiv=2``.
     """
-    if realcompile:
-        find_compiler()
+    if realcompile and find_compiler() is None:
+        log.warning("no C++ compiler (ngscxx) found; assembling uncompiled")
+    elif realcompile:
         try:
             return cf.Compile(realcompile=True, wait=True, maxderiv=maxderiv)
-        except Exception as err:  # no compiler or no headers: NGSolve raises its own kinds
+        except Exception as err:  # no headers: NGSolve raises its own kinds
             log.warning("compiling to C++ failed (%s); assembling uncompiled", err)
     return cf.Compile()
 
@@ -417,45 +418,20 @@ def bubbles(mesh, order, formulation):
     return {"orderface": order + 1, "orderinner": order + 2}
 
 
-def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None, slab=False):
+def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None):
     """VectorH1 of ``order`` (with the H1 flags ``enrichment``, :func:`bubbles`) with u = 0
     on ``dirichlet`` and the normal component zero on the symmetry planes (boundary name ->
-    axis "x", "y" or "z"); on a ``slab`` one prism thick (:func:`geometries.bilayer.extrude`)
-    linear through its depth (:func:`linear_through_depth`)."""
+    axis "x", "y" or "z"; "x" or "y" on the section of a body in plane strain, a mesh of
+    dimension 2)."""
     symmetry = dict(symmetry or {})
+    axes = ("x", "y", "z")[:mesh.dim]
     for name, axis in symmetry.items():
-        require(axis in ("x", "y", "z"), "symmetry axis", axis, "x, y or z")
+        require(axis in axes, "symmetry axis", axis, " or ".join(axes))
         require(name in mesh.GetBoundaries(), "symmetry boundary", name,
                 ", ".join(sorted(set(mesh.GetBoundaries()))))
     planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
-              for axis in ("x", "y", "z") if axis in symmetry.values()}
-    space = ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
-    if slab:
-        linear_through_depth(space)
-    return space
-
-
-def linear_through_depth(space):
-    """Lower ``space``'s order to 1 through the depth of a slab one prism thick: on the edges
-    joining a prism's two triangles and on its quadrilateral faces, so that the space is
-    the product of the triangles' polynomials of its order and the linear ones through the
-    depth. A body in plane strain (u2 = 0 on both faces of the slab, its data independent of
-    X2) has a displacement independent of X2, which this space holds: the same solution with
-    the section's nodes on 2 layers instead of the k + 1 of full order k (at k = 2, u1 and
-    u3 on two layers against three; u2's are then all on the faces, held)."""
-    mesh = space.mesh
-    require(all(el.type == ngs.ET.PRISM for el in mesh.Elements(ngs.VOL)), "slab",
-            "a mesh with elements other than prisms", "a slab one prism thick")
-    for element in mesh.Elements(ngs.VOL):
-        v = element.vertices
-        across = {frozenset((v[i].nr, v[i + 3].nr)) for i in range(3)}
-        for edge in element.edges:
-            if frozenset(vertex.nr for vertex in mesh[edge].vertices) in across:
-                space.SetOrder(ngs.NodeId(ngs.EDGE, edge.nr), 1)
-        for face in element.faces:
-            if len(mesh[face].vertices) == 4:
-                space.SetOrder(ngs.NodeId(ngs.FACE, face.nr), 1)
-    space.Update()
+              for axis in axes if axis in symmetry.values()}
+    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
 
 
 def rigid_pins(mesh, fes):
@@ -470,25 +446,27 @@ def rigid_pins(mesh, fes):
     it constrains a motion the ones before leave free, until k are pinned; the order of
     preference is the "3-2-1" support: all of P0 (smallest coordinate sum), the components
     of P1 (farthest from P0) across the line P0-P1, the component of P2 (farthest from that
-    line) normal to the plane P0 P1 P2, then the other dofs. Pins across the line leave the
+    line) normal to the plane P0 P1 P2 (in plane strain: P0, and P1 across the line), then
+    the other dofs. Pins across the line leave the
     body free to stretch along it, so the pinned values (from the predictor) cost no
     rotation that Newton would have to undo. The support is statically determinate: it
     carries no reaction for a self-equilibrated body, gives the same deformation as Lagrange
     multipliers on the modes, and keeps the tangent symmetric positive definite near
     equilibrium.
     """
-    pts = np.array([v.point for v in mesh.vertices]).reshape(-1, 3)
-    dofs = np.array([fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))[:3]
-                     for v in range(len(pts))], dtype=int).reshape(-1, 3)
+    d = mesh.dim
+    pts = np.array([v.point for v in mesh.vertices]).reshape(-1, d)
+    dofs = np.array([fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))[:d]
+                     for v in range(len(pts))], dtype=int).reshape(-1, d)
     free = np.array(fes.FreeDofs(), dtype=bool)[dofs]
     if not parallel.distributed(mesh):
         return tuple(int(dofs[v, c]) for v, c in _pin_nodes(pts, free))
     # every rank chooses from all vertices (each once), then pins its own copies of them
     table = np.unique(parallel.gather_rows(mesh, np.column_stack([pts, free])), axis=0)
     local = {tuple(p): i for i, p in enumerate(pts)}
-    return tuple(int(dofs[local[tuple(table[v, :3])], c])
-                 for v, c in _pin_nodes(table[:, :3], table[:, 3:].astype(bool))
-                 if tuple(table[v, :3]) in local)
+    return tuple(int(dofs[local[tuple(table[v, :d])], c])
+                 for v, c in _pin_nodes(table[:, :d], table[:, d:].astype(bool))
+                 if tuple(table[v, :d]) in local)
 
 
 def pin_reactions(problem):
@@ -503,16 +481,19 @@ def pin_reactions(problem):
 
 def _pin_nodes(pts, free):
     """The (vertex, component) pairs that :func:`rigid_pins` pins, for vertex coordinates
-    ``pts`` and the free flags ``free`` of their three displacement components."""
+    ``pts`` (n, d) and the free flags ``free`` of their d displacement components."""
+    d = pts.shape[1]
     size = max(np.ptp(pts, axis=0).max(), 1e-300)
     centred = (pts - pts.mean(axis=0)) / size
-    modes = np.zeros((len(pts), 3, 6))          # value of mode m in component c at a vertex
-    for c in range(3):
+    rotations = ([np.cross(np.eye(3)[k], centred) for k in range(3)] if d == 3 else
+                 [np.column_stack([-centred[:, 1], centred[:, 0]])])
+    modes = np.zeros((len(pts), d, d + len(rotations)))   # mode m in component c at a vertex
+    for c in range(d):
         modes[:, c, c] = 1.0
-        for k in range(3):                       # rotation about axis k: (e_k x X)_c
-            modes[:, c, 3 + k] = np.cross(np.eye(3)[k], centred)[:, c]
+        for k, rotation in enumerate(rotations):
+            modes[:, c, d + k] = rotation[:, c]
     fixed = modes[~free]
-    basis = np.eye(6)
+    basis = np.eye(modes.shape[2])
     if len(fixed):
         _, s, vt = np.linalg.svd(fixed)
         basis = vt[int(np.sum(s > 1e-10 * s[0])):].T
@@ -531,13 +512,15 @@ def _pin_nodes(pts, free):
 
 def _support_preference(pts):
     """(vertex, component) pairs in the order of preference of :func:`rigid_pins`."""
+    d = pts.shape[1]
     i0 = int(np.argmin(pts.sum(axis=1)))
-    d = pts - pts[i0]
-    i1 = int(np.argmax(np.linalg.norm(d, axis=1)))
-    axis = d[i1] / np.linalg.norm(d[i1])
-    i2 = int(np.argmax(np.linalg.norm(d - np.outer(d @ axis, axis), axis=1)))
+    r = pts - pts[i0]
+    i1 = int(np.argmax(np.linalg.norm(r, axis=1)))
+    axis = r[i1] / np.linalg.norm(r[i1])
     k1 = int(np.argmax(np.abs(axis)))
-    k2 = int(np.argmax(np.abs(np.cross(axis, d[i2]))))
-    first = [(i0, 0), (i0, 1), (i0, 2)] + [(i1, k) for k in range(3) if k != k1] + [(i2, k2)]
-    rest = [(v, c) for v in range(len(pts)) for c in range(3) if (v, c) not in first]
+    first = [(i0, k) for k in range(d)] + [(i1, k) for k in range(d) if k != k1]
+    if d == 3:
+        i2 = int(np.argmax(np.linalg.norm(r - np.outer(r @ axis, axis), axis=1)))
+        first.append((i2, int(np.argmax(np.abs(np.cross(axis, r[i2]))))))
+    rest = [(v, c) for v in range(len(pts)) for c in range(d) if (v, c) not in first]
     return first + rest

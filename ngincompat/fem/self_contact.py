@@ -49,8 +49,8 @@ the measures (:meth:`SelfContact.measures`) use a third ``ContactBoundary`` upda
 current state, whose gap function, unlike the energy's pairs, also pairs neighbours on one
 smooth wall: the measures count a pair only along the normal, and evaluate it at NGSolve's
 own mapped points (points located by coordinates missed pairs of the two blocks' test).
-A plane strain body (a slab whose faces hold u2 = 0) is handled as the three-dimensional
-body it is meshed as: its boundary is a surface.
+A body in plane strain is meshed by its section (a two-dimensional mesh): its boundary is
+a curve, the contact's integrals are per unit length out of plane.
 
 *Mirror walls.* A body cut by a symmetry plane (rollers: the normal displacement held on the
 plane) stands for itself and its mirror image. A sulcus centred on the plane has its second
@@ -228,21 +228,23 @@ def measure(mesh, boundary, gap, order=2):
             "self_contact_penetration_max": max(0.0, -float(np.min(values, initial=0.0)))}
 
 
-#: The flat boundary elements :func:`boundary_values` integrates over, and the corners whose
-#: edges span them.
-FLAT = {ngs.ET.TRIG: (0, 1, 2), ngs.ET.QUAD: (0, 1, 3)}
+#: The straight boundary elements :func:`boundary_values` integrates over, and the corners
+#: whose edges span them.
+FLAT = {ngs.ET.TRIG: (0, 1, 2), ngs.ET.QUAD: (0, 1, 3), ngs.ET.SEGM: (0, 1)}
 
 
 def boundary_values(mesh, boundary, cf, order):
     """The values of the scalar ``cf`` at the points of NGSolve's rule of ``order`` on every
-    element of the ``boundary`` and the points' reference areas, for flat elements:
-    triangles and parallelograms (:data:`FLAT`; the sides of an extruded slab's prisms are
-    rectangles). The weights of NGSolve's rules sum to the reference element's area, 1/2 on
-    the triangle and 1 on the square, so a point's area is its weight times the norm of the
-    cross product of the spanning edges (twice the triangle's area, the parallelogram's)."""
+    element of the ``boundary`` and the points' reference areas, for straight elements:
+    triangles and parallelograms, or the segments of a section's boundary (:data:`FLAT`).
+    The weights of NGSolve's rules sum to the reference element's size, 1/2 on the triangle
+    and 1 on the square and the segment, so a point's area is its weight times the norm of
+    the cross product of the spanning edges (twice the triangle's area, the
+    parallelogram's), on a segment times its length."""
     elements = list(mesh.Elements(ngs.BND))
     if any(element.type not in FLAT for element in elements):
-        raise ValueError("boundary_values needs a boundary of triangles and parallelograms")
+        raise ValueError("boundary_values needs a boundary of triangles, parallelograms or "
+                         "segments")
     rules = {kind: ngs.IntegrationRule(kind, order) for kind in FLAT}
     mask = np.array(mesh.Boundaries(boundary).Mask())
     values = np.asarray(cf(mesh.MapToAllElements(rules, ngs.BND))).ravel()
@@ -251,7 +253,8 @@ def boundary_values(mesh, boundary, cf, order):
         p = np.array([mesh[element.vertices[i]].point for i in FLAT[element.type]])
         n = len(rules[element.type].weights)
         if mask[element.index]:
-            spanned = np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0]))
+            spanned = (np.linalg.norm(p[1] - p[0]) if len(p) == 2 else
+                       np.linalg.norm(np.cross(p[1] - p[0], p[2] - p[0])))
             weights.append(spanned * np.array(rules[element.type].weights))
             inside.append(np.arange(start, start + n))
         start += n

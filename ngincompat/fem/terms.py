@@ -166,7 +166,10 @@ class GrowthEnergy(Term):
         # (docs/measurements/solver-costs.md, "The coupled residual")
         stress = W.Diff(F)
         self.realcompile = problem.realcompile
-        return compiled(ngs.InnerProduct(stress, ngs.Grad(v)) + rate * eta,
+        # the energy of the state, evaluated after every step of a line search on energy:
+        # compiled once into NGSolve's step list, several times faster than the tree
+        self._energy = self.energy_density(kinematics.deformation_gradient(self.u)).Compile()
+        return compiled(ngs.InnerProduct(stress, kinematics.displacement_gradient(v)) + rate * eta,
                         problem.realcompile) * ngs.dx
 
     def model(self, theta):
@@ -182,8 +185,7 @@ class GrowthEnergy(Term):
 
     def energy(self):
         """The strain energy int Jg Psi dV of the current state."""
-        return ngs.Integrate(self.energy_density(kinematics.deformation_gradient(self.u)),
-                             self.mesh)
+        return ngs.Integrate(self._energy, self.mesh)
 
     def held_energy(self, u):
         """int Jg Psi(F(u) Fg(theta)^-1) dV at the current theta, by the rule of the residual:

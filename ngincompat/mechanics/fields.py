@@ -95,34 +95,41 @@ def from_name(spec, parameter="direction"):
 AXONS = ("curved", "concentric", "straight")
 
 
-def axons(kind, interface=0.95, length=3.0, focus_depth=3.0):
+def axons(kind, interface=0.95, length=3.0, focus_depth=3.0, vertical="e3"):
     """The bilayer's axon orientations in the subcortex (cortical folding, Fig. 7).
 
     Parameters
     ----------
     kind : {"curved", "concentric", "straight"}
-        ``straight``: normal to the cortex-subcortex interface (e3); ``curved``: fanning
-        outward, radial from a focus ``focus_depth`` below the interface at the middle of the
-        strip; ``concentric``: arcs around that focus (e2 x radial), parallel to the interface
-        above the focus.
+        ``straight``: normal to the cortex-subcortex interface (the ``vertical``);
+        ``curved``: fanning outward, radial from a focus ``focus_depth`` below the interface
+        at the middle of the strip; ``concentric``: arcs around that focus (the out-of-plane
+        axis x radial), parallel to the interface above the focus.
     interface : float
-        Height X3 of the flat interface (cm).
+        Height of the flat interface (cm), along ``vertical``.
     length : float
         Length of the strip along X1 (cm); the focus lies below its middle.
     focus_depth : float
         Depth of the focus below the interface (cm), > 0.
+    vertical : {"e3", "e2"}
+        The vertical axis: e3 for a body whose out-of-plane axis is e2; e2 for the section
+        of a body in plane strain (its points (X1, X2), e3 out of plane: the paper's axes).
     """
     if kind not in AXONS:
         raise ParameterError(f"axons = {kind!r} is unknown: allowed {', '.join(AXONS)}")
+    if vertical not in ("e2", "e3"):
+        raise ParameterError(f"vertical = {vertical!r} is unknown: allowed e2, e3")
     if kind == "straight":
-        return constant("e3", name="axons straight")
+        return constant(vertical, name="axons straight")
     if focus_depth <= 0:
         raise ParameterError(f"focus_depth = {focus_depth!r} is out of range: allowed > 0")
-    focus = (length / 2, 0.0, interface - focus_depth)
-    fan = radial(focus, axis="e2")
+    across = "e2" if vertical == "e3" else "e3"
+    focus = (length / 2, *((0.0, interface - focus_depth) if vertical == "e3" else
+                           (interface - focus_depth, 0.0)))
+    fan = radial(focus, axis=across)
     if kind == "curved":
         return DirectionField(fan.cf, "axons curved")
-    return DirectionField(ngs.Cross(constant("e2").cf, fan.cf), "axons concentric")
+    return DirectionField(ngs.Cross(constant(across).cf, fan.cf), "axons concentric")
 
 
 def by_region(mesh, directions, name):

@@ -1,11 +1,30 @@
-"""Kinematics of the multiplicative split F = Fe Fg (eq. 1-5), as pure functions of CFs."""
+"""Kinematics of the multiplicative split F = Fe Fg (eq. 1-5), as pure functions of CFs.
+
+A body in plane strain is meshed by its section (a two-dimensional mesh, points (X1, X2)):
+its displacement (u1, u2) does not depend on X3 and u3 = 0, so its tensors are the
+three-dimensional ones with Grad u's third row and column zero, and F33 = 1
+(:func:`displacement_gradient`). Every law of the package then applies unchanged.
+"""
 
 import ngsolve as ngs
 
 
+def displacement_gradient(u):
+    """Grad u as a 3x3 CF, for a displacement (trial or test function, GridFunction) of
+    three components, or of two on a section in plane strain (Grad u embedded:
+    (Grad u)_i3 = (Grad u)_3i = 0)."""
+    grad = ngs.Grad(u)
+    if tuple(grad.dims) == (3, 3):
+        return grad
+    zero = ngs.ZeroCF(())       # known zero: its derivatives and products are dropped
+    return ngs.CF((grad[0, 0], grad[0, 1], zero,
+                   grad[1, 0], grad[1, 1], zero,
+                   zero, zero, zero), dims=(3, 3))
+
+
 def deformation_gradient(u):
-    """F = I + Grad u, for a displacement (trial function or GridFunction)."""
-    return ngs.Id(3) + ngs.Grad(u)
+    """F = I + Grad u (:func:`displacement_gradient`: F33 = 1 in plane strain)."""
+    return ngs.Id(3) + displacement_gradient(u)
 
 
 def component_deformation_gradient(components):

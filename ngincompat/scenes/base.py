@@ -48,12 +48,11 @@ RATE_FLOOR = 1e-6
 ORDER = Param("polynomial order of the displacement", range="[1, 10]")
 #: A mesh size past the body's is one element across it: at most 1000, a metre in mm.
 MAXH = Param("mesh size", "length", range=f"[{LENGTH_FLOOR:g}, 1000]")
-#: The nodes of the displacement's order k per element, by the element's shape: a
-#: tetrahedron's share of them k^3 / 6, a hexahedron's k^3, and a prism of a slab one
-#: element thick (:func:`geometries.bilayer`) its triangle's share k^2 / 2 of the section's
-#: nodes on each of the k + 1 layers.
-NODES_PER_ELEMENT = {"tet": lambda k: k ** 3 / 6, "hex": lambda k: k ** 3,
-                     "prism": lambda k: k ** 2 / 2 * (k + 1)}
+#: The displacement unknowns of order k per element, by the element's shape: its share of
+#: the nodes (a tetrahedron's k^3 / 6, a hexahedron's k^3, a triangle's k^2 / 2) times the
+#: components (3; 2 on the section of a body in plane strain, :func:`geometries.bilayer`).
+UNKNOWNS_PER_ELEMENT = {"tet": lambda k: 3 * k ** 3 / 6, "hex": lambda k: 3 * k ** 3,
+                        "triangle": lambda k: 2 * k ** 2 / 2}
 #: Upper bounds of counts: more load steps or a higher growth order than this is no longer a
 #: finer computation but a run that does not end (each step is a Newton solve).
 MAX_STEPS = 1000
@@ -125,19 +124,18 @@ class Scene:
     def mesh_estimate(self):
         """``(elements, shape)``: the estimated number of elements of the mesh :meth:`build`
         would make (:mod:`geometries.estimate`) and their shape, a key of
-        :data:`NODES_PER_ELEMENT`; None when it cannot be told before meshing (a mesh
+        :data:`UNKNOWNS_PER_ELEMENT`; None when it cannot be told before meshing (a mesh
         file)."""
         return None
 
     def check_mesh_size(self):
         """Refuse, before meshing, a mesh estimated past ``max_elements`` elements or
-        ``max_dofs`` unknowns (3 per node of the displacement's order,
-        :data:`NODES_PER_ELEMENT`), naming ``maxh``."""
+        ``max_dofs`` unknowns (:data:`UNKNOWNS_PER_ELEMENT`), naming ``maxh``."""
         estimate = self.mesh_estimate()
         if estimate is None:
             return
         elements, shape = estimate
-        dofs = 3 * elements * NODES_PER_ELEMENT[shape](self.order)
+        dofs = elements * UNKNOWNS_PER_ELEMENT[shape](self.order)
         for what, value, limit in (("elements", elements, self.max_elements),
                                    ("unknowns", dofs, self.max_dofs)):
             key = "max_" + ("elements" if what == "elements" else "dofs")

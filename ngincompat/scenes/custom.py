@@ -23,7 +23,7 @@ from typing import Literal
 import ngsolve as ngs
 import numpy as np
 
-from geometries import BUILDERS, estimate
+from geometries import SOLIDS, estimate
 from ngincompat.errors import require
 from ngincompat.incompatibility.operators import lattice_normals
 from ngincompat.mechanics import fields
@@ -61,8 +61,8 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
     # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.5, order=2, g_order=3), "paper": dict(order=5)}
 
-    geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(BUILDERS)),
-                          choices=BUILDERS)
+    geometry: str = param("cube", "geometry builder: " + ", ".join(sorted(SOLIDS)),
+                          choices=SOLIDS)
     growth: str = param("isotropic", "a registered growth kind: isotropic, area, fiber, ...",
                         choices=KINDS)
     theta: str = param("1 + 0.25*X1*t", "growth indicator theta(X1, X2, X3, t), t in [0, 1]")
@@ -98,12 +98,12 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
     def mesh_estimate(self):
         if self.mesh:
             return None
-        # the cube builder's default elements are hexahedra, the bilayer's prisms
-        shape = {"cube": "hex", "bilayer": "prism"}.get(self.geometry, "tet")
+        # the cube builder's default elements are hexahedra
+        shape = "hex" if self.geometry == "cube" else "tet"
         return estimate.ESTIMATES[self.geometry](maxh=self.maxh), shape
 
     def build(self):
-        mesh = load_mesh(self.mesh) if self.mesh else BUILDERS[self.geometry](maxh=self.maxh)
+        mesh = load_mesh(self.mesh) if self.mesh else SOLIDS[self.geometry](maxh=self.maxh)
         time = ngs.Parameter(0.0)
         if self.theta_file:
             theta = ramped_growth(load_growth(self.theta_file, mesh), time)

@@ -1,13 +1,12 @@
 """Cortical folding (section 3.7, Fig. 7): a growing cortex buckles on a subcortex whose axons
 grow when stretched; then the constraints are released.
 
-Axes: the bilayer (:func:`geometries.bilayer`) has X1 along the 3 cm length, X2 out of plane
-(the 0.05 cm slab) and X3 vertical. The paper's e1 is X1, its vertical e2 is X3 and its
-out-of-plane e3 is X2: the paper's "plane normal to n = e3" is the plane normal to our e2.
-The slab is one layer of prisms, the triangles of the X1-X3 section extruded through the
-depth, as the paper's slab is one element thick; in plane strain its fields do not depend
-on X2, and the displacement is quadratic over the section and linear through the depth
-(:func:`~ngincompat.fem.problem.linear_through_depth`).
+Axes: the paper's. The paper's slab is one element thick, a two-dimensional model: a body
+in plane strain, whose fields do not depend on the out-of-plane X3 and whose u3 is zero. It
+is solved on its section (:func:`geometries.bilayer`, triangles): X1 along the 3 cm length,
+X2 vertical, the displacement (u1, u2), the tensors three-dimensional with F33 = 1
+(:func:`~ngincompat.mechanics.kinematics.displacement_gradient`). Energies, forces and
+lengths of contact are per unit length out of plane.
 
 Growth is fiber growth, eq. (23), Fg = I + (theta - 1) f0 (x) f0, with
 
@@ -23,8 +22,7 @@ as the bifurcation oracle :mod:`ngincompat.references.bifurcation` assumes) and 
 mu_subcortex =
 ``mu_ratio`` = 3.
 
-Boundary conditions while growing: u1 = 0 at both ends, u3 = 0 at the bottom, u2 = 0 on both
-faces of the slab (plane strain). Stages:
+Boundary conditions while growing: u1 = 0 at both ends, u2 = 0 at the bottom. Stages:
 
 1. **perfect**: the perfect bilayer grows on its flat branch; after every step the smallest
    eigenvalues of the elastic tangent (:mod:`ngincompat.fem.buckling`) are computed. At the
@@ -50,7 +48,7 @@ faces of the slab (plane strain). Stages:
    with eta = 10 mu and 5-day steps), so the steps are capped at eta / (2 |omega_onset|),
    omega_onset the first negative eigenvalue: the mode at most doubles per step; and at
    ``onset_dt`` (longer steps of the default bilayer's march all failed). The fold
-   amplitude (half the peak-to-peak u3 along the top), the smallest eigenvalue and the
+   amplitude (half the peak-to-peak u2 along the top), the smallest eigenvalue and the
    smallest elastic stretch of the top surface along it are recorded at the first step,
    then every ``observe_dt`` of growth (the eigenpairs cost more than a Newton iteration),
    and at ``t_end``. That
@@ -81,13 +79,11 @@ faces of the slab (plane strain). Stages:
    viscous end's) and ``equilibrium_eigenvalue``. Without an onset before ``t_end`` the
    perfect branch's end is that equilibrium already.
 4. **release**: growth frozen, the end and bottom supports are removed; the rigid motions
-   the slab faces leave free (the two in-plane translations and the rotation about X2)
-   are removed by the statically determinate pins of :func:`~ngincompat.fem.problem.rigid_pins`
-   (three displacement components at vertices), whose reactions vanish for the
+   of the section (the two in-plane translations and the rotation about X3) are removed by
+   the statically determinate pins of :func:`~ngincompat.fem.problem.rigid_pins` (three
+   displacement components at vertices), whose reactions vanish for the
    self-equilibrated body: ``release_reaction_rel``, their norm relative to the forces the
-   removed supports carried, measures it. Plane strain is kept (u2 = 0 on both slab
-   faces): it is the two-dimensional model of the paper's one-element slab, not a support
-   (the faces carry no resultant in X1 or X3). The supports' reactions are first put back
+   removed supports carried, measures it. The supports' reactions are first put back
    as a dead traction (:meth:`~ngincompat.fem.terms.DeadTraction.hold`), which
    ``unloading`` (:class:`~ngincompat.fem.stages.UnloadingStage`) ramps to zero with the
    viscous regularisation on; the relaxation then finds the released equilibrium. The
@@ -105,14 +101,14 @@ depth below the top surface of the released peak tension (``peak_tension_depth_r
 below the interface if > ``cortex_thickness``), and ``top_curvature_released``: the mean
 curvature of the top surface over the central third of the length after release, the
 curvature of the circle fitted (:func:`~ngincompat.fem.shape.circle_curvature`) to the deformed
-top line (X1 + u1, X3 + u3) sampled along the middle of the slab; positive where the top
+top line (X1 + u1, X2 + u2) sampled along it; positive where the top
 bulges upward (the cortex on the convex side).
 
 Outputs (``measure``): the axon growth theta_a (theta in the subcortex, 1 in the cortex);
 G = (1/Jg) Fg Curl Fg (eq. 10) by the projected path, the Burgers vector density on the
-paper's plane normal to e3, b = G^T e2 here (eq. 11), its norm and Curl Fg : Curl Fg;
+paper's plane normal to e3, b = G^T e3 (eq. 11), its norm and Curl Fg : Curl Fg;
 ``burgers_max`` with its depth below the top (``burgers_max_depth``) and its X1; the
-largest principal Cauchy stress. The fields are sampled on the mid-plane X2 = depth / 2
+largest principal Cauchy stress. The fields are sampled on the section
 (profile "section", a reference grid refined near the top, with the in-plane displacement
 components) for the figure of Fig. 7 a-c, the fields drawn on the deformed shape (``PANELS``:
 a panel whose fields a run has, e.g. after the release, is drawn), and along the vertical
@@ -202,6 +198,14 @@ KRYLOV_MAXITER = 100
 #: (strain energy equal to 1e-14 relative).
 FLOW_RTOL = 1e-3
 
+#: Relative residual to which the viscous march's steps are solved: its states are a path
+#: whose error in time (implicit Euler over steps of days) is far above this, and the
+#: equilibrium at its end is solved to ``rtol`` without the viscosity. Against Newton's
+#: 1e-9 it saves the last iteration of most steps, and starting each step from the
+#: extrapolation of the last two saves more (``docs/measurements/folding.md``, "The
+#: section").
+MARCH_RTOL = 1e-6
+
 #: The relaxations try Newton without the viscosity each time the flow's residual has fallen
 #: this much (:class:`~ngincompat.fem.stages.RelaxationStage`'s ``switch``), within at most
 #: ``RELAXATION_STEPS`` pseudo-time steps. The default bilayer released at 75 days creeps
@@ -243,17 +247,17 @@ def _placing_onset(bilayer, length):
         return None
 
 
-#: Boundary conditions while growing: ends on rollers, bottom on rollers, plane strain.
-GROWING = {"left": "x", "right": "x", "bottom": "z", "sides": "y"}
+#: Boundary conditions while growing: ends on rollers, bottom on rollers.
+GROWING = {"left": "x", "right": "x", "bottom": "y"}
 
-#: After the release: plane strain only (the rigid motions left are pinned).
-RELEASED = {"sides": "y"}
+#: After the release: no support (the rigid motions are pinned).
+RELEASED = {}
 
 
 #: The panels of Fig. 7 a-c: label -> (field, the displacement it is drawn deformed by);
 #: "{L}" and "{stress}" stand for the units. A panel is drawn when the run has its fields.
 PANELS = {"axon growth theta_a [-]": ("theta_a", "u"),
-          "|b| on the plane normal to e2 [1/{L}]": ("|b|", "u"),
+          "|b| on the plane normal to e3 [1/{L}]": ("|b|", "u"),
           "max principal Cauchy stress [{stress}]": ("sigma_max", "u"),
           "after release: max principal Cauchy stress [{stress}]":
               ("sigma_max_released", "u_released")}
@@ -320,10 +324,8 @@ class FoldingScene(Scene):
     growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 10]")
     length: float = param(3.0, "length of the bilayer (X1)", "length",
                           range=f"[{LENGTH_FLOOR:g}, 100]")
-    height: float = param(1.0, "height of the bilayer (X3)", "length",
+    height: float = param(1.0, "height of the bilayer (X2)", "length",
                           range=f"[{LENGTH_FLOOR:g}, 100]")
-    depth: float = param(0.05, "thickness of the slab (X2, out of plane)", "length",
-                         range=f"[{LENGTH_FLOOR:g}, 100]")
     cortex_thickness: float = param(0.05, "thickness of the cortex", "length",
                                     range=f"[{LENGTH_FLOOR:g}, 100]")
     mu_white: float = param(1.0, "shear modulus of the subcortex (white matter)", "stress",
@@ -408,13 +410,13 @@ class FoldingScene(Scene):
 
     def mesh_estimate(self):
         return (estimate.bilayer_elements(length=self.length, height=self.height,
-                                          depth=self.depth, cortex=self.cortex_thickness,
+                                          cortex=self.cortex_thickness,
                                           maxh=self.maxh, cortex_maxh=self.cortex_maxh,
                                           top_maxh=self.top_maxh),
-                "prism")
+                "triangle")
 
     def build(self):
-        mesh = bilayer(length=self.length, height=self.height, depth=self.depth,
+        mesh = bilayer(length=self.length, height=self.height,
                        cortex=self.cortex_thickness, maxh=self.maxh,
                        cortex_maxh=self.cortex_maxh, top_maxh=self.top_maxh)
         return FoldingCase(self, mesh)
@@ -427,7 +429,7 @@ class FoldingCase:
     ``series`` holds, per converged step of the perfect branch and per record (every
     ``observe_dt`` of growth) of the buckling stage,
     the time, the cortex growth, the smallest tangent eigenvalue, the fold amplitude (half
-    the peak-to-peak u3 along the top surface) and the top surface's smallest elastic
+    the peak-to-peak u2 along the top surface) and the top surface's smallest elastic
     stretch (:meth:`top_stretch`).
     """
 
@@ -445,9 +447,9 @@ class FoldingCase:
         self.material = Regional(mesh, {
             "cortex": NeoHookean(scene.mu_gray, lam * scene.mu_gray),
             "subcortex": NeoHookean(scene.mu_white, lam * scene.mu_white)})
-        axons = (fields.constant("e3") if scene.axons == "none" else
+        axons = (fields.constant("e2") if scene.axons == "none" else
                  fields.axons(scene.axons, interface=scene.height - scene.cortex_thickness,
-                              length=scene.length))
+                              length=scene.length, vertical="e2"))
         self.f0 = fields.by_region(mesh, {"cortex": fields.constant("e1"),
                                           "subcortex": axons}, "f0")
         self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
@@ -479,32 +481,33 @@ class FoldingCase:
                               mirrors=[ends[end] for end in ends if symmetry.get(end) == "x"])
         terms = [growth, viscous, *([load] if load else []), contact, RigidPins()]
         problem = CoupledProblem(self.mesh, terms, order=scene.order, symmetry=symmetry,
-                                 slab=True)
+                                 realcompile=True if self.marches() else None)
         return problem, growth, viscous, load, contact
 
     def _along_top(self, cf, n):
-        """X1 and the values of ``cf`` at ``n`` points along the middle of the top surface."""
+        """X1 and the values of ``cf`` at ``n`` points along the top surface."""
         s = self.scene
-        x, values = postprocess.sample_line(self.mesh, {"v": cf}, (0.0, s.depth / 2, s.height),
-                                            (s.length, s.depth / 2, s.height), n=n)
+        x, values = postprocess.sample_line(self.mesh, {"v": cf}, (0.0, s.height),
+                                            (s.length, s.height), n=n)
         return x, values["v"]
 
-    def top_profile(self, u, n=301, component=2):
-        """X1 and the displacement ``component`` along the middle of the top surface."""
+    def top_profile(self, u, n=301, component=1):
+        """X1 and the displacement ``component`` along the top surface (default u2, the
+        vertical)."""
         return self._along_top(u[component], n)
 
     def top_curvature(self, u, n=301):
-        """The curvature of the circle fitted to the deformed top line (X1 + u1, X3 + u3)
+        """The curvature of the circle fitted to the deformed top line (X1 + u1, X2 + u2)
         over the central third of the length (1/length; > 0: bulging upward)."""
         x, u1 = self.top_profile(u, n, component=0)
-        _, u3 = self.top_profile(u, n)
+        _, u2 = self.top_profile(u, n)
         third = (x >= self.scene.length / 3) & (x <= 2 * self.scene.length / 3)
-        return circle_curvature(x[third] + u1[third], self.scene.height + u3[third])
+        return circle_curvature(x[third] + u1[third], self.scene.height + u2[third])
 
     def top_stretch(self, u, theta_c, n=301):
         """The smallest elastic stretch of the top surface along it, lambda_e = |F e1| /
         theta_c (F = I + Grad u; the cortex grows along e1 by theta_c), over ``n`` points
-        along the middle of the top."""
+        along the top."""
         F_e1 = kinematics.deformation_gradient(u) * ngs.CF((1, 0, 0))
         _, values = self._along_top(ngs.Norm(F_e1), n)
         return float(np.nanmin(values)) / theta_c
@@ -516,11 +519,11 @@ class FoldingCase:
         smallest; with ``negative`` at least every negative one)."""
         values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS,
                                                      negative=negative)
-        _, u3 = self.top_profile(self.problem.u)
+        _, u2 = self.top_profile(self.problem.u)
         theta_c = 1 + self.scene.cortex_rate * t
         contact = self.contact_measures(self.contact)
         for key, value in (("t", t), ("theta_c", theta_c),
-                           ("eigenvalue", values[0]), ("amplitude", np.ptp(u3) / 2),
+                           ("eigenvalue", values[0]), ("amplitude", np.ptp(u2) / 2),
                            ("stretch", self.top_stretch(self.problem.u, theta_c)),
                            ("Je_min", self.elastic_jacobian_min(self.growth, self.problem.u)),
                            ("contact_length", contact["self_contact_area"]),
@@ -535,11 +538,9 @@ class FoldingCase:
                           theta_c_reached=float(1 + self.scene.cortex_rate * t))
 
     def contact_measures(self, contact):
-        """The self-contact of the top surface (:meth:`SelfContact.measures`) with its area
-        as the length of the top line in contact (plane strain: divided by the depth)."""
-        measured = contact.measures()
-        measured["self_contact_area"] /= self.scene.depth
-        return measured
+        """The self-contact of the top surface (:meth:`SelfContact.measures`): its area is
+        the length of the top line in contact (the section's boundary is a curve)."""
+        return contact.measures()
 
     def elastic_jacobian_min(self, growth, u):
         """The smallest Je = det F / Jg (Jg = theta for fiber growth) over the integration
@@ -598,6 +599,17 @@ class FoldingCase:
         self.problem.u.vec.data += scale * self.mode.vec
         self.viscous.restart(self.eta)
 
+    def marches(self):
+        """Whether the run is expected to follow folds past the onset (``buckle``, and the
+        bifurcation analysis' onset before ``t_end``): hundreds of Newton iterations, for
+        which the residual is compiled to C++ whatever the number of unknowns
+        (:data:`~ngincompat.fem.problem.REALCOMPILE_NDOF`): the compilation, seconds, is
+        repaid within the march (``docs/measurements/folding.md``, "The section")."""
+        scene = self.scene
+        growth = _placing_onset(scene.bifurcation_bilayer(), scene.length)
+        return (scene.buckle and growth is not None
+                and (growth - 1) / scene.cortex_rate < scene.t_end)
+
     def approach_end(self):
         """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the onset of
         the bifurcation analysis (:func:`~ngincompat.references.bifurcation.onset`, roller ends,
@@ -655,10 +667,11 @@ class FoldingCase:
         residual: with growing axons the residual is not the energy's derivative, and the
         full steps that converge first raise it (``docs/measurements/folding.md``, "The
         march's line search"); full steps without any shortening cut the march's steps far
-        sooner on the coarse bilayer with the graded top."""
+        sooner on the coarse bilayer with the graded top. Each step is solved to
+        :data:`MARCH_RTOL` from the extrapolation of the last two states."""
         step = min(self.viscous_step(), self.scene.onset_dt)
         options = newton(max_step=step, line_search=True, backtrack="finite", min_step=1e-6,
-                         stall=STALL)
+                         stall=STALL, rtol=MARCH_RTOL, extrapolate=True)
         return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
                             t_start=self.series["perfect"]["t"][-1], options=options,
                             observe=self._observe_buckling, unit=self.scene.units["time"])
@@ -770,9 +783,9 @@ class FoldingCase:
         results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
                             for branch, series in self.series.items() if series["t"]}
         if self.series["buckling"]["t"] and solution.converged:
-            _, u3 = self.top_profile(self.problem.u)    # of the final equilibrium
-            results.metrics["fold_amplitude"] = float(np.ptp(u3) / 2)
-            count, depth = sulci(u3)
+            _, u2 = self.top_profile(self.problem.u)    # of the final equilibrium
+            results.metrics["fold_amplitude"] = float(np.ptp(u2) / 2)
+            count, depth = sulci(u2)
             results.metrics.update(sulci=count, sulcus_depth=depth)
         stretches = self.series["perfect"]["stretch"] + self.series["buckling"]["stretch"]
         if stretches:
@@ -788,7 +801,7 @@ class FoldingCase:
         if self.mode is not None:
             flds["buckling_mode"] = self.mode
             x, w = self.top_profile(self.mode)
-            results.profiles["mode"] = {"X1": x, "u3": w}
+            results.profiles["mode"] = {"X1": x, "u2": w}
         with progress.phase("incompatibility"), timed(results.timings, "incompatibility"):
             flds.update(self.incompatibility())
             results.metrics.update(self.burgers_metrics(flds["|b|"]))
@@ -822,20 +835,20 @@ class FoldingCase:
 
     def interface_mean(self, cf):
         """The mean of ``cf`` over the band of one cortex thickness centred on the interface
-        (reference X3 within cortex_thickness / 2 of it)."""
+        (reference X2 within cortex_thickness / 2 of it)."""
         s = self.scene
         interface = s.height - s.cortex_thickness
-        band = ngs.IfPos(s.cortex_thickness / 2 - ngs.sqrt((ngs.z - interface) ** 2), 1.0, 0.0)
+        band = ngs.IfPos(s.cortex_thickness / 2 - ngs.sqrt((ngs.y - interface) ** 2), 1.0, 0.0)
         return float(ngs.Integrate(band * cf, self.mesh, order=6)
-                     / (s.cortex_thickness * s.length * s.depth))
+                     / (s.cortex_thickness * s.length))
 
     def incompatibility(self):
-        """theta_a, G (eq. 10, projected path), b on the plane normal to e2 (eq. 11), |b| and
+        """theta_a, G (eq. 10, projected path), b on the plane normal to e3 (eq. 11), |b| and
         Curl Fg : Curl Fg of the current growth."""
         theta = self.growth.theta
         G, curl_Fg, _ = inc.incompatibility_projected(FiberGrowth(theta, self.f0).Fg,
                                                       self.mesh, self.scene.g_order)
-        b = inc.burgers_vector(G, ngs.CF((0, 1, 0)))
+        b = inc.burgers_vector(G, ngs.CF((0, 0, 1)))
         return {"theta_a": self.mesh.MaterialCF({"subcortex": theta, "cortex": 1.0}),
                 "G": G, "b": b, "|b|": ngs.Norm(b),
                 "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
@@ -854,38 +867,35 @@ class FoldingCase:
         peak = int(np.nanargmax(values))
         metrics[f"max_principal_stress{suffix}"] = float(values[peak])
         metrics[f"peak_tension_depth{suffix}"] = float(
-            self.scene.height - np.asarray(ngs.z(points)).ravel()[peak])
+            self.scene.height - np.asarray(ngs.y(points)).ravel()[peak])
         return {f"sigma{suffix}": sigma, f"sigma_max{suffix}": largest}
 
     def burgers_metrics(self, b_norm):
         """The largest |b|, its depth below the top and its X1."""
         value, where = sampling.argmax(b_norm, self.mesh)
-        return {"burgers_max": value, "burgers_max_depth": self.scene.height - where[2],
+        return {"burgers_max": value, "burgers_max_depth": self.scene.height - where[1],
                 "burgers_max_X1": where[0]}
 
     def section(self, flds, n=241, band=5):
-        """The fields of ``PANELS`` that ``flds`` has on the mid-plane X2 = depth / 2, on a
-        grid of n columns over the length and rows refined in the top ``band`` cortical
-        thicknesses (40 rows there, 30 below); displacements as their (u1, u3)."""
+        """The fields of ``PANELS`` that ``flds`` has on the section, on a grid of n
+        columns over the length and rows refined in the top ``band`` cortical thicknesses
+        (40 rows there, 30 below); displacements as their (u1, u2)."""
         s = self.scene
         top = max(s.height - band * s.cortex_thickness, 0.0)
         x1 = np.linspace(0.0, s.length, n)
-        x3 = np.unique(np.concatenate([np.linspace(0.0, top, 30),
+        x2 = np.unique(np.concatenate([np.linspace(0.0, top, 30),
                                        np.linspace(top, s.height, 41)]))
         keys = {k for pair in PANELS.values() for k in pair if all(p in flds for p in pair)}
         sampled = postprocess.sample_plane(self.mesh, {k: flds[k] for k in keys},
-                                           (0.0, s.depth / 2, 0.0), (1, 0, 0), (0, 0, 1),
-                                           x1, x3)
-        for disp in {d for _, d in PANELS.values()} & set(sampled):
-            sampled[disp] = sampled[disp][..., [0, 2]]
-        return {"X1": x1, "X3": x3, **sampled}
+                                           (0.0, 0.0, 0.0), (1, 0, 0), (0, 1, 0), x1, x2)
+        return {"X1": x1, "X2": x2, **sampled}
 
     def depth_profile(self, flds, n=401):
         """``DEPTH_FIELDS`` along the vertical through the middle, from the top down."""
         s = self.scene
         depth, values = postprocess.sample_line(
             self.mesh, {k: flds[k] for k in DEPTH_FIELDS if k in flds},
-            (s.length / 2, s.depth / 2, s.height), (s.length / 2, s.depth / 2, 0.0), n=n)
+            (s.length / 2, s.height), (s.length / 2, 0.0), n=n)
         return {"depth": depth, **values}
 
 
@@ -901,8 +911,8 @@ def fields_figure(scene, section):
     present = {label: keys for label, keys in panels(scene).items()
                if all(k in section for k in keys)}
     return Figure("fields.png", "X1", f"X1 [{L}]", {k: f for k, (f, _) in present.items()},
-                  f"X3 [{L}]", f"{scene.title()}: deformed state", profile="section",
-                  kind="deformed", y="X3", deform={k: d for k, (_, d) in present.items()},
+                  f"X2 [{L}]", f"{scene.title()}: deformed state", profile="section",
+                  kind="deformed", y="X2", deform={k: d for k, (_, d) in present.items()},
                   floor=1e-3 * scene.mu_white)
 
 
@@ -915,7 +925,7 @@ def _figures(scene, profiles):
     return [
         fields_figure(scene, profiles["section"]),
         Figure("depth.png", "depth", f"depth below the top [{L}]",
-               {"|b| on the plane normal to e2": "|b|"}, f"|b| [1/{L}]",
+               {"|b| on the plane normal to e3": "|b|"}, f"|b| [1/{L}]",
                f"{title}: through the middle", right={"axon growth theta_a": "theta_a"},
                right_label="theta_a [-]", profile="depth"),
         Figure("stress_depth.png", "depth", f"depth below the top [{L}]",
@@ -933,6 +943,6 @@ def _figures(scene, profiles):
                f"{title}: after the onset", right={"smallest eigenvalue": "eigenvalue"},
                right_label=f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
                profile="buckling"),
-        Figure("mode.png", "X1", f"X1 [{L}]", {"u3 on top": "u3"}, "buckling mode u3 [-]",
+        Figure("mode.png", "X1", f"X1 [{L}]", {"u2 on top": "u2"}, "buckling mode u2 [-]",
                f"{title}: first buckling mode", profile="mode"),
     ]

@@ -192,7 +192,7 @@ def _folding(out, results):
         return
     scene = FoldingScene.from_settings(next(iter(results.values())).params)
     L = scene.units["length"]
-    fig = plots.deformed_figure(rows, panels(scene), ("X1", "X3"), f"X1 [{L}]", f"X3 [{L}]",
+    fig = plots.deformed_figure(rows, panels(scene), ("X1", "X2"), f"X1 [{L}]", f"X2 [{L}]",
                                 "Fig. 7: cortical folding, one row per axon field",
                                 floor=1e-3 * scene.mu_white)
     plots.save(fig, out / "fig7_folding.png")

@@ -74,7 +74,7 @@ def fields_figure(results, scene):
     if not rows:
         return None
     L = scene.units["length"]
-    return plots.deformed_figure(rows, panels(scene), ("X1", "X3"), f"X1 [{L}]", f"X3 [{L}]",
+    return plots.deformed_figure(rows, panels(scene), ("X1", "X2"), f"X1 [{L}]", f"X2 [{L}]",
                                  "cortical folding: the deformed bilayer per axon field",
                                  floor=1e-3 * scene.mu_white)
 
