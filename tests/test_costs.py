@@ -1,6 +1,7 @@
 """``ngincompat bench scenes``: each (scene, preset) in its own process, its cost measured and
 its accuracy metric against the closed form or the finest run."""
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -96,17 +97,26 @@ def test_bench_folding_splits_each_fields_time_into_kinds_of_work(tmp_path, caps
 
 
 def test_bench_folding_runs_each_field_on_a_baseline_checkout_after_this_one(tmp_path, capsys):
-    """``--baseline`` a checkout (here this one): each field twice, this version first, the
-    same results from the same code; a folder that is no checkout is refused in one line."""
-    root = Path(__file__).resolve().parents[1]
+    """``--baseline`` a checkout (here a copy of this one's packages, its version marked):
+    each field twice, this version first, the baseline's row from the copy's code, the same
+    results; a folder that is no checkout is refused in one line."""
+    root, base = Path(__file__).resolve().parents[1], tmp_path / "base"
+    for package in ("ngincompat", "geometries"):
+        shutil.copytree(root / package, base / package,
+                        ignore=shutil.ignore_patterns("__pycache__"))
+    config = base / "ngincompat" / "config.py"
+    config.write_text(config.read_text().replace('VERSION = "', 'VERSION = "0+baseline-'))
+    out = tmp_path / "out"
     assert main(["bench", "folding", "--axons", "straight", "--preset", "preview",
-                 "--set", "t_end=10", "--set", "release=false", "--baseline", str(root),
-                 "--out", str(tmp_path)]) == 0
-    runs = io.read_json(tmp_path / "fields.json")["rows"]
+                 "--set", "t_end=10", "--set", "release=false", "--baseline", str(base),
+                 "--out", str(out)]) == 0
+    runs = io.read_json(out / "fields.json")["rows"]
     assert [(r["axons"], r["version"], r["status"]) for r in runs] == [
         ("straight", "this", "done"), ("straight", "baseline", "done")]
-    this, baseline = io.read_json(tmp_path / "metrics.json")["rows"]
+    assert not runs[0]["program"].startswith("0+baseline")
+    assert runs[1]["program"].startswith("0+baseline-")
+    this, baseline = io.read_json(out / "metrics.json")["rows"]
     assert this.pop("version") == "this" and baseline.pop("version") == "baseline"
     assert this == baseline
-    assert main(["bench", "folding", "--baseline", str(tmp_path)]) == 2
+    assert main(["bench", "folding", "--baseline", str(out)]) == 2
     assert "baseline" in capsys.readouterr().err

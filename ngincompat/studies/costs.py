@@ -56,9 +56,8 @@ def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None, source=Non
     ``threads``: NGSolve threads of the run (``NGS_NUM_THREADS``; 1, every run's default,
     keeps times on a shared machine comparable). ``source``: a checkout of another version
     of the program (the folder holding its ``ngincompat`` package), run instead of this one
-    (``PYTHONPATH``), in the same environment."""
-    path = os.pathsep.join(filter(None, (str(source) if source else None,
-                                         os.environ.get("PYTHONPATH"))))
+    in the same environment: from that folder, which ``python -m`` puts first on the
+    module path (relative paths in ``settings`` are then relative to it)."""
     with tempfile.TemporaryDirectory(prefix="ngincompat-cost-") as tmp:
         out, log = Path(tmp) / "run", Path(tmp) / "log"
         command = [sys.executable, "-m", "ngincompat.cli", "run", scene, "--out", str(out),
@@ -68,8 +67,8 @@ def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None, source=Non
         start = time.perf_counter()
         with open(log, "w") as stream:
             proc = subprocess.Popen(command, stdout=stream, stderr=subprocess.STDOUT,
-                                    env={**os.environ, "NGS_NUM_THREADS": str(threads),
-                                         **({"PYTHONPATH": path} if path else {})})
+                                    env={**os.environ, "NGS_NUM_THREADS": str(threads)},
+                                    cwd=source)
             code, usage = _wait(proc, start + timeout)
         cost = {"wall_s": round(time.perf_counter() - start, 2),
                 "cpu_s": round(usage.ru_utime + usage.ru_stime, 2),

@@ -4,8 +4,9 @@
 Each axon field runs in a fresh process (:func:`ngincompat.studies.costs.measure`: wall and
 CPU time, peak memory, the machine's load at its start), one after the other. Four tables:
 
-* ``fields``: per axon field the status, how far the growth went, ndof, Newton iterations,
-  the failed tries (steps that did not converge and were retried shorter), wall and CPU time;
+* ``fields``: per axon field the program that ran (its version and git commit), the
+  status, how far the growth went, ndof, Newton iterations, the failed tries (steps that
+  did not converge and were retried shorter), wall and CPU time;
 * ``work``: per axon field the seconds of each kind of work
   (:data:`ngincompat.fem.work.KINDS`: tangent assembly, factorisation, linear solves,
   residuals, energies, contact search, eigenpairs) summed over the stages, what else the
@@ -33,8 +34,8 @@ from ngincompat.scenes.folding import FoldingScene
 from ngincompat.studies.costs import TIMEOUT, measure
 from ngincompat.workflow import tables
 
-FIELD_COLUMNS = ("axons", "version", "preset", "threads", "status", "t_reached", "ndof", "newton",
-                 "failed", "wall_s", "cpu_s", "peak_mb", "load")
+FIELD_COLUMNS = ("axons", "version", "program", "preset", "threads", "status", "t_reached",
+                 "ndof", "newton", "failed", "wall_s", "cpu_s", "peak_mb", "load")
 WORK_COLUMNS = ("axons", "version", *KINDS, "other in the stages", "outside the stages", "wall_s")
 STAGE_COLUMNS = ("axons", "version", "stage", "wall_s", "newton", "failed", "tangents")
 #: The metrics of the ``metrics`` table.
@@ -58,7 +59,10 @@ def rows_of(axons, preset, threads, record, cost, version="this"):
     if record is None:
         return field_row, None, [], None
     solver = record["solver"]
-    field_row.update(status=cost.get("status", record["status"]),
+    git = record.get("provenance", {}).get("git") or {}
+    program = " ".join(filter(None, (record.get("versions", {}).get("ngincompat"),
+                                     git.get("commit", "")[:10])))
+    field_row.update(program=program, status=cost.get("status", record["status"]),
                      t_reached=record["metrics"].get("t_reached"),
                      ndof=record["mesh"]["ndof"],
                      newton=sum(h["newton_iterations"] for h in solver.values()),
