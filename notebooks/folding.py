@@ -17,9 +17,9 @@
 # A thin cortex grows along its length (fiber growth along e1, theta_c = 1 + 0.008 t, t in
 # days) on a softer subcortex (mu_gray / mu_white = 3) whose axons grow when stretched
 # (eq. 45: d theta_a/dt = G_axn <lambda_e - 1>). The ends are on rollers, the bottom too, and
-# the slab is in plane strain. At a critical growth the flat state loses stability: the
-# bilayer buckles into folds. Axes: X1 along the length, X3 vertical, X2 out of plane (the
-# paper's e3): the paper's "plane normal to e3" is our plane normal to e2.
+# the bilayer is in plane strain, solved on its section. At a critical growth the flat state
+# loses stability: the bilayer buckles into folds. Axes: the paper's, X1 along the length,
+# X2 vertical, X3 out of plane.
 #
 # One call runs the `folding` scene for each axon field (`ngincompat folding`): the flat
 # branch with the smallest eigenvalue of the tangent after every step, the onset where it
@@ -89,8 +89,8 @@ display(plots.figure(first, specs["folds.png"]))
 # %% [markdown]
 # ## Growth, incompatibility and stress on the deformed bilayer (Fig. 7 a-c)
 #
-# One row per axon field, one column per field, drawn on the deformed mid-plane (true scale):
-# the axon growth theta_a, |b| = |G^T e2| on the plane normal to the paper's e3 (G = Fg Curl Fg
+# One row per axon field, one column per field, drawn on the deformed section (true scale):
+# the axon growth theta_a, |b| = |G^T e3| on the plane normal to the paper's e3 (G = Fg Curl Fg
 # / Jg, eq. 10-11, Curl Fg of the H1 interpolant of Fg) and the largest principal Cauchy
 # stress. Fg jumps at the interface (the cortex grows along e1, the subcortex along the
 # axons), so |b| concentrates there; the interpolant spreads the jump over the elements at
