@@ -512,14 +512,15 @@ class FoldingCase:
 
     def _observe(self, branch, t, negative=False):
         """Append the time, cortex growth, smallest eigenvalue, fold amplitude, smallest
-        top stretch, smallest Je and the self-contact (:meth:`contact_measures`) of the
+        top stretch, smallest Je and the self-contact (:meth:`SelfContact.measures`: on the
+        section its area is the length of the top line in contact) of the
         current state to ``series[branch]``; return the eigenpairs (:data:`EIGENPAIRS`
         smallest; with ``negative`` at least every negative one)."""
         values, modes = buckling.smallest_eigenpairs(self.problem, count=EIGENPAIRS,
                                                      negative=negative)
         _, u2 = self.top_profile(self.problem.u)
         theta_c = 1 + self.scene.cortex_rate * t
-        contact = self.contact_measures(self.contact)
+        contact = self.contact.measures()
         for key, value in (("t", t), ("theta_c", theta_c),
                            ("eigenvalue", values[0]), ("amplitude", np.ptp(u2) / 2),
                            ("stretch", self.top_stretch(self.problem.u, theta_c)),
@@ -534,11 +535,6 @@ class FoldingCase:
         """Note ``t`` and its cortex growth as the furthest the growth has gone."""
         self.noted.update(t_reached=float(t),
                           theta_c_reached=float(1 + self.scene.cortex_rate * t))
-
-    def contact_measures(self, contact):
-        """The self-contact of the top surface (:meth:`SelfContact.measures`): its area is
-        the length of the top line in contact (the section's boundary is a curve)."""
-        return contact.measures()
 
     def elastic_jacobian_min(self, growth, u):
         """The smallest Je = det F / Jg (Jg = theta for fiber growth) over the integration
@@ -597,28 +593,32 @@ class FoldingCase:
         self.problem.u.vec.data += scale * self.mode.vec
         self.viscous.restart(self.eta)
 
+    def analysis_onset_time(self):
+        """The time of the onset of the bifurcation analysis
+        (:func:`~ngincompat.references.bifurcation.onset`, roller ends, scanned in theta_c
+        steps of 0.02: it places steps, it is not the measured onset), or None if it finds
+        none."""
+        scene = self.scene
+        growth = _placing_onset(scene.bifurcation_bilayer(), scene.length)
+        return None if growth is None else (growth - 1) / scene.cortex_rate
+
     def marches(self):
         """Whether the run is expected to follow folds past the onset (``buckle``, and the
-        bifurcation analysis' onset before ``t_end``): hundreds of Newton iterations, for
-        which the residual is compiled to C++ whatever the number of unknowns
+        analysis' onset before ``t_end``): hundreds of Newton iterations, for which the
+        residual is compiled to C++ whatever the number of unknowns
         (:data:`~ngincompat.fem.problem.REALCOMPILE_NDOF`): the compilation, seconds, is
         repaid within the march (``docs/measurements/folding.md``, "The section")."""
-        scene = self.scene
-        growth = _placing_onset(scene.bifurcation_bilayer(), scene.length)
-        return (scene.buckle and growth is not None
-                and (growth - 1) / scene.cortex_rate < scene.t_end)
+        onset_time = self.analysis_onset_time()
+        return self.scene.buckle and onset_time is not None and onset_time < self.scene.t_end
 
     def approach_end(self):
-        """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the onset of
-        the bifurcation analysis (:func:`~ngincompat.references.bifurcation.onset`, roller ends,
-        scanned
-        in theta_c steps of 0.02: it only places the steps), or 0 (no approach) if that is
-        not after two of the approach's longest steps, beyond ``t_end`` or not found."""
-        scene = self.scene
-        growth = _placing_onset(scene.bifurcation_bilayer(), scene.length)
-        if growth is None:
+        """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the
+        analysis' onset (:meth:`analysis_onset_time`), or 0 (no approach) if that is not
+        after two of the approach's longest steps, beyond ``t_end`` or not found."""
+        scene, onset_time = self.scene, self.analysis_onset_time()
+        if onset_time is None:
             return 0.0
-        t = (growth - 1) / scene.cortex_rate - 2 * scene.onset_dt
+        t = onset_time - 2 * scene.onset_dt
         return t if 2 * max(scene.approach_dt, scene.onset_dt) <= t < scene.t_end else 0.0
 
     def stages(self):
@@ -818,7 +818,7 @@ class FoldingCase:
         released, released), the final grown state's ``self_contact_area`` (length of the
         top line in contact) and the largest ``self_contact_penetration_max`` of the records
         and that state."""
-        final = self.contact_measures(self.contact)
+        final = self.contact.measures()
         jacobians = [self.elastic_jacobian_min(self.growth, self.problem.u)]
         penetrations = [final["self_contact_penetration_max"]]
         for series in self.series.values():
@@ -826,8 +826,8 @@ class FoldingCase:
             penetrations += series["penetration"]
         if self.released is not None and solution.converged:
             jacobians.append(self.elastic_jacobian_min(self.released_growth, self.released.u))
-            penetrations.append(self.contact_measures(
-                self.released_contact)["self_contact_penetration_max"])
+            penetrations.append(
+                self.released_contact.measures()["self_contact_penetration_max"])
         return {"Je_min": min(jacobians), "self_contact_area": final["self_contact_area"],
                 "self_contact_penetration_max": max(penetrations)}
 
