@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from geometries import cube, skin_patch
+from geometries import bilayer, cube, skin_patch
 from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import find_compiler
@@ -26,6 +26,30 @@ from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import SILENT
 
 LAW = StrainDrivenLaw(tau=1.0, theta_max=1.5, gamma=2.0, theta_crit=1.0)
+
+
+def test_changed_supports_hold_the_dofs_of_a_problem_built_with_them():
+    """The supports of a problem changed after it is built (:meth:`CoupledProblem.support`:
+    the roller ends and bottom of a section removed, one put back, all put back) hold, pin
+    against the rigid motions and free exactly the dofs of a problem built with them: no
+    dof stays held once its support is gone."""
+    mesh = bilayer(length=1.0, height=0.5, cortex=0.1, maxh=0.25)
+
+    def made(symmetry):
+        growth = GrowthEnergy("fiber", fields.constant("e1"), ConstantRateLaw(0.0),
+                              NeoHookean(1.0, 100.0))
+        return CoupledProblem(mesh, [growth, RigidPins()], order=2, symmetry=symmetry)
+
+    rollers = {"left": "x", "right": "x", "bottom": "y"}
+    problem = made(rollers)
+    for symmetry in ({}, {"left": "x"}, rollers):
+        problem.support(symmetry)
+        fresh = made(symmetry)
+        assert problem.pinned == fresh.pinned
+        assert np.array_equal(np.array(problem.freedofs, dtype=bool),
+                              np.array(fresh.freedofs, dtype=bool))
+    problem.support({})
+    assert len(problem.pinned) == 3            # the rigid pins alone
 
 
 def _stretched_bar(law, kind="fiber", stretch=1.2, realcompile=None):

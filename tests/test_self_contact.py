@@ -209,6 +209,25 @@ def test_a_mirror_far_away_carries_nothing(upper_block):
     assert residual.Norm() == 0.0 and contact.energy() == 0.0
 
 
+def test_removed_mirrors_carry_nothing(upper_block):
+    """The block sunk into its image in the plane below it is pushed back; with the mirror
+    removed (its symmetry plane gone, :meth:`SelfContact.remove_mirrors`) the same state has
+    no contact: residual, energy and measures zero."""
+    contact = SelfContact("gap", 1e3, 0.0, reach=0.3, mirrors=[((0, 0, H + G0 / 2), (0, 0, 1))])
+    problem = CoupledProblem(upper_block, [contact], order=2, symmetry={"top": "z"})
+    problem.u.Set(ngs.CF((0, 0, -G0)))
+    contact.update()
+    residual = problem.state.vec.CreateVector()
+    problem.form.Apply(problem.state.vec, residual)
+    assert residual.Norm() > 0 and contact.energy() > 0
+    assert contact.measures()["self_contact_penetration_max"] == pytest.approx(G0, rel=1e-9)
+    contact.remove_mirrors()
+    problem.form.Apply(problem.state.vec, residual)
+    assert residual.Norm() == 0.0 and contact.energy() == 0.0
+    assert contact.measures() == {"self_contact_area": 0.0,
+                                  "self_contact_penetration_max": 0.0}
+
+
 def test_open_gap_carries_nothing(blocks):
     """Pushed by less than the gap, the blocks do not touch: no contact, no stress."""
     contact = SelfContact("gap", 1e3, 0.0, reach=0.3)

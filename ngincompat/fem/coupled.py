@@ -26,9 +26,10 @@ regularisation::
 from collections.abc import Mapping, Sequence
 
 import ngsolve as ngs
+import numpy as np
 
 from ngincompat.errors import require
-from ngincompat.fem.problem import REALCOMPILE_NDOF, displacement_space, ensure_heap
+from ngincompat.fem.problem import REALCOMPILE_NDOF, displacement_space, ensure_heap, rigid_pins
 from ngincompat.fem.terms import Term, Unknown
 
 
@@ -45,7 +46,10 @@ class CoupledProblem:
         Polynomial order of the displacement, >= 1.
     dirichlet, symmetry : as for :class:`~ngincompat.fem.problem.GrowthMechanics`
         A body with neither Dirichlet boundaries nor a term that holds it needs
-        :class:`~ngincompat.fem.terms.RigidPins` among its terms.
+        :class:`~ngincompat.fem.terms.RigidPins` among its terms. The symmetry planes are
+        supports that :meth:`support` can change (e.g. remove) later: their dofs are held
+        (:attr:`pinned`), not Dirichlet dofs of the space, so the problem's form and its
+        compiled residual serve every set of supports.
     condense : bool
         Static condensation of element-interior dofs (theta's among them).
     realcompile : bool or None
@@ -62,8 +66,11 @@ class CoupledProblem:
         The step (0: growth frozen).
     growing : ngsolve.Parameter
         The growth's share of the step (1).
+    symmetry : dict
+        The symmetry planes that hold the body now (:meth:`support`).
     pinned : tuple of int
-        Dofs held fixed besides the Dirichlet ones (:meth:`pin`).
+        Dofs held fixed besides the Dirichlet ones: the normal components on the symmetry
+        planes, then the rigid pins (:meth:`pin_rigid_motions`), if any.
     """
 
     has_energy = False
@@ -80,14 +87,15 @@ class CoupledProblem:
         self.terms = tuple(terms)
         self.dt = ngs.Parameter(0.0)
         self.growing = ngs.Parameter(1.0)
-        self.space = displacement_space(mesh, order, dirichlet, dict(symmetry or {}))
+        self.dirichlet = dirichlet
+        self.space = displacement_space(mesh, order, dirichlet)
         added = [tuple(term.spaces(self)) for term in self.terms]
         self.fes = ngs.FESpace([self.space] + [s for spaces in added for s in spaces])
         self.state = ngs.GridFunction(self.fes)
         self.u = self.state.components[0]
-        self.freedofs = self.fes.FreeDofs(coupling=condense)
-        self.pinned = ()
+        self.symmetry, self.pinned, self._rigid = {}, (), False
         self._frozen = None
+        self.support(symmetry or {})
         self.realcompile = (self.fes.ndof >= REALCOMPILE_NDOF if realcompile is None
                             else realcompile)
         trials, tests = self.fes.TnT()
@@ -106,12 +114,37 @@ class CoupledProblem:
     def ndof(self):
         return self.fes.ndof
 
-    def pin(self, dofs):
-        """Hold the dofs ``dofs`` fixed (at their current values)."""
-        dofs = tuple(dofs)
-        self.pinned += dofs
-        for dof in dofs:
-            self.freedofs.Clear(dof)
+    def support(self, symmetry: Mapping[str, str]):
+        """Hold the body by the symmetry planes ``symmetry`` (boundary name -> axis of the
+        normal component held at its current value, as for
+        :func:`~ngincompat.fem.problem.displacement_space`) instead of those before, and
+        re-pin the rigid motions they leave free if the problem pins them
+        (:meth:`pin_rigid_motions`); ``{}`` removes every support."""
+        symmetry = dict(symmetry)
+        held = np.array(displacement_space(self.mesh, self.order, self.dirichlet,
+                                           symmetry).FreeDofs(), dtype=bool)
+        free = np.array(self.space.FreeDofs(), dtype=bool)
+        before, self.symmetry = self.pinned, symmetry
+        self.pinned = tuple(int(i) for i in np.flatnonzero(free & ~held))
+        if self._rigid:
+            self.pinned += rigid_pins(self.mesh, self.fes, held=self.pinned)
+        # the held dofs are cleared in the spaces' own arrays of free dofs (those held before
+        # set again), which NGSolve's BDDC preconditioner and FrozenGrowth read
+        for bits in (self.fes.FreeDofs(coupling=self.condense),
+                     self.space.FreeDofs(coupling=FrozenGrowth.condense)):
+            for dof in before:
+                bits.Set(dof)
+            for dof in self.pinned:
+                bits.Clear(dof)
+        self.freedofs = self.fes.FreeDofs(coupling=self.condense)
+        self._frozen = None         # made anew with these supports
+
+    def pin_rigid_motions(self):
+        """Pin the rigid-body motions that the Dirichlet boundaries and the supports leave
+        free (:func:`~ngincompat.fem.problem.rigid_pins`), now and after every change of the
+        supports."""
+        self._rigid = True
+        self.support(self.symmetry)
 
     def energy(self):
         """The energy of the current step at the current state, the sum of the terms'
@@ -217,9 +250,8 @@ class FrozenGrowth:
         for energy in energies:
             self.form += ngs.Variation(energy)
         self.pinned = problem.pinned
+        # the space's own array, whose held dofs the problem's support clears
         self.freedofs = self.fes.FreeDofs(coupling=self.condense)
-        for dof in self.pinned:
-            self.freedofs.Clear(dof)
 
     def accept_step(self):
         self.coupled.accept_step()

@@ -206,6 +206,7 @@ class GrowthMechanics:
             self.fes = self.space
             self.u = self.state = ngs.GridFunction(self.fes, name="displacement")
             self.pressure = None
+        # the space's own array, which NGSolve's BDDC preconditioner reads: pins cleared in it
         self.freedofs = self.fes.FreeDofs(coupling=condense)
         if not dirichlet:
             self.pinned = rigid_pins(mesh, self.fes)
@@ -434,9 +435,10 @@ def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None
     return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
 
 
-def rigid_pins(mesh, fes):
+def rigid_pins(mesh, fes, held=()):
     """Displacement dofs at vertices whose pinning removes exactly the rigid-body motions
-    that the boundary conditions of ``fes`` leave free.
+    that the boundary conditions of ``fes`` and the dofs ``held`` (fixed besides them)
+    leave free.
 
     ``fes`` is the displacement space (VectorH1), or a compound space whose first component
     it is. A rigid motion t + w x X is interpolated exactly by vertex dofs alone, so the six
@@ -458,7 +460,9 @@ def rigid_pins(mesh, fes):
     pts = np.array([v.point for v in mesh.vertices]).reshape(-1, d)
     dofs = np.array([fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))[:d]
                      for v in range(len(pts))], dtype=int).reshape(-1, d)
-    free = np.array(fes.FreeDofs(), dtype=bool)[dofs]
+    free = np.array(fes.FreeDofs(), dtype=bool)
+    free[list(held)] = False
+    free = free[dofs]
     if not parallel.distributed(mesh):
         return tuple(int(dofs[v, c]) for v, c in _pin_nodes(pts, free))
     # every rank chooses from all vertices (each once), then pins its own copies of them

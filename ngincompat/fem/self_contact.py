@@ -96,7 +96,7 @@ class SelfContact(Term):
     penalty ``penalty`` kappa (stress / length), the ramp rounded over the penetration
     ``width`` eps (length) and pairs searched within ``reach`` (length); ``mirrors`` the
     symmetry planes whose image of the boundary is a wall too, each a point P and the unit
-    normal m into the body (see the module's notes)."""
+    normal m into the body (see the module's notes), until :meth:`remove_mirrors`."""
 
     def __init__(self, boundary: str, penalty: float, width: float, reach: float,
                  mirrors=()):
@@ -110,6 +110,7 @@ class SelfContact(Term):
         for _, normal in self.mirrors:
             require(abs(math.hypot(*normal) - 1) < 1e-12, "mirror normal", normal,
                     "a unit vector")
+        self.mirrored = ngs.Parameter(1.0)       # 0: the mirrors' images are gone
 
     def attach(self, problem, unknowns):
         self.mesh, self.u, self.problem = problem.mesh, problem.u, problem
@@ -127,14 +128,23 @@ class SelfContact(Term):
         if not self.mirrors:
             return None
         u, v = problem.displacement.trial, problem.displacement.test
-        return self.mirror_energy(u).Diff(u, v).Compile() * self._measure()
+        return self.mirrored * self.mirror_energy(u).Diff(u, v).Compile() * self._measure()
+
+    def remove_mirrors(self):
+        """The symmetry planes are removed with the supports they were: their images are
+        walls no longer (in the residual, the energy and the measures)."""
+        self.mirrored.Set(0.0)
+
+    def _images(self):
+        """The mirrors whose images are walls now."""
+        return self.mirrors if self.mirrored.Get() else ()
 
     def mirror_gaps(self, u):
         """The gaps g_m = 2 (x - P) . m of the boundary's points to their images in the
         ``mirrors``, ``u`` the displacement (CFs)."""
         x = ngs.CF((ngs.x, ngs.y, ngs.z)[:self.mesh.dim]) + u
         return [2 * (x - ngs.CF(point[:self.mesh.dim])) * ngs.CF(normal[:self.mesh.dim])
-                for point, normal in self.mirrors]
+                for point, normal in self._images()]
 
     def mirror_energy(self, u):
         """The density of Pi_m, (kappa / 2) sum over the mirrors of R(-g_m) (a CF)."""
@@ -183,7 +193,7 @@ class SelfContact(Term):
     def energy(self):
         """Pi_c with the pairs of the last update, and Pi_m, at the current state."""
         energy = self.own.Energy(self.problem.state.vec)
-        if self.mirrors:
+        if self._images():
             energy += ngs.Integrate(self.mirror_energy(self.u), self.mesh, ngs.BND,
                                     definedon=self.mesh.Boundaries(self.boundary),
                                     order=2 * self.u.space.globalorder + 2)

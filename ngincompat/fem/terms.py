@@ -31,7 +31,7 @@ from typing import Protocol
 import ngsolve as ngs
 import numpy as np
 
-from ngincompat.fem.problem import compiled, rigid_pins
+from ngincompat.fem.problem import compiled
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.mechanics.growth import GrowthKind, growth_kind
@@ -252,7 +252,8 @@ class DeadTraction(Term):
     """A dead traction s t on the ``boundaries`` (a region expression such as "left|right"):
     the energy -s int t . u dA, the residual -s int t . v dA, with t the GridFunction
     ``field`` and s the Parameter ``scale`` (0 at first). :meth:`hold` sets t to the forces
-    that the supports of another problem exerted there, e.g. to remove them gradually."""
+    that supports exerted there, e.g. to remove them gradually once they are gone
+    (:meth:`~ngincompat.fem.coupled.CoupledProblem.support`)."""
 
     def __init__(self, boundaries: str):
         self.boundaries = boundaries
@@ -276,7 +277,7 @@ class DeadTraction(Term):
     def hold(self):
         """Hold the current state in equilibrium by this traction: t with
         int t . v dA = R(u) . v on the boundaries, R the problem's residual without it (the
-        reactions there of the supports of the problem the state comes from; elsewhere R is
+        reactions there of supports just removed; elsewhere R is
         its residual, about 0), i.e. t = M_b^-1 R with M_b the boundary mass matrix on the
         free dofs of the boundaries, and ``scale`` = 1. Returns the norm of R there."""
         problem = self.problem
@@ -390,7 +391,7 @@ class RigidPins(Term):
     a statically determinate support (:func:`~ngincompat.fem.problem.rigid_pins`)."""
 
     def attach(self, problem, unknowns):
-        problem.pin(rigid_pins(problem.mesh, problem.fes))
+        problem.pin_rigid_motions()
         return None
 
     def energy(self):

@@ -452,33 +452,35 @@ class FoldingCase:
                                           "subcortex": axons}, "f0")
         self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
                                       "subcortex": scene.axon_law()})
-        self.problem, self.growth, self.viscous, _, self.contact = self.coupled(GROWING)
-        self.released = self.released_growth = self.released_contact = None
+        self.problem, self.growth, self.viscous, self.load, self.contact = self.coupled()
+        self.released = False
+        self.grown = self.grown_contact = None
         self.reactions = float("nan")
         self.mode = None
         self.pairs = None
         self.frames = Frames.of(scene, mesh, lambda: {"u": self.problem.u,
                                                       "theta": self.growth.theta})
 
-    def coupled(self, symmetry, traction=None):
-        """The viscous coupled bilayer with the symmetry planes ``symmetry`` (and a dead
-        traction on the boundaries ``traction``), the top surface in self-contact
+    def coupled(self):
+        """The viscous coupled bilayer on its supports while growing (:data:`GROWING`),
+        which :meth:`release` changes to :data:`RELEASED`; a dead traction on the boundaries
+        the release frees (scale 0 until then); the top surface in self-contact
         (:class:`~ngincompat.fem.self_contact.SelfContact`, pairs within
-        :data:`CONTACT_REACH` cortex thicknesses, and with its images in the roller ends
-        among the planes: a sulcus there has its other wall in the image), its rigid motions
-        pinned: the problem and its growth, viscous, traction (or None) and contact
-        terms."""
+        :data:`CONTACT_REACH` cortex thicknesses, and with its images in the roller ends:
+        a sulcus there has its other wall in the image); its rigid motions pinned (none
+        while growing). One problem for every stage: its residual is compiled once.
+        Returns the problem and its growth, viscous, traction and contact terms."""
         scene = self.scene
         growth = GrowthEnergy("fiber", self.f0, self.law, self.material,
                               growth_order=scene.growth_order)
         viscous = ViscousRegularisation()
-        load = DeadTraction(traction) if traction else None
+        load = DeadTraction("|".join([*sorted(set(GROWING) - set(RELEASED)), "top"]))
         ends = {"left": ((0, 0, 0), (1, 0, 0)), "right": ((scene.length, 0, 0), (-1, 0, 0))}
         contact = SelfContact("top", scene.contact_penalty, scene.contact_width,
                               reach=CONTACT_REACH * scene.cortex_thickness,
-                              mirrors=[ends[end] for end in ends if symmetry.get(end) == "x"])
-        terms = [growth, viscous, *([load] if load else []), contact, RigidPins()]
-        problem = CoupledProblem(self.mesh, terms, order=scene.order, symmetry=symmetry,
+                              mirrors=[ends[end] for end in ends if GROWING.get(end) == "x"])
+        problem = CoupledProblem(self.mesh, [growth, viscous, load, contact, RigidPins()],
+                                 order=scene.order, symmetry=GROWING,
                                  realcompile=True if self.marches() else None)
         return problem, growth, viscous, load, contact
 
@@ -685,26 +687,29 @@ class FoldingCase:
                                max_steps=RELAXATION_STEPS)
 
     def release(self):
-        """The stages of the release from the current state, growth frozen: the bilayer
-        without the supports (:data:`RELEASED`) held by their reactions as a dead traction,
-        which ``unloading`` removes, then the relaxation to the released equilibrium. The
-        traction holds the top too: the pressure of the images of its walls in the roller
-        ends (:meth:`coupled`) is a reaction of the symmetry planes, gone with them."""
-        (self.released, self.released_growth, viscous, load,
-         self.released_contact) = self.coupled(
-            RELEASED, traction="|".join([*sorted(set(GROWING) - set(RELEASED)), "top"]))
-        self.released.state.vec.data = self.problem.state.vec
-        self.released_growth.theta_old.vec.data = self.growth.theta.vec
-        self.released_contact.update()
-        self.reactions = load.hold()
+        """The stages of the release from the current state, growth frozen: the grown state
+        is kept (:attr:`grown`, its contact measures :attr:`grown_contact`), the supports
+        become :data:`RELEASED` and the images of the top in the roller ends go with them;
+        the body is held by the supports' reactions as a dead traction, which ``unloading``
+        removes, then the relaxation finds the released equilibrium. The traction holds the
+        top too: the pressure of the images of its walls in the roller ends is a reaction
+        of the symmetry planes, gone with them."""
+        problem = self.problem
+        self.grown = ngs.GridFunction(problem.space, name="u")
+        self.grown.vec.data = problem.u.vec
+        self.grown_contact = self.contact.measures()
+        problem.support(RELEASED)
+        self.contact.remove_mirrors()
+        self.reactions = self.load.hold()
+        self.released = True
         # up to 20 iterations: on a creased bilayer the steps where a sulcus opens need more
         # than 12, and cutting them there multiplies the unloading's steps
         # (docs/measurements/folding.md, "Where the time goes on the creasing bilayer")
         unloading = newton(line_search=True, min_step=1e-6, rtol=FLOW_RTOL, max_iter=20)
-        return [UnloadingStage("unloading", self.released, viscous, load, self.eta,
+        return [UnloadingStage("unloading", problem, self.viscous, self.load, self.eta,
                                self.viscous_step(), options=unloading,
                                unit=self.scene.units["time"]),
-                self.relaxation("release", self.released, viscous)]
+                self.relaxation("release", problem, self.viscous)]
 
     def plan(self, branch, onset=True):
         """The names of the stages a run goes through after the stages ``branch`` of the
@@ -765,7 +770,7 @@ class FoldingCase:
                 equilibrium_residual=stage.final_residual / stage.initial_residual,
                 equilibrium_eigenvalue=stage.eigenvalue)
         elif stage.name == "release":
-            reactions = np.linalg.norm(pin_reactions(self.released))
+            reactions = np.linalg.norm(pin_reactions(self.problem))
             self.noted["release_reaction_rel"] = float(reactions / self.reactions)
 
     def interrupted(self, solution: Solution) -> Results:
@@ -780,22 +785,23 @@ class FoldingCase:
         results = self.interrupted(solution)
         results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
                             for branch, series in self.series.items() if series["t"]}
+        grown = self.problem.u if self.grown is None else self.grown
         if self.series["buckling"]["t"] and solution.converged:
-            _, u2 = self.top_profile(self.problem.u)    # of the final equilibrium
+            _, u2 = self.top_profile(grown)    # of the final equilibrium
             results.metrics["fold_amplitude"] = float(np.ptp(u2) / 2)
             count, depth = sulci(u2)
             results.metrics.update(sulci=count, sulcus_depth=depth)
         stretches = self.series["perfect"]["stretch"] + self.series["buckling"]["stretch"]
         if stretches:
             results.metrics["top_stretch_min"] = min(stretches)
-        flds = {"u": self.problem.u, "theta": self.growth.theta,
-                **self._stresses(self.growth, self.problem.u, "", results.metrics)}
-        results.metrics.update(self._contact_metrics(solution))
-        if self.released is not None and solution.converged:
-            flds["u_released"] = self.released.u
-            flds.update(self._stresses(self.released_growth, self.released.u, "_released",
+        flds = {"u": grown, "theta": self.growth.theta,
+                **self._stresses(self.growth, grown, "", results.metrics)}
+        results.metrics.update(self._contact_metrics(solution, grown))
+        if self.released and solution.converged:
+            flds["u_released"] = self.problem.u
+            flds.update(self._stresses(self.growth, self.problem.u, "_released",
                                        results.metrics))
-            results.metrics["top_curvature_released"] = self.top_curvature(self.released.u)
+            results.metrics["top_curvature_released"] = self.top_curvature(self.problem.u)
         if self.mode is not None:
             flds["buckling_mode"] = self.mode
             x, w = self.top_profile(self.mode)
@@ -813,21 +819,20 @@ class FoldingCase:
         results.figures = _figures(self.scene, results.profiles)
         return results
 
-    def _contact_metrics(self, solution):
-        """``Je_min`` over the records of the growth and the final states (grown and, if
-        released, released), the final grown state's ``self_contact_area`` (length of the
-        top line in contact) and the largest ``self_contact_penetration_max`` of the records
-        and that state."""
-        final = self.contact.measures()
-        jacobians = [self.elastic_jacobian_min(self.growth, self.problem.u)]
+    def _contact_metrics(self, solution, grown):
+        """``Je_min`` over the records of the growth and the final states (``grown``, the
+        displacement, and, if released, the released state), the final grown state's
+        ``self_contact_area`` (length of the top line in contact) and the largest
+        ``self_contact_penetration_max`` of the records and those states."""
+        final = self.contact.measures() if self.grown_contact is None else self.grown_contact
+        jacobians = [self.elastic_jacobian_min(self.growth, grown)]
         penetrations = [final["self_contact_penetration_max"]]
         for series in self.series.values():
             jacobians += series["Je_min"]
             penetrations += series["penetration"]
-        if self.released is not None and solution.converged:
-            jacobians.append(self.elastic_jacobian_min(self.released_growth, self.released.u))
-            penetrations.append(
-                self.released_contact.measures()["self_contact_penetration_max"])
+        if self.released and solution.converged:
+            jacobians.append(self.elastic_jacobian_min(self.growth, self.problem.u))
+            penetrations.append(self.contact.measures()["self_contact_penetration_max"])
         return {"Je_min": min(jacobians), "self_contact_area": final["self_contact_area"],
                 "self_contact_penetration_max": max(penetrations)}
 
