@@ -688,7 +688,7 @@ class FoldingCase:
 
     def release(self):
         """The stages of the release from the current state, growth frozen: the grown state
-        is kept (:attr:`grown`, its contact measures :attr:`grown_contact`), the supports
+        is kept (``grown``, its contact measures ``grown_contact``), the supports
         become :data:`RELEASED` and the images of the top in the roller ends go with them;
         the body is held by the supports' reactions as a dead traction, which ``unloading``
         removes, then the relaxation finds the released equilibrium. The traction holds the
