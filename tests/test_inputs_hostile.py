@@ -404,6 +404,24 @@ def test_tiny_positive_values_are_refused_before_meshing_in_one_line(scene, sett
     assert "Traceback" not in captured.err and not out.exists()
 
 
+@pytest.mark.parametrize("scene, setting", [("disc", "height=0.001"),
+                                            ("cylinder", "length=0.001")])
+def test_a_body_too_thin_to_mesh_is_bad_input_naming_its_lengths(scene, setting, tmp_path,
+                                                                 capsys):
+    """A disc 1e-3 high or a cylinder 1e-3 long at the preview's mesh size passes every range
+    and stopped Netgen's mesher with a traceback (exit 1): now exit 2, the last line of the
+    error naming the scene's lengths and what to change, and no folder left behind."""
+    key, value = setting.split("=")
+    out = tmp_path / "out"
+    assert main(["run", scene, "--preset", "preview", "--set", setting, "--out", str(out),
+                 "-q"]) == 2
+    captured = capsys.readouterr()
+    last = captured.err.strip().splitlines()[-1]
+    assert last.startswith(f"ngincompat: error: the mesher failed on this {scene} geometry")
+    assert f"{key} = {value}" in last and "maxh = " in last and "thinnest dimension" in last
+    assert "Traceback" not in captured.err and not out.exists()
+
+
 def test_a_stress_free_atrophy_has_a_zero_relative_residual():
     """A seed the mesh does not see (seed_radius at its floor, 10 um, in a 1 cm mesh)
     atrophies nothing: stresses and residual are 0, and their ratio was a ZeroDivisionError."""

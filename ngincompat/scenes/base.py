@@ -144,6 +144,18 @@ class Scene:
                     f"{value:.2g} {what} at order {self.order}, more than {key} = {limit} "
                     f"(raise it with --set {key}=N if the machine has the memory)")
 
+    def unmeshable(self, error) -> str:
+        """The message for a geometry the mesher failed on (``error``, Netgen's), naming the
+        scene's lengths: a body far thinner than its mesh size (a disc 1e-3 high with
+        ``maxh`` 0.2) passes every range and stops the mesher."""
+        lengths = ", ".join(f"{name} = {getattr(self, name):g}"
+                            for name, p in self.declarations().items()
+                            if p.unit == "length" and isinstance(getattr(self, name), float))
+        return (f"the mesher failed on this {self.name} geometry ({str(error).strip()}): "
+                f"its lengths are {lengths} ({self.units['length']}); a body much thinner "
+                "than its mesh size cannot be meshed: make its thinnest dimension at least "
+                "about the mesh size, or the mesh sizes smaller")
+
     def output_set(self):
         """The optional files this run writes, as a set of names."""
         return set(self.outputs)

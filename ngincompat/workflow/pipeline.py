@@ -23,8 +23,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
+from netgen.libngpy._meshing import NgException
+
 from ngincompat import parallel
-from ngincompat.errors import ConvergenceError, Interrupted, InterruptedBeforeComputing
+from ngincompat.errors import (
+    ConvergenceError,
+    Interrupted,
+    InterruptedBeforeComputing,
+    ParameterError,
+)
 from ngincompat.fem import work
 from ngincompat.fem.solver import SolverHistory
 from ngincompat.progress import SILENT, Progress
@@ -165,6 +172,10 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
 
     Raises
     ------
+    ParameterError
+        ``out`` cannot take the run, or the mesher failed on the scene's geometry
+        (:meth:`~ngincompat.scenes.base.Scene.unmeshable`: a body far thinner than its mesh
+        size); nothing is written.
     ConvergenceError
         A stage did not converge; the results of the last converged state were measured and
         written first and are in the exception's ``results``.
@@ -194,6 +205,8 @@ def _run(scene, out, progress, label):
         except KeyboardInterrupt:
             raise InterruptedBeforeComputing("interrupted while meshing: nothing was computed, "
                                              "nothing written") from None
+        except NgException as err:
+            raise ParameterError(scene.unmeshable(err)) from None
         solution = Solution()
         try:
             case.solve(solution, progress, out)
