@@ -453,8 +453,7 @@ class FoldingCase:
         self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
                                       "subcortex": scene.axon_law()})
         self.problem, self.growth, self.viscous, self.load, self.contact = self.coupled()
-        self.released = False
-        self.grown = self.grown_contact = None
+        self.grown = self.grown_contact = None       # kept by the release
         self.reactions = float("nan")
         self.mode = None
         self.pairs = None
@@ -686,6 +685,16 @@ class FoldingCase:
                                flow_rtol=FLOW_RTOL, switch=RELAXATION_SWITCH,
                                max_steps=RELAXATION_STEPS)
 
+    @property
+    def released(self):
+        """Whether :meth:`release` has begun (the supports removed)."""
+        return self.grown is not None
+
+    @property
+    def grown_u(self):
+        """The displacement of the grown state: kept by the release, else the current one."""
+        return self.problem.u if self.grown is None else self.grown
+
     def release(self):
         """The stages of the release from the current state, growth frozen: the grown state
         is kept (``grown``, its contact measures ``grown_contact``), the supports
@@ -701,7 +710,6 @@ class FoldingCase:
         problem.support(RELEASED)
         self.contact.remove_mirrors()
         self.reactions = self.load.hold()
-        self.released = True
         # up to 20 iterations: on a creased bilayer the steps where a sulcus opens need more
         # than 12, and cutting them there multiplies the unloading's steps
         # (docs/measurements/folding.md, "Where the time goes on the creasing bilayer")
@@ -785,18 +793,17 @@ class FoldingCase:
         results = self.interrupted(solution)
         results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
                             for branch, series in self.series.items() if series["t"]}
-        grown = self.problem.u if self.grown is None else self.grown
         if self.series["buckling"]["t"] and solution.converged:
-            _, u2 = self.top_profile(grown)    # of the final equilibrium
+            _, u2 = self.top_profile(self.grown_u)    # of the final equilibrium
             results.metrics["fold_amplitude"] = float(np.ptp(u2) / 2)
             count, depth = sulci(u2)
             results.metrics.update(sulci=count, sulcus_depth=depth)
         stretches = self.series["perfect"]["stretch"] + self.series["buckling"]["stretch"]
         if stretches:
             results.metrics["top_stretch_min"] = min(stretches)
-        flds = {"u": grown, "theta": self.growth.theta,
-                **self._stresses(self.growth, grown, "", results.metrics)}
-        results.metrics.update(self._contact_metrics(solution, grown))
+        flds = {"u": self.grown_u, "theta": self.growth.theta,
+                **self._stresses(self.growth, self.grown_u, "", results.metrics)}
+        results.metrics.update(self._contact_metrics(solution))
         if self.released and solution.converged:
             flds["u_released"] = self.problem.u
             flds.update(self._stresses(self.growth, self.problem.u, "_released",
@@ -819,13 +826,13 @@ class FoldingCase:
         results.figures = _figures(self.scene, results.profiles)
         return results
 
-    def _contact_metrics(self, solution, grown):
-        """``Je_min`` over the records of the growth and the final states (``grown``, the
-        displacement, and, if released, the released state), the final grown state's
+    def _contact_metrics(self, solution):
+        """``Je_min`` over the records of the growth and the final states (grown and, if
+        released, released), the final grown state's
         ``self_contact_area`` (length of the top line in contact) and the largest
         ``self_contact_penetration_max`` of the records and those states."""
         final = self.contact.measures() if self.grown_contact is None else self.grown_contact
-        jacobians = [self.elastic_jacobian_min(self.growth, grown)]
+        jacobians = [self.elastic_jacobian_min(self.growth, self.grown_u)]
         penetrations = [final["self_contact_penetration_max"]]
         for series in self.series.values():
             jacobians += series["Je_min"]
