@@ -8,7 +8,7 @@ reported as they happen in both cases. ``Progress(quiet=True)`` reports nothing.
 Library code reports through a :class:`Progress` it is handed (never ``print``); the command
 line makes one on standard error.
 
-A marching stage reads "[folding] unloading (stage 5 of 6): t = 0.345/2.76 day (3 Newton
+A marching stage reads "[folding] buckling (stage 3 of 5): t = 61.25/75 day (3 Newton
 iterations)": the stage's place in the case's :meth:`Progress.plan` (when the plan has more
 than one stage), times to four significant digits, and the unit of the marching parameter
 (none for the load fraction of prescribed growth, which runs from 0 to 1).
@@ -99,7 +99,7 @@ class Progress:
         self._plan = list(stages)
 
     def stage_label(self, stage: str) -> str:
-        """``stage`` with its place in the plan, "unloading (stage 5 of 6)"; the bare name
+        """``stage`` with its place in the plan, "buckling (stage 3 of 5)"; the bare name
         when it is not planned or is the only stage."""
         if stage in self._plan and len(self._plan) > 1:
             return f"{stage} (stage {self._plan.index(stage) + 1} of {len(self._plan)})"

@@ -8,7 +8,13 @@ import pytest
 from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.fem.solver import BACKTRACKS, NewtonOptions, NewtonSolver, _stalled
+from ngincompat.fem.solver import (
+    BACKTRACKS,
+    NewtonOptions,
+    NewtonSolver,
+    StepRecord,
+    _stalled,
+)
 from ngincompat.fem.stepping import solve_growth
 from ngincompat.fem.symmetric import SymmetricPart
 
@@ -82,6 +88,28 @@ def test_finite_backtracking_takes_a_full_step_that_raises_the_residual():
     assert verdicts == {"descent": [False, False], "finite": [True, False]}
     with pytest.raises(ParameterError, match="backtrack"):
         NewtonOptions(backtrack="armijo")
+
+
+def test_one_newton_step_is_taken_in_full_or_not_at_all():
+    """:meth:`NewtonSolver.step` (a pseudo-time step of a relaxation): from u = 0 under a
+    small growth the full step leaves a residual far below the start's (Newton's, nearly
+    linear there); under theta = 1 + X1 at order 3 the full step inverts elements, and the
+    state is given back exactly as it was."""
+    for a, order, taken in ((0.02, 2, True), (1.0, 3, False)):
+        problem, time = cube_problem(a=a, order=order)
+        time.Set(1.0)
+        solver = NewtonSolver(problem, NewtonOptions(predictor=False))
+        start = problem.u.vec.FV().NumPy().copy()
+        record = StepRecord(t=1.0, dt=1.0, converged=False)
+        assert solver.step(record) is taken
+        assert record.iterations == 1 and record.tangents == 1
+        after = solver.residual().Norm()
+        if taken:
+            assert np.isfinite(after) and after < 1e-2 * record.residuals[0]
+            assert np.abs(problem.u.vec.FV().NumPy() - start).max() > 0
+        else:
+            assert "not finite" in record.reason
+            np.testing.assert_array_equal(problem.u.vec.FV().NumPy(), start)
 
 
 def test_failed_step_is_cut_and_last_converged_state_is_kept():

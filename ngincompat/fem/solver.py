@@ -408,6 +408,32 @@ class NewtonSolver:
         self.residual()
         return 0.0, E
 
+    def step(self, record):
+        """One Newton iteration from the current state, taken in full: the tangent assembled
+        and factorised there, the state moved by the whole direction. Fills ``record`` (one
+        iteration, one tangent, the residual at the start); returns False, the state
+        restored, where the residual there or after is not finite (an element inverted). It
+        does not judge the new state: its caller does (e.g. by an energy)."""
+        u = self.problem.state.vec
+        r = self.residual()
+        record.residuals.append(r.Norm())
+        record.iterations = 1
+        if not math.isfinite(record.residuals[-1]):
+            record.reason = "residual is not finite at the start of the step"
+            return False
+        self.factorise()
+        record.tangents += 1
+        self._u0.data = u
+        u.data -= self.direction()
+        if self._linear is not None:
+            record.linear_iterations.append(self._linear.iterations)
+        if not math.isfinite(self.residual().Norm()):
+            u.data = self._u0
+            self.residual()
+            record.reason = "residual is not finite"
+            return False
+        return True
+
     def minimise(self, record):
         """Newton iterations at the current load; fills ``record``; returns True if converged."""
         opts = self.options

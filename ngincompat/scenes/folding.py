@@ -83,11 +83,9 @@ Boundary conditions while growing: u1 = 0 at both ends, u2 = 0 at the bottom. St
    the statically determinate pins of :func:`~ngincompat.fem.problem.rigid_pins` (three
    displacement components at vertices), whose reactions vanish for the
    self-equilibrated body: ``release_reaction_rel``, their norm relative to the forces the
-   removed supports carried, measures it. The supports' reactions are first put back
-   as a dead traction (:meth:`~ngincompat.fem.terms.DeadTraction.hold`), which
-   ``unloading`` (:class:`~ngincompat.fem.stages.UnloadingStage`) ramps to zero with the
-   viscous regularisation on; the relaxation then finds the released equilibrium. The
-   remaining stress is the incompatibility's.
+   removed supports carried, measures it. The relaxation of the equilibrium, started
+   with those forces unbalanced, finds the released equilibrium. The remaining stress is
+   the incompatibility's.
 
 Measured after the stages: ``fold_amplitude`` of the final equilibrium, its ``sulci`` (the
 troughs of the deformed top, one on a roller end counting one half) and ``sulcus_depth`` (the
@@ -115,7 +113,7 @@ a panel whose fields a run has, e.g. after the release, is drawn), and along the
 through the middle (profile "depth").
 
 Why one module: the scene's parameters, the stages of its case (approach, perfect branch,
-buckling, equilibrium, unloading, release) and its measures all turn on the same bilayer and
+buckling, equilibrium, release) and its measures all turn on the same bilayer and
 its bifurcation onset, and a split would pass that state between modules; a sixth of the
 lines are this description.
 """
@@ -134,9 +132,9 @@ from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import pin_reactions
 from ngincompat.fem.self_contact import SelfContact
 from ngincompat.fem.shape import circle_curvature, sulci
-from ngincompat.fem.solver import NewtonOptions
-from ngincompat.fem.stages import CoupledStage, RelaxationStage, UnloadingStage
-from ngincompat.fem.terms import DeadTraction, GrowthEnergy, RigidPins, ViscousRegularisation
+from ngincompat.fem.solver import NewtonOptions, NewtonSolver
+from ngincompat.fem.stages import CoupledStage, RelaxationStage
+from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import FiberGrowth
@@ -189,14 +187,6 @@ CONTACT_REACH = 0.25
 #: At most ``KRYLOV_MAXITER`` iterations: where the preconditioner is poor the step is cut.
 LINEAR_SOLVER = "symmetric-gmres"
 KRYLOV_MAXITER = 100
-
-#: Relative residual to which the steps of the viscous paths at frozen growth are solved:
-#: those of the unloading and of the relaxations' flows. Their states only lead to the
-#: equilibrium, which Newton then solves to ``rtol`` without the viscosity. On the default
-#: bilayer's release (two threads, quiet machine) the unloading took 101 Newton iterations
-#: and the release 74, against 119 and 119 solved to 1e-9, with the same released state
-#: (strain energy equal to 1e-14 relative).
-FLOW_RTOL = 1e-3
 
 #: Relative residual to which the viscous march's steps are solved: its states are a path
 #: whose error in time (implicit Euler over steps of days) is far above this, and the
@@ -452,7 +442,7 @@ class FoldingCase:
                                           "subcortex": axons}, "f0")
         self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
                                       "subcortex": scene.axon_law()})
-        self.problem, self.growth, self.viscous, self.load, self.contact = self.coupled()
+        self.problem, self.growth, self.viscous, self.contact = self.coupled()
         self.grown = self.grown_contact = None       # kept by the release
         self.reactions = float("nan")
         self.mode = None
@@ -462,26 +452,24 @@ class FoldingCase:
 
     def coupled(self):
         """The viscous coupled bilayer on its supports while growing (:data:`GROWING`),
-        which :meth:`release` changes to :data:`RELEASED`; a dead traction on the boundaries
-        the release frees (scale 0 until then); the top surface in self-contact
+        which :meth:`release` changes to :data:`RELEASED`; the top surface in self-contact
         (:class:`~ngincompat.fem.self_contact.SelfContact`, pairs within
         :data:`CONTACT_REACH` cortex thicknesses, and with its images in the roller ends:
         a sulcus there has its other wall in the image); its rigid motions pinned (none
         while growing). One problem for every stage: its residual is compiled once.
-        Returns the problem and its growth, viscous, traction and contact terms."""
+        Returns the problem and its growth, viscous and contact terms."""
         scene = self.scene
         growth = GrowthEnergy("fiber", self.f0, self.law, self.material,
                               growth_order=scene.growth_order)
         viscous = ViscousRegularisation()
-        load = DeadTraction("|".join([*sorted(set(GROWING) - set(RELEASED)), "top"]))
         ends = {"left": ((0, 0, 0), (1, 0, 0)), "right": ((scene.length, 0, 0), (-1, 0, 0))}
         contact = SelfContact("top", scene.contact_penalty, scene.contact_width,
                               reach=CONTACT_REACH * scene.cortex_thickness,
                               mirrors=[ends[end] for end in ends if GROWING.get(end) == "x"])
-        problem = CoupledProblem(self.mesh, [growth, viscous, load, contact, RigidPins()],
+        problem = CoupledProblem(self.mesh, [growth, viscous, contact, RigidPins()],
                                  order=scene.order, symmetry=GROWING,
                                  realcompile=True if self.marches() else None)
-        return problem, growth, viscous, load, contact
+        return problem, growth, viscous, contact
 
     def _along_top(self, cf, n):
         """X1 and the values of ``cf`` at ``n`` points along the top surface."""
@@ -682,7 +670,7 @@ class FoldingCase:
         return RelaxationStage(name, problem, viscous, self.eta, self.viscous_step(),
                                options=options,
                                unit=self.scene.units["time"], eigenpairs=EIGENPAIRS,
-                               flow_rtol=FLOW_RTOL, switch=RELAXATION_SWITCH,
+                               switch=RELAXATION_SWITCH,
                                max_steps=RELAXATION_STEPS)
 
     @property
@@ -696,28 +684,24 @@ class FoldingCase:
         return self.problem.u if self.grown is None else self.grown
 
     def release(self):
-        """The stages of the release from the current state, growth frozen: the grown state
-        is kept (``grown``, its contact measures ``grown_contact``), the supports
-        become :data:`RELEASED` and the images of the top in the roller ends go with them;
-        the body is held by the supports' reactions as a dead traction, which ``unloading``
-        removes, then the relaxation finds the released equilibrium. The traction holds the
-        top too: the pressure of the images of its walls in the roller ends is a reaction
-        of the symmetry planes, gone with them."""
+        """The stage of the release from the current state, growth frozen: the grown state
+        is kept (``grown``, its contact measures ``grown_contact``), the supports become
+        :data:`RELEASED` and the images of the top in the roller ends go with them (the
+        pressure of the images of its walls was a reaction of the symmetry planes); the
+        forces they carried (``reactions``, the residual's norm there now) are the
+        imbalance from which the relaxation finds the released equilibrium. Its first
+        pseudo-time steps are short gradient steps, which the jump survives: ramping
+        those forces off first (an unloading at the viscosity) cost 78-294 Newton
+        iterations and reached the same equilibrium (``docs/measurements/folding.md``,
+        "The release in contact")."""
         problem = self.problem
         self.grown = ngs.GridFunction(problem.space, name="u")
         self.grown.vec.data = problem.u.vec
         self.grown_contact = self.contact.measures()
         problem.support(RELEASED)
         self.contact.remove_mirrors()
-        self.reactions = self.load.hold()
-        # up to 20 iterations: on a creased bilayer the steps where a sulcus opens need more
-        # than 12, and cutting them there multiplies the unloading's steps
-        # (docs/measurements/folding.md, "Where the time goes on the creasing bilayer")
-        unloading = newton(line_search=True, min_step=1e-6, rtol=FLOW_RTOL, max_iter=20)
-        return [UnloadingStage("unloading", problem, self.viscous, self.load, self.eta,
-                               self.viscous_step(), options=unloading,
-                               unit=self.scene.units["time"]),
-                self.relaxation("release", problem, self.viscous)]
+        self.reactions = NewtonSolver(problem).residual().Norm()
+        return [self.relaxation("release", problem, self.viscous)]
 
     def plan(self, branch, onset=True):
         """The names of the stages a run goes through after the stages ``branch`` of the
@@ -725,7 +709,7 @@ class FoldingCase:
         names = [stage.name for stage in branch]
         if onset and self.scene.buckle:
             names += ["buckling", "equilibrium"]
-        return names + (["unloading", "release"] if self.scene.release else [])
+        return names + (["release"] if self.scene.release else [])
 
     def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
         solution.state = self.problem
