@@ -90,26 +90,34 @@ def test_finite_backtracking_takes_a_full_step_that_raises_the_residual():
         NewtonOptions(backtrack="armijo")
 
 
-def test_one_newton_step_is_taken_in_full_or_not_at_all():
+def test_one_newton_step_is_taken_as_far_as_it_is_acceptable():
     """:meth:`NewtonSolver.step` (a pseudo-time step of a relaxation): from u = 0 under a
-    small growth the full step leaves a residual far below the start's (Newton's, nearly
-    linear there); under theta = 1 + X1 at order 3 the full step inverts elements, and the
+    small growth the full step is acceptable and leaves a residual far below the start's
+    (Newton's, nearly linear there); under theta = 1 + X1 at order 3 the full step inverts
+    elements, and the step is shortened to a finite state; where nothing is acceptable the
     state is given back exactly as it was."""
-    for a, order, taken in ((0.02, 2, True), (1.0, 3, False)):
+    def finite():
+        return np.isfinite(solver.energy(problem.u.vec))
+
+    for a, order, acceptable, length in ((0.02, 2, "finite", 1.0), (1.0, 3, "finite", "< 1"),
+                                         (1.0, 3, "never", 0.0)):
         problem, time = cube_problem(a=a, order=order)
         time.Set(1.0)
-        solver = NewtonSolver(problem, NewtonOptions(predictor=False))
+        solver = NewtonSolver(problem, NewtonOptions(predictor=False, max_backtracks=8))
         start = problem.u.vec.FV().NumPy().copy()
         record = StepRecord(t=1.0, dt=1.0, converged=False)
-        assert solver.step(record) is taken
+        alpha = solver.step(record, finite if acceptable == "finite" else lambda: False)
         assert record.iterations == 1 and record.tangents == 1
-        after = solver.residual().Norm()
-        if taken:
-            assert np.isfinite(after) and after < 1e-2 * record.residuals[0]
-            assert np.abs(problem.u.vec.FV().NumPy() - start).max() > 0
+        moved = np.abs(problem.u.vec.FV().NumPy() - start).max()
+        if length == 1.0:
+            assert alpha == 1.0
+            assert solver.residual().Norm() < 1e-2 * record.residuals[0]
+        elif length == "< 1":
+            assert 2 ** -8 <= alpha < 1 and finite() and moved > 0
+            problem.u.vec.FV().NumPy()[:] = start - (start - problem.u.vec.FV().NumPy()) / alpha
+            assert not finite()                 # the full step inverts elements
         else:
-            assert "not finite" in record.reason
-            np.testing.assert_array_equal(problem.u.vec.FV().NumPy(), start)
+            assert alpha == 0.0 and moved == 0.0 and "acceptable" in record.reason
 
 
 def test_failed_step_is_cut_and_last_converged_state_is_kept():

@@ -178,9 +178,11 @@ def test_the_relaxation_needs_a_step(max_steps):
         RelaxationStage("release", None, None, viscosity=1.0, dt=1.0, max_steps=max_steps)
 
 
-def _relax_a_fake_flow(monkeypatch, fails, fall, options=None, repair=0.0):
+def _relax_a_fake_flow(monkeypatch, fails, fall, options=None, repair=0.0,
+                       length=lambda tau: 1.0):
     """Run a :class:`RelaxationStage` whose Newton solver is a stand-in: a step of the flow
-    fails where ``fails(tau)`` (as an inverted element), else it is taken;
+    fails where ``fails(tau)`` (as an inverted element), else it is taken to the length
+    ``length(tau)`` of its direction;
     each accepted step lowers the energy by 1, and the update after it (new contact pairs)
     raises the energy of the same state by ``repair``; the flow's residual falls by
     ``fall`` of its start per accepted step, and Newton without viscosity converges to a
@@ -200,13 +202,13 @@ def _relax_a_fake_flow(monkeypatch, fails, fall, options=None, repair=0.0):
             record.residuals = [1e-12]
             return True
 
-        def step(self, record):           # one step of the flow
+        def step(self, record, acceptable):    # one step of the flow, in full or not
             assert record.dt > 0
             record.iterations = 1
             if fails(record.dt):
                 record.reason = "residual is not finite"
-                return False
-            return True
+                return 0.0
+            return length(record.dt)
 
         def residual(self):
             return SimpleNamespace(Norm=lambda: 1.0 - fall * len(accepted))
@@ -258,3 +260,16 @@ def test_the_relaxation_compares_a_step_with_the_energy_of_its_own_contact_pairs
     _, history, accepted = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1, repair=5.0)
     assert history.converged and accepted == 9
     assert all(step.converged for step in history.steps)
+
+
+def test_a_shortened_step_shortens_the_next_and_holds_it(monkeypatch):
+    """Steps longer than 0.5 are acceptable only at a quarter of their direction: the step
+    of 1 is taken at 1/4, the next is 1/4 and held for ``step_hold`` = 1 accepted step,
+    then it doubles to 1/2, 1 (shortened again), ...; no step is rejected."""
+    _, history, accepted = _relax_a_fake_flow(
+        monkeypatch, lambda tau: False, 0.1, NewtonOptions(step_hold=1),
+        length=lambda tau: 0.25 if tau > 0.5 else 1.0)
+    taus = [step.dt for step in history.steps if step.dt > 0]
+    assert history.converged and accepted == 9
+    assert all(step.converged for step in history.steps)
+    assert taus[:6] == [1.0, 0.25, 0.25, 0.5, 1.0, 0.25]

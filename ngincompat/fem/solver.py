@@ -408,31 +408,37 @@ class NewtonSolver:
         self.residual()
         return 0.0, E
 
-    def step(self, record):
-        """One Newton iteration from the current state, taken in full: the tangent assembled
-        and factorised there, the state moved by the whole direction. Fills ``record`` (one
-        iteration, one tangent, the residual at the start); returns False, the state
-        restored, where the residual there or after is not finite (an element inverted). It
-        does not judge the new state: its caller does (e.g. by an energy)."""
+    def step(self, record, acceptable):
+        """One Newton step from the current state: the tangent assembled and factorised there
+        once, the state moved along its direction by the longest of 1, 1/2, 1/4, ... (at
+        most ``max_backtracks`` halvings) at which ``acceptable()`` holds (called with the
+        trial state in place, e.g. an energy that must fall). Fills ``record`` (one
+        iteration, one tangent, the residual at the start, the step length); returns the
+        step length, or 0 with the state restored where none was acceptable or the residual
+        at the start is not finite."""
         u = self.problem.state.vec
         r = self.residual()
         record.residuals.append(r.Norm())
         record.iterations = 1
         if not math.isfinite(record.residuals[-1]):
             record.reason = "residual is not finite at the start of the step"
-            return False
+            return 0.0
         self.factorise()
         record.tangents += 1
         self._u0.data = u
-        u.data -= self.direction()
+        du = self.direction()
         if self._linear is not None:
             record.linear_iterations.append(self._linear.iterations)
-        if not math.isfinite(self.residual().Norm()):
-            u.data = self._u0
-            self.residual()
-            record.reason = "residual is not finite"
-            return False
-        return True
+        alpha = 1.0
+        for _ in range(self.options.max_backtracks + 1):
+            u.data = self._u0 - alpha * du
+            if acceptable():
+                record.line_search.append(alpha)
+                return alpha
+            alpha /= 2
+        u.data = self._u0
+        record.reason = "no step along the direction was acceptable"
+        return 0.0
 
     def minimise(self, record):
         """Newton iterations at the current load; fills ``record``; returns True if converged."""

@@ -21,6 +21,7 @@ Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -329,14 +330,18 @@ class RelaxationStage:
     energy falls. Along an unstable mode (K w = omega M w, omega < 0) a step tau > eta /
     |omega| breaks this: in the linear model Phi(u_n+1) - Pi(u_n) = |omega| a^2 c /
     (2 (c - 1)), c = tau |omega| / eta, for a mode amplitude a, positive for c > 1, where the
-    step goes back toward the saddle. A step that raises Phi above Pi(u_n), or whose state
-    is not finite (an element inverted), is rejected and retried at half the size. Pi(u_n)
+    step goes back toward the saddle. Where the full step raises Phi above Pi(u_n), or its
+    state is not finite (an element inverted), the state moves along the same direction by
+    1/2, 1/4, ... of it (at most ``options.max_backtracks`` halvings), the first length
+    alpha at which Phi falls below Pi(u_n): a line search, an energy per try instead of a
+    tangent, and the next tau is alpha tau. Where no length does, the step is rejected and
+    retried at half the size. Pi(u_n)
     is the energy as the terms define it after the last accepted step: a
     :class:`~ngincompat.fem.self_contact.SelfContact` pairs its points anew there, which
     changes the energy of the same state where its walls touch, and the next step's Phi is
-    made of the new pairs. After an accepted step tau doubles, unless it is one of the
-    ``options.step_hold`` accepted steps after a rejected one. The flow so leaves saddles
-    and settles in a stable equilibrium.
+    made of the new pairs. After an accepted full step tau doubles, unless it is one of
+    the ``options.step_hold`` accepted steps after a rejected or shortened one. The flow so
+    leaves saddles and settles in a stable equilibrium.
 
     The residual without viscosity at u_n+1 is r(u_n+1). Once it is below ``switch`` times
     its value at the start (:attr:`initial_residual`), Newton solves the equilibrium
@@ -397,13 +402,9 @@ class RelaxationStage:
                 while accepted < self.max_steps:
                     problem.dt.Set(tau)
                     record = StepRecord(t=t + tau, dt=tau, converged=False)
-                    if solver.step(record):
-                        record.energy = problem.frozen_energy()
-                        phi = problem.energy()                  # Phi(u_n+1)
-                        record.converged = (math.isfinite(phi)
-                                            and phi <= energy + 1e-12 * abs(energy))
-                        if not record.converged:
-                            record.reason = "the step raised the energy (a saddle)"
+                    alpha = solver.step(record, functools.partial(self._lowers, energy))
+                    if alpha > 0:
+                        record.converged, record.energy = True, problem.frozen_energy()
                     history.steps.append(record)
                     if not record.converged:
                         problem.state.vec.data = saved
@@ -429,7 +430,10 @@ class RelaxationStage:
                             history.converged = True
                             return history
                         attempt = residual
-                    if held:
+                    if alpha < 1:
+                        tau *= alpha
+                        held = self.options.step_hold
+                    elif held:
                         held -= 1
                     else:
                         tau *= 2
@@ -443,6 +447,12 @@ class RelaxationStage:
     @property
     def _unit(self) -> str:
         return f" {self.unit}" if self.unit else ""
+
+    def _lowers(self, energy) -> bool:
+        """Is Phi at the current state finite and at most ``energy`` (Pi(u_n)), beyond
+        round-off?"""
+        phi = self.problem.energy()
+        return math.isfinite(phi) and phi <= energy + 1e-12 * abs(energy)
 
     def _residual(self, solver) -> float:
         """The norm of the residual without viscosity at the current state."""
