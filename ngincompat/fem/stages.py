@@ -335,8 +335,8 @@ class RelaxationStage:
     1/2, 1/4, ... of it (at most ``options.max_backtracks`` halvings), the first length
     alpha at which Phi falls below Pi(u_n): a line search, an energy per try instead of a
     tangent, and the next tau is alpha tau. Where no length does, the step is rejected and
-    retried at half the size. Pi(u_n)
-    is the energy as the terms define it after the last accepted step: a
+    retried at half the size. Pi(u_n) is the energy as the terms define it after the last
+    accepted step: a
     :class:`~ngincompat.fem.self_contact.SelfContact` pairs its points anew there, which
     changes the energy of the same state where its walls touch, and the next step's Phi is
     made of the new pairs. After an accepted full step tau doubles, unless it is one of

@@ -83,9 +83,9 @@ Boundary conditions while growing: u1 = 0 at both ends, u2 = 0 at the bottom. St
    the statically determinate pins of :func:`~ngincompat.fem.problem.rigid_pins` (three
    displacement components at vertices), whose reactions vanish for the
    self-equilibrated body: ``release_reaction_rel``, their norm relative to the forces the
-   removed supports carried, measures it. The relaxation of the equilibrium, started
-   with those forces unbalanced, finds the released equilibrium. The remaining stress is
-   the incompatibility's.
+   removed supports carried, measures it. The relaxation, started with those forces
+   unbalanced, finds the released equilibrium. The remaining stress is the
+   incompatibility's.
 
 Measured after the stages: ``fold_amplitude`` of the final equilibrium, its ``sulci`` (the
 troughs of the deformed top, one on a roller end counting one half) and ``sulcus_depth`` (the
@@ -704,7 +704,7 @@ class FoldingCase:
         self.grown_contact = self.contact.measures()
         problem.support(RELEASED)
         self.contact.remove_mirrors()
-        self.reactions = NewtonSolver(problem).residual().Norm()
+        self.reactions = NewtonSolver(problem, newton()).residual().Norm()
         return [self.relaxation("release", problem, self.viscous)]
 
     def plan(self, branch, onset=True):
