@@ -396,17 +396,32 @@ class NewtonSolver:
             # the full step; without an energy the caller's residual there is the merit
             u.data = self._u0 - du
             return 1.0, self.energy(u) if self.has_energy else E
-        alpha = 1.0
-        for _ in range(opts.max_backtracks):
-            u.data = self._u0 - alpha * du
-            E_new = self.energy(u) if self.has_energy else _merit(
+        trial = {}
+
+        def acceptable(alpha):
+            trial["E"] = E_new = self.energy(u) if self.has_energy else _merit(
                 self.residual().Norm())
-            if self._acceptable(E, E_new, alpha, slope, r_norm):
-                return alpha, E_new
+            return self._acceptable(E, E_new, alpha, slope, r_norm)
+
+        alpha = self._backtrack(du, acceptable, opts.max_backtracks)
+        if alpha == 0.0:
+            self.residual()
+            return 0.0, E
+        return alpha, trial["E"]
+
+    def _backtrack(self, du, acceptable, tries):
+        """Move the state from ``_u0`` along -``du`` by the first of ``tries`` lengths 1,
+        1/2, 1/4, ... at which ``acceptable(alpha)`` holds (the trial state in place);
+        returns that length, or 0 with the state back at ``_u0``."""
+        u = self.problem.state.vec
+        alpha = 1.0
+        for _ in range(tries):
+            u.data = self._u0 - alpha * du
+            if acceptable(alpha):
+                return alpha
             alpha /= 2
         u.data = self._u0
-        self.residual()
-        return 0.0, E
+        return 0.0
 
     def step(self, record, acceptable):
         """One Newton step from the current state: the tangent assembled and factorised there
@@ -429,16 +444,12 @@ class NewtonSolver:
         du = self.direction()
         if self._linear is not None:
             record.linear_iterations.append(self._linear.iterations)
-        alpha = 1.0
-        for _ in range(self.options.max_backtracks + 1):
-            u.data = self._u0 - alpha * du
-            if acceptable():
-                record.line_search.append(alpha)
-                return alpha
-            alpha /= 2
-        u.data = self._u0
-        record.reason = "no step along the direction was acceptable"
-        return 0.0
+        alpha = self._backtrack(du, lambda _: acceptable(), self.options.max_backtracks + 1)
+        if alpha == 0.0:
+            record.reason = "no step along the direction was acceptable"
+        else:
+            record.line_search.append(alpha)
+        return alpha
 
     def minimise(self, record):
         """Newton iterations at the current load; fills ``record``; returns True if converged."""
