@@ -25,7 +25,7 @@ from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDriven
 from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import SILENT
 from ngincompat.references.bifurcation import critical_growth, onset, prebuckled_cortex
-from ngincompat.scenes.folding import CREASE_STRETCH, FoldingScene
+from ngincompat.scenes.folding import CREASE_STRETCH, SNAP_STEP, FoldingScene
 from ngincompat.studies import folding
 from ngincompat.workflow.pipeline import Solution
 
@@ -274,15 +274,19 @@ def test_the_short_steps_start_two_onset_steps_before_the_analysis_onset():
 
 def test_the_march_steps_are_capped_by_the_unstable_mode_and_onset_dt():
     """The viscous march starts at the onset step with steps up to eta / (2 |omega_onset|)
-    (the unstable mode at most doubles per step) and ``onset_dt``."""
+    (the unstable mode at most doubles per step) and ``onset_dt``; a step cut below
+    ``SNAP_STEP`` of that hands the snap to a relaxation."""
     case = FoldingScene(**{**SMALL, "length": 0.6, "height": 0.2, "maxh": 0.1}).build()
     case.series["perfect"].update(t=[35.0, 36.25], eigenvalue=[3.0, -60.0])
     stage = case.buckling_stage()
-    assert stage.t_start == 36.25
-    assert stage.dt == stage.options.max_step == pytest.approx(case.eta / 120.0)
+    march = stage.march
+    assert (stage.name, march.t_start) == ("buckling", 36.25)
+    assert march.dt == march.options.max_step == pytest.approx(case.eta / 120.0)
+    assert march.options.min_step == pytest.approx(march.dt * SNAP_STEP)
     case.series["perfect"]["eigenvalue"][-1] = -6.0
-    stage = case.buckling_stage()
-    assert stage.dt == stage.options.max_step == case.scene.onset_dt
+    march = case.buckling_stage().march
+    assert march.dt == march.options.max_step == case.scene.onset_dt
+    assert march.options.min_step == pytest.approx(case.scene.onset_dt * SNAP_STEP)
 
 
 def test_the_march_is_recorded_every_observe_dt_of_growth():

@@ -1,6 +1,7 @@
 """Stages of a load history: prescribed growth in parts, the coupled stage's loads, and its
 checkpoints."""
 
+from dataclasses import dataclass, field
 from types import SimpleNamespace
 
 import ngsolve as ngs
@@ -9,13 +10,14 @@ import pytest
 from conftest import cube_problem
 
 from geometries import cube
-from ngincompat.errors import ParameterError
+from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.fem.coupled import CoupledProblem
-from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.solver import NewtonOptions, SolverHistory, StepRecord
 from ngincompat.fem.stages import (
     CoupledStage,
     PrescribedGrowthStage,
     RelaxationStage,
+    SnappingMarch,
     restore_checkpoint,
     save_checkpoint,
 )
@@ -273,3 +275,99 @@ def test_a_shortened_step_shortens_the_next_and_holds_it(monkeypatch):
     assert history.converged and accepted == 9
     assert all(step.converged for step in history.steps)
     assert taus[:6] == [1.0, 0.25, 0.25, 0.5, 1.0, 0.25]
+
+
+@dataclass(eq=False)
+class _FakeMarch:
+    """A march whose pieces fail at the times in ``fails`` (the state then holds the last
+    converged step, as :func:`~ngincompat.fem.stepping.solve_coupled` leaves it) and reach
+    ``t_end`` from the last of them; every piece's start is logged in ``starts``."""
+
+    problem: object
+    fails: tuple
+    starts: list
+    name: str = "buckling"
+    t_start: float = 0.0
+    t_end: float = 10.0
+    options: NewtonOptions = field(default_factory=lambda: NewtonOptions(min_step=0.1))
+    sticky: bool = False
+
+    def run(self, progress):
+        self.starts.append(self.t_start)
+        history = SolverHistory(t_reached=self.t_start)
+        history.steps.append(StepRecord(t=self.t_start + 1.0, dt=1.0, converged=True,
+                                        iterations=4))
+        ahead = [t for t in self.fails if t > self.t_start or self.sticky]
+        self.problem.state.vec[:] = ahead[0] if ahead else self.t_end
+        if ahead:
+            history.steps.append(StepRecord(t=ahead[0] + 0.05, dt=0.05, converged=False,
+                                            iterations=3))
+            raise ConvergenceError("the step fell below min_step", history=history,
+                                   t_converged=ahead[0])
+        history.converged, history.t_reached = True, self.t_end
+        return history
+
+
+class _FakeRelaxation:
+    """A relaxation of two pseudo-time steps that moves the state by ``shift``, or fails."""
+
+    def __init__(self, problem, shift=0.5, fail=False):
+        self.problem, self.shift, self.fail = problem, shift, fail
+
+    def run(self, progress):
+        history = SolverHistory()
+        history.steps = [StepRecord(t=tau, dt=tau, converged=True, iterations=1)
+                         for tau in (0.25, 0.75)]
+        self.problem.state.vec.data += self.shift * self.problem.state.vec
+        if self.fail:
+            raise ConvergenceError("no equilibrium", history=history)
+        history.converged = True
+        return history
+
+
+def _snapping(fails, sticky=False, **relaxation):
+    state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
+    accepted = []
+    problem = SimpleNamespace(state=state, accept_step=lambda: accepted.append(
+        state.vec.FV().NumPy()[0]))
+    starts = []
+    stage = SnappingMarch(_FakeMarch(problem, fails, starts, sticky=sticky),
+                          lambda: _FakeRelaxation(problem, **relaxation))
+    return stage, problem, starts, accepted
+
+
+def test_the_snapping_march_relaxes_where_its_step_fails_and_goes_on_from_there():
+    """Pieces that fail at t = 3 and t = 6: each time the state of the last converged step
+    is relaxed at that growth, made the viscous term's reference (the relaxed state), and
+    the march starts again from that time; the history holds every piece's steps and the
+    relaxations' steps at the march's time with dt = 0."""
+    stage, problem, starts, accepted = _snapping((3.0, 6.0))
+    history = stage.run(SILENT)
+    assert history.converged and history.t_reached == 10.0
+    assert stage.snaps == [3.0, 6.0] and starts == [0.0, 3.0, 6.0]
+    assert accepted == [3.0 * 1.5, 6.0 * 1.5]
+    assert [(s.t, s.dt) for s in history.steps] == [
+        (1.0, 1.0), (3.05, 0.05), (3.0, 0.0), (3.0, 0.0),
+        (4.0, 1.0), (6.05, 0.05), (6.0, 0.0), (6.0, 0.0), (7.0, 1.0)]
+    assert history.newton_iterations == 3 * 4 + 4 * 1
+
+
+def test_a_failed_relaxation_ends_the_snapping_march_at_the_last_converged_step():
+    """Where the relaxation finds no equilibrium the march ends with both reasons, the state
+    back at the march's last converged step (not the relaxation's last state)."""
+    stage, problem, _, accepted = _snapping((3.0,), fail=True)
+    with pytest.raises(ConvergenceError, match="min_step; relaxing there: no equil") as err:
+        stage.run(SILENT)
+    assert err.value.t_converged == 3.0 and not accepted
+    assert np.all(problem.state.vec.FV().NumPy() == 3.0)
+    assert len(err.value.history.steps) == 4
+
+
+def test_a_march_that_fails_again_where_it_relaxed_ends_there():
+    """A piece that fails at the very time of the last relaxation has made no progress: the
+    march ends with its error instead of relaxing the same state again."""
+    stage, problem, starts, _ = _snapping((3.0,), sticky=True)
+    with pytest.raises(ConvergenceError, match="min_step") as err:
+        stage.run(SILENT)
+    assert stage.snaps == [3.0] and starts == [0.0, 3.0]
+    assert err.value.t_converged == 3.0

@@ -13,7 +13,9 @@
 * :class:`RelaxationStage`: at frozen growth, from a state that is not an equilibrium (a
   viscous march's end, a body whose constraints were just removed), a viscous gradient flow
   (one Newton step per pseudo-time step) to a stable equilibrium, finished by Newton
-  without the viscosity.
+  without the viscosity;
+* :class:`SnappingMarch`: a viscous march whose snaps (steps cut below its shortest) are
+  passed by such a relaxation at held growth.
 
 Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
 :class:`~ngincompat.workflow.pipeline.Stage` protocol).
@@ -487,6 +489,74 @@ class RelaxationStage:
             self.problem.state.vec.data = saved
         self.final_residual = record.residuals[-1]
         return record.converged
+
+
+@dataclass(eq=False)
+class SnappingMarch:
+    """A viscous march (``march``, a :class:`CoupledStage`) whose snaps are passed at frozen
+    growth, under the march's name.
+
+    Where a growing state loses stability along a steep mode (K w = omega M w, omega << 0:
+    a fold snapping, a surface creasing), the viscous march follows the mode's growth at
+    the rate |omega| / eta, and its implicit Euler steps converge only below eta / |omega|:
+    thousandths of a day, dozens of steps for one event. Where the march's step is cut
+    below its ``options.min_step`` (set to a fraction of its longest step), the growth is
+    held at the last converged time t and ``relax()`` (a :class:`RelaxationStage`) lets the
+    state fall to a stable equilibrium of that growth: its pseudo-time steps grow where the
+    march's could not, the growth held for the event's duration (the axons' growth over
+    it, G_axn dt, is what is neglected). The march then goes on from t, the viscous term's
+    reference state being that equilibrium. The march ends with the error of its last piece
+    where a relaxation fails, where a piece makes no progress after a relaxation, or after
+    ``max_snaps`` relaxations; the state is then the last converged step of the march.
+
+    The history holds the march's steps and, for each relaxation, its steps at the march's
+    time t with dt = 0 (growth held); :attr:`snaps` the times of the relaxations."""
+
+    march: CoupledStage
+    relax: Callable[[], RelaxationStage]
+    max_snaps: int = 50
+    snaps: list = field(default_factory=list, init=False)
+
+    @property
+    def name(self) -> str:
+        return self.march.name
+
+    def run(self, progress: Progress) -> SolverHistory:
+        label = progress.stage_label(self.name)
+        history = SolverHistory(t_reached=self.march.t_start)
+        march = self.march
+        problem = march.problem
+        while True:
+            try:
+                piece = march.run(progress)
+            except ConvergenceError as err:
+                piece, failure = err.history, err
+            else:
+                failure = None
+            history.steps += piece.steps
+            history.t_reached = piece.t_reached
+            if failure is None:
+                history.converged = True
+                return history
+            t = failure.t_converged
+            if len(self.snaps) >= self.max_snaps or (self.snaps and t <= self.snaps[-1]):
+                raise ConvergenceError(str(failure), history=history, t_converged=t)
+            progress.line(f"{label}: the step was cut below {march.options.min_step:g} at "
+                          f"t = {t:.6g}: relaxing at that growth")
+            saved = problem.state.vec.CreateVector()
+            saved.data = problem.state.vec
+            relaxation = self.relax()
+            try:
+                relaxed = relaxation.run(progress)
+            except ConvergenceError as err:
+                problem.state.vec.data = saved
+                history.steps += [replace(s, t=t, dt=0.0) for s in err.history.steps]
+                raise ConvergenceError(f"{failure}; relaxing there: {err}", history=history,
+                                       t_converged=t) from None
+            history.steps += [replace(s, t=t, dt=0.0) for s in relaxed.steps]
+            problem.accept_step()           # the viscous term's reference: the equilibrium
+            self.snaps.append(t)
+            march = replace(self.march, t_start=t)
 
 
 def save_checkpoint(problem, path: Path, t: float) -> None:

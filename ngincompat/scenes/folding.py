@@ -47,7 +47,11 @@ Boundary conditions while growing: u1 = 0 at both ends, u2 = 0 at the bottom. St
    definite, only for dt < eta / |omega| (a longer step converges back to the flat state: seen
    with eta = 10 mu and 5-day steps), so the steps are capped at eta / (2 |omega_onset|),
    omega_onset the first negative eigenvalue: the mode at most doubles per step; and at
-   ``onset_dt`` (longer steps of the default bilayer's march all failed). The fold
+   ``onset_dt`` (longer steps of the default bilayer's march all failed). A fold that
+   snaps is a steeper mode, which such steps follow only a few thousandths of a day at a
+   time: where a step is cut below :data:`SNAP_STEP` of the longest, the growth is held
+   and the state relaxes to a stable equilibrium (as in stage 3) before the march goes on
+   (:class:`~ngincompat.fem.stages.SnappingMarch`). The fold
    amplitude (half the peak-to-peak u2 along the top), the smallest eigenvalue and the
    smallest elastic stretch of the top surface along it are recorded at the first step,
    then every ``observe_dt`` of growth (the eigenpairs cost more than a Newton iteration),
@@ -133,7 +137,7 @@ from ngincompat.fem.problem import pin_reactions
 from ngincompat.fem.self_contact import SelfContact
 from ngincompat.fem.shape import circle_curvature, sulci
 from ngincompat.fem.solver import NewtonOptions, NewtonSolver
-from ngincompat.fem.stages import CoupledStage, RelaxationStage
+from ngincompat.fem.stages import CoupledStage, RelaxationStage, SnappingMarch
 from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields, kinematics
@@ -217,6 +221,11 @@ RELAXATION_STEPS = 500
 #: (docs/measurements/folding.md, "The march's failed steps").
 STEP_HOLD = 2
 STALL = 3
+
+#: The viscous march hands a snap to a relaxation at held growth
+#: (:class:`~ngincompat.fem.stages.SnappingMarch`) where its step is cut below this fraction
+#: of its longest.
+SNAP_STEP = 1 / 16
 
 
 def newton(**settings):
@@ -658,13 +667,18 @@ class FoldingCase:
         full steps that converge first raise it (``docs/measurements/folding.md``, "The
         march's line search"); full steps without any shortening cut the march's steps far
         sooner on the coarse bilayer with the graded top. Each step is solved to
-        :data:`MARCH_RTOL` from the extrapolation of the last two states."""
+        :data:`MARCH_RTOL` from the extrapolation of the last two states; a step cut below
+        :data:`SNAP_STEP` of the longest hands the snap to :meth:`relaxation` at held
+        growth (:class:`~ngincompat.fem.stages.SnappingMarch`)."""
         step = min(self.viscous_step(), self.scene.onset_dt)
-        options = newton(max_step=step, line_search=True, backtrack="finite", min_step=1e-6,
-                         stall=STALL, rtol=MARCH_RTOL, extrapolate=True)
-        return CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
-                            t_start=self.series["perfect"]["t"][-1], options=options,
-                            observe=self._observe_buckling, unit=self.scene.units["time"])
+        options = newton(max_step=step, line_search=True, backtrack="finite",
+                         min_step=step * SNAP_STEP, stall=STALL, rtol=MARCH_RTOL,
+                         extrapolate=True)
+        march = CoupledStage("buckling", self.problem, t_end=self.scene.t_end, dt=step,
+                             t_start=self.series["perfect"]["t"][-1], options=options,
+                             observe=self._observe_buckling, unit=self.scene.units["time"])
+        return SnappingMarch(march, lambda: self.relaxation("buckling", self.problem,
+                                                            self.viscous))
 
     def relaxation(self, name, problem, viscous):
         """The gradient flow to the equilibrium at frozen growth of ``problem`` (its viscous
