@@ -13,6 +13,7 @@ from ngincompat.fem.solver import (
     NewtonOptions,
     NewtonSolver,
     StepRecord,
+    _at_roundoff,
     _stalled,
 )
 from ngincompat.fem.stepping import solve_growth
@@ -228,6 +229,9 @@ CYCLING = [1.5e-4, 2.2e-4, 1.2e-5, 3.0e-5, 3.2e-5, 1.4e-4, 8.8e-6, 2.9e-5, 2.6e-
            4.5e-2, 1.4e-2, 1.0e-1]
 CONVERGING = [2.7e-4, 1.7e-3, 9.8e-6, 1.5e-6, 1.6e-11, 1.2e-15]
 SLOW = [1.6e-4, 4.2e-3, 9.9e-05, 4.3e-3, 7.0e-5, 1.0e-1, 4.9e-5, 8.0e-7, 2.0e-8, 1.0e-10]
+#: A growth step of the folding bilayer at 80,794 unknowns: its residual falls to the
+#: round-off of the assembly (2.9e-14), above 1e-9 of its start (1.6e-14), and stays.
+ROUNDOFF_FLOOR = [1.62e-05, 1.64e-04, 6.55e-10, 2.91e-14, 2.83e-14, 2.80e-14, 2.92e-14]
 
 
 @pytest.mark.parametrize("stall, iteration", [(3, 5), (2, 5), (4, 10)])
@@ -245,3 +249,13 @@ def test_a_converging_step_never_stalls_nor_any_step_without_stall():
         assert not _stalled(CYCLING[:k + 1], 0)
     with pytest.raises(ParameterError, match="stall"):
         NewtonOptions(stall=-1)
+
+
+def test_a_residual_that_stops_falling_at_round_off_is_converged():
+    """The residual at the round-off floor is converged at the first iteration that does not
+    lower it (the fourth); a quadratically converging, a slow and a cycling step are not
+    taken for one at any iteration."""
+    at = [k for k in range(1, len(ROUNDOFF_FLOOR)) if _at_roundoff(ROUNDOFF_FLOOR[:k + 1])]
+    assert at and at[0] == 4
+    for residuals in (CONVERGING, SLOW, CYCLING):
+        assert not any(_at_roundoff(residuals[:k + 1]) for k in range(1, len(residuals)))

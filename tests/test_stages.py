@@ -291,9 +291,11 @@ class _FakeMarch:
     t_end: float = 10.0
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(min_step=0.1))
     sticky: bool = False
+    min_steps: list = field(default_factory=list)
 
     def run(self, progress):
         self.starts.append(self.t_start)
+        self.min_steps.append(self.options.min_step)
         history = SolverHistory(t_reached=self.t_start)
         history.steps.append(StepRecord(t=self.t_start + 1.0, dt=1.0, converged=True,
                                         iterations=4))
@@ -352,15 +354,16 @@ def test_the_snapping_march_relaxes_where_its_step_fails_and_goes_on_from_there(
     assert history.newton_iterations == 3 * 4 + 4 * 1
 
 
-def test_a_failed_relaxation_ends_the_snapping_march_at_the_last_converged_step():
-    """Where the relaxation finds no equilibrium the march ends with both reasons, the state
-    back at the march's last converged step (not the relaxation's last state)."""
-    stage, problem, _, accepted = _snapping((3.0,), fail=True)
-    with pytest.raises(ConvergenceError, match="min_step; relaxing there: no equil") as err:
-        stage.run(SILENT)
-    assert err.value.t_converged == 3.0 and not accepted
-    assert np.all(problem.state.vec.FV().NumPy() == 3.0)
-    assert len(err.value.history.steps) == 4
+def test_where_the_relaxation_fails_the_march_follows_the_snap_in_short_steps():
+    """Where the relaxation finds no equilibrium, the state goes back to the march's last
+    converged step (not the relaxation's last state), that state is the viscous term's
+    reference again, and the march goes on from there with steps down to ``shortest``."""
+    stage, problem, starts, accepted = _snapping((3.0,), fail=True)
+    history = stage.run(SILENT)
+    assert history.converged and starts == [0.0, 3.0] and accepted == [3.0]
+    assert stage.march.min_steps == [0.1, stage.shortest] and stage.shortest == 1e-6
+    assert np.all(problem.state.vec.FV().NumPy() == 10.0)
+    assert [(s.t, s.dt) for s in history.steps][1:4] == [(3.05, 0.05), (3.0, 0.0), (3.0, 0.0)]
 
 
 def test_a_march_that_fails_again_where_it_relaxed_ends_there():
@@ -371,3 +374,12 @@ def test_a_march_that_fails_again_where_it_relaxed_ends_there():
         stage.run(SILENT)
     assert stage.snaps == [3.0] and starts == [0.0, 3.0]
     assert err.value.t_converged == 3.0
+
+
+def test_a_step_shortened_below_min_step_ends_the_relaxation(monkeypatch):
+    """Steps acceptable only at a quarter of their direction shorten tau fourfold each time:
+    below ``min_step`` the relaxation gives up (where the energy no longer falls by more
+    than round-off it would otherwise creep on in ever shorter steps)."""
+    with pytest.raises(ConvergenceError, match="no equilibrium after 4 pseudo-time steps"):
+        _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.01,
+                           NewtonOptions(min_step=0.01), length=lambda tau: 0.25)

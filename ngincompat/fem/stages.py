@@ -435,6 +435,8 @@ class RelaxationStage:
                     if alpha < 1:
                         tau *= alpha
                         held = self.options.step_hold
+                        if tau < self.options.min_step:
+                            break
                     elif held:
                         held -= 1
                     else:
@@ -505,9 +507,12 @@ class SnappingMarch:
     state fall to a stable equilibrium of that growth: its pseudo-time steps grow where the
     march's could not, the growth held for the event's duration (the axons' growth over
     it, G_axn dt, is what is neglected). The march then goes on from t, the viscous term's
-    reference state being that equilibrium. The march ends with the error of its last piece
-    where a relaxation fails, where a piece makes no progress after a relaxation, or after
-    ``max_snaps`` relaxations; the state is then the last converged step of the march.
+    reference state being that equilibrium. Where the relaxation finds none (a creased
+    state in contact whose energy falls by less than round-off), the state goes back to
+    the march's last step and the march follows the snap in steps down to ``shortest``,
+    as it would without relaxations. The march ends with the error of its last piece where
+    a piece makes no progress after a relaxation, or after ``max_snaps`` relaxations; the
+    state is then the last converged step of the march.
 
     The history holds the march's steps and, for each relaxation, its steps at the march's
     time t with dt = 0 (growth held); :attr:`snaps` the times of the relaxations."""
@@ -515,6 +520,7 @@ class SnappingMarch:
     march: CoupledStage
     relax: Callable[[], RelaxationStage]
     max_snaps: int = 50
+    shortest: float = 1e-6
     snaps: list = field(default_factory=list, init=False)
 
     @property
@@ -550,9 +556,14 @@ class SnappingMarch:
                 relaxed = relaxation.run(progress)
             except ConvergenceError as err:
                 problem.state.vec.data = saved
+                problem.accept_step()       # the viscous term's reference: that state again
                 history.steps += [replace(s, t=t, dt=0.0) for s in err.history.steps]
-                raise ConvergenceError(f"{failure}; relaxing there: {err}", history=history,
-                                       t_converged=t) from None
+                progress.line(f"{label}: no equilibrium there ({err}); marching on in steps "
+                              f"down to {self.shortest:g}")
+                self.snaps.append(t)
+                march = replace(self.march, t_start=t,
+                                options=replace(self.march.options, min_step=self.shortest))
+                continue
             history.steps += [replace(s, t=t, dt=0.0) for s in relaxed.steps]
             problem.accept_step()           # the viscous term's reference: the equilibrium
             self.snaps.append(t)
