@@ -381,7 +381,8 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
     """Before the onset (theta_c = 1.08): the subcortex unstrained, stress-free and not
     growing (lambda_e = 1 along the curved axons), the cortex in the state F = diag(1,
     lambda2, 1) with sigma22 = 0 (plane strain in the section, X2 vertical:
-    :func:`prebuckled_cortex`, whose out-of-plane axis is its second), to 1e-6 of mu_gray."""
+    :func:`prebuckled_cortex`, whose out-of-plane axis is its second), to 1e-6 of mu_gray;
+    the strain energy the cortex's alone."""
     scene = FoldingScene(**{**SMALL, "length": 0.5, "height": 0.3, "maxh": 0.15,
                             "axons": "curved"}, t_end=10.0, dt=10.0, release=False)
     results = scene.run()
@@ -400,6 +401,14 @@ def test_flat_branch_is_the_homogeneous_state_in_closed_form():
     assert "onset_growth" not in results.metrics
     # the top is not stretched along e1 (u1 = 0), so its elastic stretch is 1 / theta_c
     assert results.metrics["top_stretch_min"] == pytest.approx(1 / theta_c, rel=1e-8)
+    # the strain energy per unit depth is the cortex's, Jg Psi(Fe) (eq. 36) times its area,
+    # Fe = diag(1 / theta_c, lambda2, 1)
+    mu, lam = scene.mu_gray, scene.lam_ratio * scene.mu_gray
+    Je = state.lambda3 / theta_c
+    psi = mu / 2 * (theta_c ** -2 + state.lambda3 ** 2 + 1 - 3 - 2 * np.log(Je)) \
+        + lam / 2 * np.log(Je) ** 2
+    assert results.metrics["strain_energy"] == pytest.approx(
+        theta_c * psi * scene.length * scene.cortex_thickness, rel=1e-8)
 
 
 def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path):

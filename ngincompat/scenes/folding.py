@@ -100,7 +100,9 @@ Cauchy stress before (``sigma_max`` field,
 ``max_principal_stress``) and after the release (``sigma_max_released``,
 ``max_principal_stress_released``, with the displacement ``u_released``), the reference
 depth below the top surface of the released peak tension (``peak_tension_depth_released``:
-below the interface if > ``cortex_thickness``), and ``top_curvature_released``: the mean
+below the interface if > ``cortex_thickness``), the strain energy per unit depth before
+and after the release (``strain_energy``, ``strain_energy_released``: int Jg Psi dA, eq.
+36), and ``top_curvature_released``: the mean
 curvature of the top surface over the central third of the length after release, the
 curvature of the circle fitted (:func:`~ngincompat.fem.shape.circle_curvature`) to the deformed
 top line (X1 + u1, X2 + u2) sampled along it; positive where the top
@@ -295,7 +297,7 @@ class FoldingScene(Scene):
                "equilibrium_residual", "equilibrium_eigenvalue", "max_principal_stress",
                "max_principal_stress_released", "top_curvature_released",
                "peak_tension_depth", "peak_tension_depth_released", "release_reaction_rel",
-               "top_stretch_min")
+               "top_stretch_min", "strain_energy", "strain_energy_released")
     metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
                          "max_principal_stress_released": "stress",
                          "onset_wavelength": "length",
@@ -308,7 +310,9 @@ class FoldingScene(Scene):
                          "equilibrium_eigenvalue": "stress/length^2",
                          "top_curvature_released": "1/length",
                          "peak_tension_depth": "length",
-                         "peak_tension_depth_released": "length"}
+                         "peak_tension_depth_released": "length",
+                         "strain_energy": "stress length^2",
+                         "strain_energy_released": "stress length^2"}
     units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
 
     order: int = ORDER(2)
@@ -805,12 +809,14 @@ class FoldingCase:
             results.metrics["top_stretch_min"] = min(stretches)
         flds = {"u": self.grown_u, "theta": self.growth.theta,
                 **self._stresses(self.growth, self.grown_u, "", results.metrics)}
+        results.metrics["strain_energy"] = self.strain_energy(self.grown_u)
         results.metrics.update(self._contact_metrics(solution))
         if self.released and solution.converged:
             flds["u_released"] = self.problem.u
             flds.update(self._stresses(self.growth, self.problem.u, "_released",
                                        results.metrics))
             results.metrics["top_curvature_released"] = self.top_curvature(self.problem.u)
+            results.metrics["strain_energy_released"] = self.strain_energy(self.problem.u)
         if self.mode is not None:
             flds["buckling_mode"] = self.mode
             x, w = self.top_profile(self.mode)
@@ -844,6 +850,13 @@ class FoldingCase:
             penetrations.append(self.contact.measures()["self_contact_penetration_max"])
         return {"Je_min": min(jacobians), "self_contact_area": final["self_contact_area"],
                 "self_contact_penetration_max": max(penetrations)}
+
+    def strain_energy(self, u):
+        """The strain energy per unit depth of the section at the displacement ``u`` and
+        the current growth, int Jg Psi(F Fg^-1) dA (eq. 36): the residual stress's energy
+        after the release, where the largest principal stress is a value at one point."""
+        density = self.growth.energy_density(kinematics.deformation_gradient(u))
+        return float(ngs.Integrate(density, self.mesh, order=2 * self.scene.order))
 
     def interface_mean(self, cf):
         """The mean of ``cf`` over the band of one cortex thickness centred on the interface
