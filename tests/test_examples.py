@@ -1,9 +1,12 @@
 """The measuring scripts under ``examples/`` that the README quotes run, on a coarse bilayer,
 as a user would call them (``python examples/folding/<script>.py key=value ...``)."""
 
+import json
 import subprocess
 import sys
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -35,3 +38,42 @@ def test_march_reports_the_onset_and_the_march_records():
     assert "onset {" in out and "onset_growth" in out
     assert "buckling:" in out
     assert out.rstrip().endswith("status done None")
+
+
+def _fake_run(folder, axons, metrics, contact):
+    """A ``results.json`` of a folding run with ``metrics`` and march records whose contact
+    lengths are ``contact`` at the days 50, 51, 52, ..."""
+    run = Path(folder) / axons
+    run.mkdir(parents=True)
+    days = [50.0 + k for k in range(len(contact))]
+    (run / "results.json").write_text(json.dumps({
+        "status": "done", "metrics": metrics, "mesh": {"ndof": 100},
+        "timings": {"buckling": 2.0, "release": 1.0},
+        "profiles": {"buckling": {"t": days, "contact_length": contact}},
+        "provenance": {"date": "2026-11-28T10:00:00", "git": {"commit": "abc"}}}))
+
+
+def test_convergence_compares_each_level_with_the_next_finer(tmp_path):
+    """Two levels of two axon fields: each measure's values side by side and the coarse
+    level's difference relative to the fine one; the crease day is the first record in
+    contact, missing where the top never touched itself."""
+    _fake_run(tmp_path / "L0", "curved", {"sulci": 9, "burgers_interface_mean": 7.5}, [0, 0])
+    _fake_run(tmp_path / "L1", "curved", {"sulci": 9, "burgers_interface_mean": 10.0},
+              [0, 0.1, 0.2])
+    _fake_run(tmp_path / "L0", "straight", {"sulci": 8.5}, [0.3])
+    _fake_run(tmp_path / "L1", "straight", {"sulci": 8.0}, [0, 0, 0.1])
+    out = tmp_path / "table"
+    done = subprocess.run([sys.executable, str(ROOT / "examples" / "folding" / "convergence.py"),
+                           "--out", str(out), f"L0={tmp_path / 'L0'}", f"L1={tmp_path / 'L1'}"],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    rows = {(r["axons"], r["measure"]): r
+            for r in json.loads((out / "convergence.json").read_text())["rows"]}
+    b = rows["curved", "burgers_interface_mean"]
+    assert (b["L0"], b["L1"], b["L0 vs L1 [%]"], b["unit"]) == (7.5, 10.0, -25.0, "1/cm")
+    assert rows["curved", "crease_day"]["L0"] is None
+    assert rows["curved", "crease_day"]["L1"] == 51.0
+    assert rows["straight", "crease_day"]["L0 vs L1 [%]"] == pytest.approx(-3.8)
+    assert rows["straight", "sulci"]["L0 vs L1 [%]"] == 6.2
+    assert ("concentric", "sulci") not in rows
+    assert "L0 curved: 100 unknowns, 3 s, done" in (out / "made_by.md").read_text()
