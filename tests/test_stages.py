@@ -181,15 +181,16 @@ def test_the_relaxation_needs_a_step(max_steps):
 
 
 def _relax_a_fake_flow(monkeypatch, fails, fall, options=None, repair=0.0,
-                       length=lambda tau: 1.0):
+                       length=lambda tau: 1.0, eigenvalues=(1.0,), kick=0.0):
     """Run a :class:`RelaxationStage` whose Newton solver is a stand-in: a step of the flow
     fails where ``fails(tau)`` (as an inverted element), else it is taken to the length
     ``length(tau)`` of its direction;
     each accepted step lowers the energy by 1, and the update after it (new contact pairs)
     raises the energy of the same state by ``repair``; the flow's residual falls by
-    ``fall`` of its start per accepted step, and Newton without viscosity converges to a
-    stable state whenever it is tried. Returns the stage, its history and the number of
-    accepted steps."""
+    ``fall`` of its start per accepted step, and Newton without viscosity converges whenever
+    it is tried, to states whose smallest eigenvalues are ``eigenvalues`` in turn (the last
+    one after them), the mode 2 at every dof. Returns the stage, its history and the number
+    of accepted steps."""
     from ngincompat.fem import stages
 
     state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
@@ -215,14 +216,23 @@ def _relax_a_fake_flow(monkeypatch, fails, fall, options=None, repair=0.0,
         def residual(self):
             return SimpleNamespace(Norm=lambda: 1.0 - fall * len(accepted))
 
+    mode = ngs.GridFunction(state.space)
+    mode.vec[:] = 2.0
+    values = list(eigenvalues)
+
+    def smallest(*args, **kwargs):
+        return [values.pop(0) if len(values) > 1 else values[0]], [mode]
+
     problem = SimpleNamespace(growing=ngs.Parameter(1.0), dt=ngs.Parameter(0.0), state=state,
+                              u=state,
                               frozen_energy=lambda: (repair - 1.0) * len(accepted),
                               energy=lambda: (repair - 1.0) * len(accepted) - 1.0,
                               accept_step=lambda: accepted.append(True))
     monkeypatch.setattr(stages, "NewtonSolver", Flow)
-    monkeypatch.setattr(stages.buckling, "smallest_eigenpairs", lambda *a, **k: ([1.0], None))
+    monkeypatch.setattr(stages.buckling, "smallest_eigenpairs", smallest)
     stage = RelaxationStage("release", problem, SimpleNamespace(restart=lambda eta: None),
-                            viscosity=1.0, dt=1.0, options=options or NewtonOptions())
+                            viscosity=1.0, dt=1.0, options=options or NewtonOptions(),
+                            kick=kick)
     return stage, stage.run(SILENT), len(accepted)
 
 
@@ -383,3 +393,24 @@ def test_a_step_shortened_below_min_step_ends_the_relaxation(monkeypatch):
     with pytest.raises(ConvergenceError, match="no equilibrium after 4 pseudo-time steps"):
         _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.01,
                            NewtonOptions(min_step=0.01), length=lambda tau: 0.25)
+
+
+def test_a_saddle_is_left_along_its_unstable_mode(monkeypatch):
+    """Newton's first equilibrium is a saddle (smallest eigenvalue -5): with ``kick`` the
+    state moves along the unstable mode by ``kick`` at its largest dof and the flow goes on
+    from there with its first step again; the next equilibrium is stable. Without ``kick``
+    the state goes back to before the saddle and the flow goes on with its step."""
+    stage, history, accepted = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1,
+                                                  eigenvalues=(-5.0, 1.0), kick=0.25)
+    frozen = [i for i, step in enumerate(history.steps) if step.dt == 0]
+    assert history.converged and len(frozen) == 2 and stage.eigenvalue == 1.0
+    assert not history.steps[frozen[0]].converged
+    assert "unstable: smallest eigenvalue -5" in history.steps[frozen[0]].reason
+    assert history.steps[frozen[0] + 1].dt == 1.0       # the first step again
+    assert np.all(stage.problem.state.vec.FV().NumPy() == 0.25)
+    _, plain, _ = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1,
+                                     eigenvalues=(-5.0, 1.0))
+    first = next(i for i, step in enumerate(plain.steps) if step.dt == 0)
+    assert plain.converged and plain.steps[first + 1].dt == 2 * plain.steps[first - 1].dt
+    with pytest.raises(ParameterError, match="kick"):
+        RelaxationStage("release", None, None, viscosity=1.0, dt=1.0, kick=-1.0)

@@ -686,14 +686,17 @@ class FoldingCase:
 
     def relaxation(self, name, problem, viscous):
         """The gradient flow to the equilibrium at frozen growth of ``problem`` (its viscous
-        term ``viscous``), in pseudo-time steps from the viscous march's largest."""
+        term ``viscous``), in pseudo-time steps from the viscous march's largest; a saddle
+        is left along its unstable mode, moved as the onset's imperfection is (``kick``:
+        ``imperfection`` x ``cortex_thickness``)."""
         # at most 12 halvings of a step's direction (1/4096 of it), then a shorter step
         options = newton(line_search=False, min_step=1e-6, max_backtracks=12)
         return RelaxationStage(name, problem, viscous, self.eta, self.viscous_step(),
                                options=options,
                                unit=self.scene.units["time"], eigenpairs=EIGENPAIRS,
                                switch=RELAXATION_SWITCH,
-                               max_steps=RELAXATION_STEPS)
+                               max_steps=RELAXATION_STEPS,
+                               kick=self.scene.imperfection * self.scene.cortex_thickness)
 
     @property
     def released(self):
