@@ -216,7 +216,7 @@ class ViscousRegularisation(Term):
     buckling point (smallest eigenvalue of K w = omega M w above -eta / dt) and lets an
     unstable mode grow at the finite rate -omega / eta instead of jumping. With the problem's
     ``growing`` = 0 a step dt > 0 holds the growth and keeps this term: the pseudo-time step
-    of a relaxation at frozen growth (:class:`~ngincompat.fem.stages.RelaxationStage`).
+    of a relaxation at frozen growth (:class:`~ngincompat.fem.relaxation.RelaxationStage`).
     """
 
     def __init__(self):

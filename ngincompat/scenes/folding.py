@@ -51,7 +51,7 @@ Boundary conditions while growing: u1 = 0 at both ends, u2 = 0 at the bottom. St
    snaps is a steeper mode, which such steps follow only a few thousandths of a day at a
    time: where a step is cut below :data:`SNAP_STEP` of the longest, the growth is held
    and the state relaxes to a stable equilibrium (as in stage 3) before the march goes on
-   (:class:`~ngincompat.fem.stages.SnappingMarch`). The fold
+   (:class:`~ngincompat.fem.relaxation.SnappingMarch`). The fold
    amplitude (half the peak-to-peak u2 along the top), the smallest eigenvalue and the
    smallest elastic stretch of the top surface along it are recorded at the first step,
    then every ``observe_dt`` of growth (the eigenpairs cost more than a Newton iteration),
@@ -75,7 +75,7 @@ Boundary conditions while growing: u1 = 0 at both ends, u2 = 0 at the bottom. St
 3. **equilibrium**: the viscous march's end is not an equilibrium (residual without the
    viscosity 5.4e-5 on the small bilayer of the tests), and plain Newton without the
    viscosity diverged from it. At ``t_end`` the growth is held and the same viscous term
-   drives a gradient flow in pseudo time (:class:`~ngincompat.fem.stages.RelaxationStage`:
+   drives a gradient flow in pseudo time (:class:`~ngincompat.fem.relaxation.RelaxationStage`:
    steps that lower the energy, doubling) toward a stable equilibrium, which Newton then
    solves without the viscosity; it is kept only if the smallest eigenvalue of the tangent
    there is >= 0 (a saddle is refused and the flow goes on). Reported:
@@ -139,7 +139,8 @@ from ngincompat.fem.problem import pin_reactions
 from ngincompat.fem.self_contact import SelfContact
 from ngincompat.fem.shape import circle_curvature, sulci
 from ngincompat.fem.solver import NewtonOptions, NewtonSolver
-from ngincompat.fem.stages import CoupledStage, RelaxationStage, SnappingMarch
+from ngincompat.fem.relaxation import RelaxationStage, SnappingMarch
+from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields, kinematics
@@ -203,7 +204,7 @@ KRYLOV_MAXITER = 100
 MARCH_RTOL = 1e-6
 
 #: The relaxations try Newton without the viscosity each time the flow's residual has fallen
-#: this much (:class:`~ngincompat.fem.stages.RelaxationStage`'s ``switch``), within at most
+#: this much (:class:`~ngincompat.fem.relaxation.RelaxationStage`'s ``switch``), within at most
 #: ``RELAXATION_STEPS`` accepted pseudo-time steps of one Newton step each. The default
 #: bilayer released at 75 days creeps toward its equilibrium along a soft mode: with a
 #: tenfold fall asked for and 60 steps, Newton was never tried
@@ -225,7 +226,7 @@ STEP_HOLD = 2
 STALL = 3
 
 #: The viscous march hands a snap to a relaxation at held growth
-#: (:class:`~ngincompat.fem.stages.SnappingMarch`) where its step is cut below this fraction
+#: (:class:`~ngincompat.fem.relaxation.SnappingMarch`) where its step is cut below this fraction
 #: of its longest.
 SNAP_STEP = 1 / 16
 
@@ -673,7 +674,7 @@ class FoldingCase:
         sooner on the coarse bilayer with the graded top. Each step is solved to
         :data:`MARCH_RTOL` from the extrapolation of the last two states; a step cut below
         :data:`SNAP_STEP` of the longest hands the snap to :meth:`relaxation` at held
-        growth (:class:`~ngincompat.fem.stages.SnappingMarch`)."""
+        growth (:class:`~ngincompat.fem.relaxation.SnappingMarch`)."""
         step = min(self.viscous_step(), self.scene.onset_dt)
         options = newton(max_step=step, line_search=True, backtrack="finite",
                          min_step=step * SNAP_STEP, stall=STALL, rtol=MARCH_RTOL,
