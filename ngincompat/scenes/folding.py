@@ -136,10 +136,10 @@ from ngincompat.errors import require
 from ngincompat.fem import buckling, postprocess
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import pin_reactions
+from ngincompat.fem.relaxation import RelaxationStage, SnappingMarch
 from ngincompat.fem.self_contact import SelfContact
 from ngincompat.fem.shape import circle_curvature, sulci
 from ngincompat.fem.solver import NewtonOptions, NewtonSolver
-from ngincompat.fem.relaxation import RelaxationStage, SnappingMarch
 from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation
 from ngincompat.incompatibility import operators as inc
