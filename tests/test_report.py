@@ -1,6 +1,6 @@
 """``ngincompat paper``'s report.html, opened in a real browser (headless Chromium): it loads
 without console errors, every image is there and not blank, every section that ran has its
-table of verdicts; and the findings' verdicts on constructed results."""
+table of verdicts (the rules behind the verdicts: test_findings.py)."""
 
 import base64
 import html
@@ -16,7 +16,6 @@ from matplotlib.image import imsave
 
 from ngincompat.cli import main
 from ngincompat.studies import deviations, findings, paper
-from ngincompat.workflow.results import MeshInfo, Results
 
 CHROMIUM = next((shutil.which(n) for n in ("chromium", "chromium-browser", "google-chrome")
                  if shutil.which(n)), None)
@@ -168,69 +167,3 @@ def test_a_second_run_resumes_and_overwrite_recomputes(report, capsys):
                  "-q"]) == 2
     assert "other settings" in capsys.readouterr().err
 
-
-def _results(profile, metrics=None, status="done"):
-    return Results(scene="cube", params={}, units={"length": "mm", "stress": "MPa"},
-                   mesh=MeshInfo(ne=1, nv=1, order=1, maxh=1.0), status=status,
-                   metrics=metrics or {}, profiles={"line": profile})
-
-
-def test_verdicts_follow_the_measured_trend():
-    """The cube's |b| must fall with X1 (eq. 16: |b| ~ 1 / theta); the same profile reversed
-    is a refutation, a case that did not finish is not judged."""
-    x = np.linspace(0, 1, 11)
-    b = (1 / 12) / (1 + x / 4) ** (1 / 3)
-    (finding,) = [f for f in findings.FINDINGS if f.measure is findings._cube_b_trend]
-    falling = _results({"X1": x, "|b_n2|": b}, {"G_error_L2_rel": 1e-16})
-    rising = _results({"X1": x, "|b_n2|": b[::-1]}, {"G_error_L2_rel": 1e-16})
-    assert finding.judge({"cube": falling})[1] == findings.AGREES
-    assert finding.judge({"cube": rising})[1] == findings.DIFFERS
-    failed = _results({"X1": x, "|b_n2|": b}, status="not converged")
-    assert finding.judge({"cube": failed})[1] == findings.NOT_RUN
-
-
-def test_the_expanders_order_is_not_judged_closer_than_the_mesh_settles():
-    """Mean growth square > circle by 0.07 % (the preview's) agrees with the paper's order
-    only partly and says why; 1.36 < 1.40 < 1.45 < 1.50 with the circle least and the
-    square most agrees; the reverse differs."""
-    (finding,) = [f for f in findings.FINDINGS if f.measure is findings._skin_order]
-
-    def runs(rectangle, circle, square, crescent):
-        return {label: _results({"X1": [0.0, 1.0]}, {"theta_mean_footprint": value})
-                for label, value in zip(findings.SKIN, (rectangle, circle, square, crescent),
-                                        strict=True)}
-
-    preview = finding.judge(runs(1.357, 1.403, 1.404, 1.323))
-    assert preview[1] == findings.PARTLY
-    assert "circle and square within 0.07" in preview[2]
-    assert finding.judge(runs(1.45, 1.36, 1.50, 1.40))[1:] == (findings.AGREES, "")
-    assert finding.judge(runs(1.45, 1.50, 1.36, 1.40))[1] == findings.DIFFERS
-
-
-def test_axon_findings_are_not_judged_when_the_axons_did_not_grow():
-    """The paper's axon findings (tangential axons: the smaller interface |b| and a much lower
-    released stress than normal ones, concentric against straight) are judged on grown
-    axons; where theta_a stayed 1 (a march too short for the stretch to pass its critical
-    value) the three fields are the same growth and the verdict says so instead of
-    'differs'."""
-    def runs(theta_a_max, b):
-        return {label: _results({"X1": [0.0, 1.0]}, {"theta_a_max": theta_a_max,
-                                                      "burgers_interface_mean": value,
-                                                      "max_principal_stress_released": value})
-                for label, value in zip(findings.FOLDING, b, strict=True)}
-
-    judged = [f for f in findings.FINDINGS
-              if f.measure in (findings._fold_axons, findings._fold_release)]
-    assert len(judged) == 2
-    for finding in judged:
-        idle = finding.judge(runs(1.0, (9.4, 9.4, 9.4)))
-        assert idle[1] == findings.NOT_RUN and "did not grow" in idle[2]
-        # curved, concentric, straight
-        assert finding.judge(runs(1.7, (4.2, 3.0, 4.2)))[1] == findings.AGREES
-        assert finding.judge(runs(1.7, (3.0, 4.3, 4.2)))[1] == findings.DIFFERS
-    release = judged[1].judge(runs(1.7, (4.2, 3.9, 4.2)))
-    assert release[1] == findings.PARTLY and "7.14 %" in release[2]
-    # |b| larger for normal axons by less than the mesh settles: partly, and why
-    axons = judged[0].judge(runs(1.01, (5.38, 5.34, 5.38)))
-    assert axons[1] == findings.PARTLY and "only by 0.749 %" in axons[2], axons
-    assert judged[0].judge(runs(1.01, (5.38, 5.0, 5.38)))[1] == findings.AGREES

@@ -93,9 +93,13 @@ def from_name(spec, parameter="direction"):
 
 
 AXONS = ("curved", "concentric", "straight")
+#: Depth of the focus of the curved and concentric axons below the interface (cm): the curved
+#: axons meet the interface at most atan(length / (2 FOCUS_DEPTH)) from its normal, 26.6
+#: degrees on the paper's 3 cm strip.
+FOCUS_DEPTH = 3.0
 
 
-def axons(kind, interface=0.95, length=3.0, focus_depth=3.0, vertical="e3"):
+def axons(kind, interface=0.95, length=3.0, focus_depth=FOCUS_DEPTH, vertical="e3"):
     """The bilayer's axon orientations in the subcortex (cortical folding, Fig. 7).
 
     Parameters

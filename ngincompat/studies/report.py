@@ -52,7 +52,7 @@ h1{font-size:1.6em} h2{border-bottom:2px solid #ccc;padding-bottom:.2em;margin-t
 table{border-collapse:collapse;margin:.6em 0;font-size:.92em}
 td,th{border:1px solid #bbb;padding:.3em .5em;vertical-align:top;text-align:left}
 th{background:#eee} .agrees{background:#d8f0d8} .partly{background:#fbeec0}
-.differs{background:#f6d0d0} .not-run{background:#e4e4e4}
+.differs{background:#f6d0d0} .imposed{background:#dce6f4} .not-run{background:#e4e4e4}
 figure{margin:.5em 0} figure img{max-width:100%;border:1px solid #ddd}
 figcaption{font-size:.9em;color:#444} .grid{display:flex;flex-wrap:wrap;gap:1em}
 .grid figure{flex:1 1 420px;max-width:680px} .grid figure.wide{flex:1 1 100%;max-width:100%}
@@ -138,7 +138,7 @@ def _section(out, section, rows, results):
                  "<th>verdict</th><th>why</th></tr>")
     for f, measured, verdict, reason in judged:
         cls = verdict.replace(" ", "-")
-        parts.append(f'<tr class="{cls}"><td>{html.escape(f.claim)}</td>'
+        parts.append(f'<tr class="{cls}"><td>{html.escape(f.states)}</td>'
                      f"<td>{html.escape(f.figure)}</td><td>{html.escape(measured)}</td>"
                      f"<td><b>{verdict}</b></td><td>{html.escape(reason)}</td></tr>")
     parts.append("</table>")
@@ -184,10 +184,12 @@ def write(out, rows, resolution):
     head = (f"<h1>Lee et al. 2021, <i>The geometry of incompatibility in growing soft "
             f"tissues</i>, reproduced with ngincompat</h1><p>Resolution <b>{resolution}</b>; "
             f"{len(rows)} runs, {total:.0f} s of run time; findings "
-            + ", ".join(f"{v}: {counts[v]}" for v in (findings.AGREES, findings.PARTLY,
-                                                      findings.DIFFERS, findings.NOT_RUN)
-                        if v in counts)
-            + f". Written {html.escape(str(record.get('date', '')))} on "
+            + ", ".join(f"{v}: {counts[v]}" for v in findings.VERDICTS if v in counts)
+            + " (imposed: the measured value is one the model is given, an input or a cap, "
+            "counted apart from the agreements; each verdict follows a rule fixed from the "
+            "paper's words, listed with its thresholds and their sources on the "
+            "documentation's validation page). "
+            f"Written {html.escape(str(record.get('date', '')))} on "
             f"{html.escape(str(record.get('host', '')))}.</p>"
             + ("<p>The preview resolution is a first look on coarse meshes: a finding that "
                "differs there because of a discretisation error (a stress that should vanish "
