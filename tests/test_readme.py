@@ -54,9 +54,9 @@ RUN = {
     "atrophy": ["--maxh", "1", "--set", "semi_axes=3,2.5,2", "--set", "gray_thickness=0.5",
                 "--set", "seed=0,0,-2", "--set", "t_end=4", "--set", "dt=1", "--set",
                 "snapshots=1", "--set", "g_order=2"],
-    # without the release, most of the time, which test_folding.py runs; the default cortex
-    # mesh (the refinement study's finer ones cost more); ``ngincompat folding`` runs on a
-    # creasing bilayer (``coarse``)
+    # without the release, most of the time, which test_folding.py runs; the cortex two
+    # elements thick (the preview's; the default's four and the refinement study's finer
+    # ones cost more); ``ngincompat folding`` runs on a creasing bilayer (``coarse``)
     "folding": [*FOLDING_COARSE, "--set", "release=false", "--set", "cortex_maxh=0.025"],
 }
 #: A folding run with a refined top: the thin default cortex refined twice (its own cortex
