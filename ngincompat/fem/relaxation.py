@@ -67,7 +67,8 @@ class RelaxationStage:
     changes the energy of the same state where its walls touch, and the next step's Phi is
     made of the new pairs. After an accepted full step tau doubles, unless it is one of
     the ``options.step_hold`` accepted steps after a rejected or shortened one. The flow so
-    leaves saddles and settles in a stable equilibrium.
+    leaves the saddles it passes near and settles in a stable equilibrium (one it reaches
+    itself it leaves only if kicked, below).
 
     The residual without viscosity at u_n+1 is r(u_n+1). Once it is below ``switch`` times
     its value at the start (:attr:`initial_residual`), Newton solves the equilibrium
