@@ -641,8 +641,9 @@ def _readings(f, runs, values, compare, claim):
                 f"tangential: concentric): {second_text}: {second}, not the verdict. The "
                 f"curved axons meet the interface at most {angle:.3g} degrees from its normal "
                 "(ngincompat.mechanics.fields.axons), which the paper calls tangential")
-    reason = {AGREES: "", PARTLY: f"{claim}, but not against every normal field by the "
-              f"threshold ({text})", DIFFERS: f"{claim} against no normal field ({text})"}
+    reason = {AGREES: "", PARTLY: f"{claim} against some normal field, not against every "
+              f"one by the threshold ({text})",
+              DIFFERS: f"{claim} against no normal field ({text})"}
     return measured, verdict, reason[verdict]
 
 
