@@ -117,7 +117,6 @@ class RelaxationStage:
     def __post_init__(self):
         require(self.max_steps >= 1, "max_steps", self.max_steps, ">= 1")
         require(self.kick >= 0, "kick", self.kick, ">= 0 (a displacement)")
-        self._kicked = False
 
     def run(self, progress: Progress) -> SolverHistory:
         problem, label = self.problem, progress.stage_label(self.name)
@@ -160,11 +159,12 @@ class RelaxationStage:
                                   f"viscosity {residual:.3g}")
                     history.t_reached = t
                     if residual <= self.switch * attempt:
-                        if self._equilibrium(history, saved, progress):
+                        outcome = self._equilibrium(history, saved, progress)
+                        if outcome == "stable":
                             history.converged = True
                             return history
                         attempt = residual
-                        if self._kicked:        # from beside the saddle, in short steps
+                        if outcome == "kicked":     # from beside the saddle, in short steps
                             problem.accept_step()
                             energy = problem.frozen_energy()
                             saved.data = problem.state.vec
@@ -205,33 +205,34 @@ class RelaxationStage:
         self.problem.dt.Set(dt)
         return norm
 
-    def _equilibrium(self, history, saved, progress) -> bool:
-        """Newton without viscosity from the current state; unless it converges to a
-        stable equilibrium the state is restored and False returned."""
+    def _equilibrium(self, history, saved, progress) -> str:
+        """Newton without viscosity from the current state: "stable" where it converges to
+        a stable equilibrium; "kicked" where it converges to a saddle, the state moved off
+        it (:meth:`_kick`); else "refused", the state restored to ``saved``."""
         label = progress.stage_label(self.name)
         self.problem.dt.Set(0.0)
         record = StepRecord(t=history.t_reached, dt=0.0, converged=False)
         atol = max(self.options.atol, self.options.rtol * self.initial_residual)
         solver = NewtonSolver(self.problem, replace(self.options, line_search=True, atol=atol),
                               energy=self.problem.frozen_energy)
-        self._kicked = False
+        kicked = False
         if solver.minimise(record):
             values, modes = buckling.smallest_eigenpairs(self.problem, count=self.eigenpairs)
             self.eigenvalue = float(values[0])
             record.converged = self.eigenvalue >= 0
             if not record.converged:
                 record.reason = f"unstable: smallest eigenvalue {self.eigenvalue:.3g}"
-                self._kicked = self._kick(modes[0])
+                kicked = self._kick(modes[0])
         history.steps.append(record)
         progress.line(f"{label}: without viscosity "
                       + (f"{record.iterations} Newton iterations, residual "
                          f"{record.residuals[-1]:.3g}, smallest eigenvalue "
                          f"{self.eigenvalue:.3g}" if record.converged else
                          f"not accepted ({record.reason}); relaxing on"))
-        if not (record.converged or self._kicked):
+        if not (record.converged or kicked):
             self.problem.state.vec.data = saved
         self.final_residual = record.residuals[-1]
-        return record.converged
+        return "stable" if record.converged else "kicked" if kicked else "refused"
 
     def _kick(self, mode) -> bool:
         """Move the state (a saddle Newton converged to) along its unstable ``mode`` by
