@@ -86,6 +86,33 @@ def test_smallest_eigenpairs_are_the_smallest_not_those_nearest_zero():
     np.testing.assert_allclose(found, stable[:3], rtol=1e-9)
 
 
+def test_a_far_negative_eigenvalue_is_computed_alone_below_the_spectrum(monkeypatch):
+    """A contact's steep mode (-1.5e4) beside a cluster near 3: the pairs nearest zero miss
+    it, and Lanczos about the far shift is asked for that one pair only (asked for all six,
+    it also had to separate the cluster, whose shifted-inverted values nearly coincide
+    there: 1,333 iterations a shift). The shift it is computed about lies below every
+    eigenvalue, and the six smallest come back."""
+    cluster = 2.9 + 0.01 * np.arange(600)
+    values = np.concatenate([[-1.5e4], cluster])
+    asked = []
+    about = buckling._pairs_about
+
+    def spy(K, M, sigma, count, A, lu):
+        asked.append((sigma, count))
+        return about(K, M, sigma, count, A, lu)
+
+    monkeypatch.setattr(buckling, "_pairs_about", spy)
+    found, _ = buckling.smallest_eigenpairs(prescribed(values), count=6)
+    np.testing.assert_allclose(found, np.sort(values)[:6], rtol=1e-9)
+    (first, six), (far, one) = asked
+    assert (first, six) == (0.0, 6)
+    assert one == 1 and far < -1.5e4
+    # with ``negative``, that one and the smallest other
+    asked.clear()
+    found, _ = buckling.smallest_eigenpairs(prescribed(values), count=1, negative=True)
+    np.testing.assert_allclose(found, [-1.5e4, 2.9], rtol=1e-9)
+
+
 def linear_samples(slopes, loads, modes=None, seed=1):
     """The pencil K(l) = Q diag(s_i (l - l_i)) Q^T, M = I (l_i, s_i from ``slopes``: mode i
     crosses zero at l_i) sampled at ``loads``: per sample its eigenvalues and modes (the

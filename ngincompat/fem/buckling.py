@@ -38,8 +38,13 @@ INVERSES = ("superlu", "sparsecholesky", "umfpack")
 #: to the matrix's scale, not to |K w|, which vanishes at a critical point).
 RESIDUAL_TOL = 1e-10
 
-#: The most shifts tried before the pairs found are proven to be the smallest.
+#: The most shifts tried in search of one below every eigenvalue.
 MAX_SHIFTS = 16
+
+#: The factor by which that search moves the shift down each time: the shift it stops at is at
+#: most this many times farther from 0 than the smallest eigenvalue, which so stays near the
+#: shift beside the eigenvalues near 0.
+SHIFT_GROWTH = 4
 
 
 def _symmetric_lu(A):
@@ -119,26 +124,44 @@ def _smallest(K, M, count, negative=False):
     """The ``count`` smallest eigenpairs of the pencil (with ``negative``: at least all the
     negative ones and the smallest other), proven by the inertia.
 
-    Shift-invert about sigma finds the pairs nearest sigma. If as many of them lie below sigma
-    as the pencil has there (:func:`count_below`), they are all those below sigma and the
-    nearest above it: the smallest. Otherwise the missing ones lie below the found ones' disc
-    |omega - sigma| <= r, and the shift moves to sigma - 2 r, or to 2 sigma if that is lower
-    (a far spectrum is reached in a few shifts; a shift below all of it is no error: the
-    pairs nearest it are the smallest). On a stable branch one factorisation (sigma = 0)
-    gives the pairs and their proof."""
-    sigma = 0.0
+    Shift-invert about 0 finds the pairs nearest 0, all those in the disc |omega| <= r of
+    the farthest found. If as many of them are negative as the pencil has negative
+    eigenvalues (:func:`count_below`), they are the smallest. Otherwise the m missing ones
+    lie below -r, the smallest of the spectrum: the shift moves to sigma = -2 r, -8 r, -32
+    r, ... (:data:`SHIFT_GROWTH`), an inertia count each, to the first sigma below every
+    eigenvalue; there the m pairs nearest sigma are the m smallest, and they must lie below
+    -r. Only those m are computed there: asked for ``count``, Lanczos about a far shift also
+    has to separate the pairs near 0, whose shifted-inverted values 1 / (omega - sigma)
+    nearly coincide (a contact's eigenvalue of -1.5e4 beside a cluster at 3-11 took 1,333
+    Lanczos iterations per shift and 34 s; ``docs/measurements/folding.md``, "Where the
+    time goes"). On a stable branch one factorisation (sigma = 0) gives the pairs and their
+    proof."""
+    A = sp.csc_matrix(K)
+    lu = _symmetric_lu(A)
+    below = _negatives(lu)
+    if negative:
+        count = max(count, below + 1)
+    values, vectors = _pairs_about(K, M, 0.0, count, A, lu)
+    missing = below - np.count_nonzero(values < 0)
+    if missing == 0:
+        return values, vectors
+    r = float(np.max(np.abs(values)))
+    sigma = -2 * r
     for _ in range(MAX_SHIFTS):
         A = sp.csc_matrix(K - sigma * M)
         lu = _symmetric_lu(A)
-        below = _negatives(lu)
-        if sigma == 0.0 and negative:
-            count = max(count, below + 1)
-        values, vectors = _pairs_about(K, M, sigma, count, A, lu)
-        if np.count_nonzero(values < sigma) == below:
-            return values, vectors
-        sigma = min(sigma - 2 * float(np.max(np.abs(values - sigma))), 2 * sigma)
-    raise ConvergenceError(f"no shift of {MAX_SHIFTS} gave eigenpairs proven to be the "
-                           f"smallest of the tangent")
+        if _negatives(lu) == 0:
+            low, low_vectors = _pairs_about(K, M, sigma, missing, A, lu)
+            if np.all(low < -r):
+                values = np.concatenate([low, values])
+                vectors = np.hstack([low_vectors, vectors])
+                order = np.argsort(values)[:count]
+                return values[order], vectors[:, order]
+            raise ConvergenceError(f"the {missing} eigenpairs below the shift "
+                                   f"{sigma:.3g} are not the ones missing below {-r:.3g}")
+        sigma *= SHIFT_GROWTH
+    raise ConvergenceError(f"no shift of {MAX_SHIFTS} lies below every eigenvalue of the "
+                           f"tangent")
 
 
 @part("eigenpairs")
