@@ -149,11 +149,32 @@ def test_the_cubes_interactive_view_draws_offline(report, tmp_path):
     assert not (report / "view_cylinder.html").exists()
 
 
-def test_report_lists_every_deviation_with_the_scenes_defaults(report):
+def test_report_lists_every_deviation_with_the_settings_it_was_run_at(report):
+    """The deviation table gives the values of the report's runs (the preview's, each with
+    the default it replaces), the defaults of the scenes not run, and the modelling choices
+    no parameter sets."""
     page = (report / "report.html").read_text(encoding="utf-8")
-    for row in deviations.rows():
+    runs = {}
+    for name in ("cube", "cylinder"):
+        record = json.loads((report / name / "results.json").read_text())
+        runs.setdefault(record["scene"], []).append(record["params"])
+    for row in deviations.rows(runs):
         assert html.escape(row["ours"]) in page
-    assert "mu = 0.55 MPa" in page              # the skin's, read from ref. [77] via 3.1
+    # the cube and the cylinder as run at the preview, not their defaults
+    assert "elements = tet, order = 3 (default 6), maxh = 0.5 mm" in page
+    assert "order = 2 (default 3), maxh = 0.5 mm (default 0.25)" in page
+    assert "mu = 0.55 MPa" in page              # the skin's default, read from ref. [77] via 3.1
+    assert "periphery clamped" in page          # a choice without a parameter
+
+
+def test_every_setting_a_verdict_rests_on_is_disclosed():
+    """The settings the paper leaves open or states otherwise each have a row."""
+    listed = {(row["section"], name) for row in deviations.rows()
+              for name in row["parameter"].split(", ")}
+    for key in [("3.2", "profile"), ("3.5", "theta_min"), ("3.5", "seed"), ("3.5", "t_end"),
+                ("3.6", "footprint_area"), ("3.6", "(none)"), ("3.7", "axon_rate"),
+                ("3.7", "stretch_crit"), ("3.7", "viscosity"), ("3.7", "axons")]:
+        assert key in listed, key
 
 
 def test_a_second_run_resumes_and_overwrite_recomputes(report, capsys):

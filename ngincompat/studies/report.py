@@ -199,9 +199,15 @@ def write(out, rows, resolution):
             + "<p>Sections: " + " ".join(f'<a href="#s{s.number}">{s.number}</a>'
                                         for s in SECTIONS)
             + ' <a href="#deviations">deviations</a></p>')
-    table = deviations.rows()
-    dev = ('<section id="deviations"><h2>Where the defaults differ from the paper</h2>'
-           + _table(("section", "scene", "parameter", "paper", "ours (default)", "reason",
+    runs = {}
+    for r in results.values():
+        runs.setdefault(r.scene, []).append(r.params)
+    table = deviations.rows(runs)
+    dev = ('<section id="deviations"><h2>Where the settings differ from the paper, or choose '
+           "what it does not state</h2><p>The values are those of the runs of this report "
+           f"(resolution {resolution}), each with the default it replaces; a scene not run "
+           "here shows its defaults.</p>"
+           + _table(("section", "scene", "parameter", "paper", "ours (as run)", "reason",
                      "effect"), [tuple(d.values()) for d in table]) + "</section>")
     page = ("<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">"
             "<title>ngincompat: the paper's sections 3.1-3.7</title>"
