@@ -85,3 +85,29 @@ def test_a_clipped_scale_leaves_a_peak_beyond_its_end():
     assert cmap == "viridis" and norm.vmax < 1.01
     norm, cmap = style.colour_scale(np.array([-1.0, 2.0]))          # both signs: diverging
     assert (norm.vmin, norm.vmax, cmap) == (-2.0, 2.0, "RdBu_r")
+
+
+def test_arrows_show_the_vector_field_on_the_side_facing_the_camera(mesh):
+    """b = (0, 0, X1) on the box, seen from above (elevation 90): the arrows stand on the
+    top face only (X3 = 1, its outward normal toward the camera), each the vector at its
+    point, all scaled by one factor with the longest ARROW_LENGTH of the box's size (2)."""
+    b = ngs.CF((0, 0, ngs.x))
+    panel = surface.Panel("|b|", ngs.Norm(b), arrows=b)
+    fig = surface.surface_figure(mesh, None, [panel], "t", "mm", view=(90, 0), subdivision=2)
+    (ax,) = [ax for ax in fig.axes if hasattr(ax, "get_zlim")]
+    (quiver,) = [c for c in ax.collections if type(c).__name__ == "Line3DCollection"]
+    # matplotlib's shafts come first, each from the tip to the tail
+    shafts = [np.asarray(seg) for seg in quiver._segments3d[:len(quiver._segments3d) // 3]]
+    starts = np.array([s[1] for s in shafts])
+    lengths = np.array([s[0, 2] - s[1, 2] for s in shafts])
+    assert 10 <= len(shafts) <= surface.ARROWS
+    np.testing.assert_allclose(starts[:, 2], 1.0, atol=1e-9)        # on the top face
+    scale = surface.ARROW_LENGTH * 2.0 / starts[:, 0].max()
+    # the field is evaluated 1e-7 of the size inside the face (surface.evaluate)
+    np.testing.assert_allclose(lengths, scale * starts[:, 0], rtol=1e-5)
+    # the same panel seen from below: the bottom face (X3 = 0) carries them
+    fig = surface.surface_figure(mesh, None, [panel], "t", "mm", view=(-90, 0), subdivision=2)
+    (ax,) = [ax for ax in fig.axes if hasattr(ax, "get_zlim")]
+    (quiver,) = [c for c in ax.collections if type(c).__name__ == "Line3DCollection"]
+    shafts = quiver._segments3d[:len(quiver._segments3d) // 3]
+    assert np.allclose([np.asarray(s)[1, 2] for s in shafts], 0.0, atol=1e-9)

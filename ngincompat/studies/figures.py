@@ -2,8 +2,9 @@
 
 Per case, a field figure: colour maps on the deformed boundary
 (:func:`ngincompat.workflow.surface.surface_figure`) of the fields the paper shows for its
-scene (:data:`FIELDS`), drawn from the run's NGSolve fields as it ends (file
-``fig<N>_<case>.png``). Per section, the figures that compare cases, drawn from the profiles
+scene (:data:`FIELDS`), the Burgers vectors b drawn as arrows over the maps of |b|, drawn
+from the run's NGSolve fields as it ends (file ``fig<N>_<case>.png``). Per section, the
+figures that compare cases, drawn from the profiles
 in results.json (so a resumed job draws them too): Fig. 2g-h (the hemisphere's profiles,
 with the 1-D radial solution beside the computed stresses of the symmetry case), Fig. 3e (the
 disc's fiber families) and Fig. 7 (the folding fields of the three axon fields).
@@ -71,6 +72,13 @@ def case_files(label):
     return [f"fig{FIELDS[scene][0]}_{label}.png"]
 
 
+def _vector(key):
+    """The vector field whose norm the field ``key`` is ("|b_e3|" -> "b_e3"; "" for any
+    other): a panel of a Burgers vector's norm draws the vectors as arrows, as the paper
+    draws them (Figs. 2b-c, 3b, 6b)."""
+    return key[1:-1] if key.startswith("|b") and key.endswith("|") else ""
+
+
 def case_figure(out, label, results, resolution):
     """Draw the field figure of the case ``label`` from its NGSolve fields, titled with the
     ``resolution`` it ran at (nothing for a scene without one, or a run without fields)."""
@@ -80,8 +88,10 @@ def case_figure(out, label, results, resolution):
     number, view, spec = FIELDS[scene]
     f = results.fields
     L, S = results.units["length"], results.units.get("stress", "")
-    panels = [surface.Panel(title.format(L=L, S=S), f[key], signed,
-                            u=f.get(disp) if disp else None)
+    panels = [surface.Panel(title.format(L=L, S=S) + (", arrows: b" if _vector(key) in f
+                                                      else ""),
+                            f[key], signed, u=f.get(disp) if disp else None,
+                            arrows=f.get(_vector(key)))
               for title, key, signed, disp in spec
               if key in f and (disp is None or disp in f)]
     if not panels:

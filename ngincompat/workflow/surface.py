@@ -10,7 +10,10 @@ of the package, fed in either of two ways.
   brain's Fig. 5 a-c from results.json, gathered over the ranks of a distributed run).
 
 A triangle is coloured by the mean of its corners, and drawn at its corners moved by the
-panel's displacement (the deformed configuration of the paper's figures). Matplotlib's 3-D
+panel's displacement (the deformed configuration of the paper's figures). A panel may also
+draw a vector field as arrows (the paper's Burgers vectors, Figs. 2b-c, 3b, 6b): at
+:data:`ARROWS` points spread over the part of the surface that faces the camera, each arrow
+scaled by the same factor, the longest :data:`ARROW_LENGTH` of the body's size. Matplotlib's 3-D
 axes sort the triangles by depth, which draws convex bodies (cube, hemisphere, disc,
 cylinder, the brain seen from outside) correctly. Colour scales:
 :func:`ngincompat.workflow.style.colour_scale`; every panel has its own colour bar with the
@@ -32,6 +35,13 @@ from ngincompat.workflow.style import colour_scale, extend, tick_format, wrapped
 
 #: Triangles per panel the subdivision aims at (finer looks no different at the figure's size).
 TRIANGLES = 12000
+#: Arrows per panel that draws a vector field, at most.
+ARROWS = 120
+#: The longest arrow, as a fraction of the body's largest extent.
+ARROW_LENGTH = 0.12
+#: A triangle carries an arrow where its outward unit normal has at least this component
+#: toward the camera (a face seen edge-on carries none).
+FACING = 0.2
 
 
 @dataclass
@@ -41,8 +51,10 @@ class Panel:
     :func:`triangulated_figure`), whether it is a signed quantity (a stress component: a
     diverging map centred at zero whatever its values; None: if its values take both
     signs), the smallest range of its scale, the per cent of values left beyond each end
-    of the scale, and the displacement it is drawn on (as ``field``; None: the figure's for
-    :func:`surface_figure`, the reference surface for :func:`triangulated_figure`)."""
+    of the scale, the displacement it is drawn on (as ``field``; None: the figure's for
+    :func:`surface_figure`, the reference surface for :func:`triangulated_figure`), and a
+    vector field drawn over the map as arrows (a CoefficientFunction with three components;
+    :func:`surface_figure` only)."""
 
     title: str
     field: object
@@ -50,6 +62,7 @@ class Panel:
     floor: float = 0.0
     u: object = None
     clip: float = 0.0
+    arrows: object = None
 
 
 def boundary_triangles(mesh, subdivision: int):
@@ -127,9 +140,32 @@ def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
     moved = {None: tri}
     for d, v in zip(real, evaluate(mesh, real, points) if real else [], strict=True):
         moved[d] = np.where(np.isfinite(v), points + scale * v, points).reshape(tri.shape)
-    return _figure(panels, [v.reshape(tri.shape[:2]) for v in values],
-                   [moved[p.u if p.u is not None else u] for p in panels], title, unit,
-                   view, ncols)
+    shapes = [moved[p.u if p.u is not None else u] for p in panels]
+    arrows = [None if p.arrows is None else _arrows(mesh, tri, shape, p.arrows, view)
+              for p, shape in zip(panels, shapes, strict=True)]
+    return _figure(panels, [v.reshape(tri.shape[:2]) for v in values], shapes, title, unit,
+                   view, ncols, arrows)
+
+
+def _arrows(mesh, tri, shape, vectors, view):
+    """Where and which arrows a panel draws: the vector field ``vectors`` at the centres of
+    up to :data:`ARROWS` of the triangles ``tri`` (reference, (m, 3, 3)) whose deformed
+    ``shape`` faces the camera at ``view`` (:data:`FACING`; outward: away from the body's
+    centre), spread
+    evenly over them; returns the deformed centres (k, 3) and the vectors (k, 3)."""
+    elevation, azimuth = np.radians(view)
+    eye = np.array([np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth),
+                    np.sin(elevation)])
+    centres = shape.mean(axis=1)
+    normal = np.cross(shape[:, 1] - shape[:, 0], shape[:, 2] - shape[:, 0])
+    normal *= np.sign(np.einsum("ij,ij->i", normal, centres - centres.mean(axis=0)))[:, None]
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    seen = np.flatnonzero(normal @ eye > FACING)
+    chosen = seen[np.linspace(0, len(seen) - 1, min(ARROWS, len(seen))).astype(int)] \
+        if len(seen) else seen
+    (values,) = evaluate(mesh, [vectors], tri[chosen].mean(axis=1))
+    keep = np.all(np.isfinite(values), axis=1)
+    return centres[chosen][keep], values[keep]
 
 
 def triangulated_figure(points, triangles, panels, title, unit, view=(10, 90), ncols=None):
@@ -153,9 +189,10 @@ def triangulated_figure(points, triangles, panels, title, unit, view=(10, 90), n
     return _figure(panels, values, shapes, title, unit, view, ncols)
 
 
-def _figure(panels, values, shapes, title, unit, view, ncols):
+def _figure(panels, values, shapes, title, unit, view, ncols, arrows=None):
     """The panels' maps: ``values`` (m, 3) at the corners of the triangles ``shapes``
-    (m, 3, 3) of each panel, in balanced rows of at most ``ncols`` (default four)."""
+    (m, 3, 3) of each panel, in balanced rows of at most ``ncols`` (default four); each
+    panel's ``arrows`` (positions and vectors, or None) drawn over its map."""
     ncols = ncols or 4
     nrows = -(-len(panels) // ncols)
     ncols = -(-len(panels) // nrows)            # balanced rows: 5 panels as 3 + 2
@@ -163,7 +200,9 @@ def _figure(panels, values, shapes, title, unit, view, ncols):
     every = np.concatenate([shape.reshape(-1, 3) for shape in shapes])
     lo, hi = every.min(axis=0), every.max(axis=0)
     span = hi - lo
-    for i, (panel, v, shape) in enumerate(zip(panels, values, shapes, strict=True)):
+    arrows = arrows or [None] * len(panels)
+    for i, (panel, v, shape, arrow) in enumerate(zip(panels, values, shapes, arrows,
+                                                     strict=True)):
         ax = fig.add_subplot(nrows, ncols, i + 1, projection="3d")
         face = np.nanmean(v, axis=1)
         norm, cmap = colour_scale(face, panel.signed, panel.floor, panel.clip)
@@ -172,6 +211,8 @@ def _figure(panels, values, shapes, title, unit, view, ncols):
         # edges in the face's colour: no hairline seams between the small triangles
         ax.add_collection3d(Poly3DCollection(shape, facecolors=rgba, edgecolors=rgba,
                                              linewidths=0.25))
+        if arrow is not None and len(arrow[0]):
+            _draw_arrows(ax, *arrow, ARROW_LENGTH * span.max())
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
         ax.set_zlim(lo[2], hi[2])
@@ -192,3 +233,16 @@ def _figure(panels, values, shapes, title, unit, view, ncols):
     fig.subplots_adjust(left=0.05, right=0.95, bottom=0.03, top=0.86 if nrows == 1 else 0.92,
                         wspace=0.25, hspace=0.25)
     return fig
+
+
+def _draw_arrows(ax, at, vectors, longest):
+    """Arrows of ``vectors`` at the points ``at`` on the 3-D axes ``ax``, all scaled by one
+    factor, the longest ``longest`` long; drawn over the surface (the points face the
+    camera)."""
+    size = np.linalg.norm(vectors, axis=1).max()
+    if not size > 0:
+        return
+    ax.computed_zorder = False
+    d = vectors * (longest / size)
+    ax.quiver(at[:, 0], at[:, 1], at[:, 2], d[:, 0], d[:, 1], d[:, 2], color="black",
+              linewidth=0.6, arrow_length_ratio=0.3, zorder=10)
