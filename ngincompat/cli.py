@@ -194,6 +194,7 @@ def _cmd_bench(args):
         folding_costs,
         peer,
         scaling,
+        skin_sensitivity,
         stability,
         validation,
     )
@@ -220,6 +221,8 @@ def _cmd_bench(args):
         lines = validation.main(out=args.out, quick=args.quick, progress=Progress())
     elif args.case == "stability":
         lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
+    elif args.case == "skin":
+        lines = skin_sensitivity.main(args.choices, quick=args.quick, out=args.out)
     else:
         lines = scaling.main(args.maxh, args.orders, quick=args.quick, solvers=args.solvers,
                              timeout=args.timeout, memory_limit=args.memory_limit,
@@ -256,7 +259,7 @@ def _cmd_sweep_plot(args):
 
 
 def _add_bench(sub):
-    """``bench scenes | cube | accuracy | curvature | validation | peer | stability |
+    """``bench scenes | cube | accuracy | curvature | validation | skin | peer | stability |
     scaling`` and their options."""
     from ngincompat.studies.scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
@@ -318,6 +321,14 @@ def _add_bench(sub):
                            "its volume bookkeeping (see ngincompat.studies.validation)")
     p.add_argument("--quick", action="store_true",
                    help="coarse settings (about a minute)")
+    p = case("skin", "section 3.6's findings (the expanders' order, the 40 kPa) under the "
+                     "choices the paper leaves open: sizes, dome, modulus, Hill constants "
+                     "(see ngincompat.studies.skin_sensitivity)")
+    p.add_argument("--choices", nargs="+", metavar="CHOICE",
+                   help="the study's choices by name (default: all; an unknown name is "
+                        "refused with the list)")
+    p.add_argument("--quick", action="store_true",
+                   help="two choices on a coarse patch (under a minute)")
     p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
                      "alternate runs, the ratio of solve times and both energy errors")
     p.add_argument("--peer", metavar="DIR",
