@@ -133,7 +133,9 @@ def test_a_shortened_step_shortens_the_next_and_holds_it(monkeypatch):
 class _FakeMarch:
     """A march whose pieces fail at the times in ``fails`` (the state then holds the last
     converged step, as :func:`~ngincompat.fem.stepping.solve_coupled` leaves it) and reach
-    ``t_end`` from the last of them; every piece's start is logged in ``starts``."""
+    ``t_end`` from the last of them; or, with a ``script``, whose pieces fail in turn at its
+    times (shared by the pieces). Every piece's start is logged in ``starts``, its shortest
+    step in ``min_steps``."""
 
     problem: object
     fails: tuple
@@ -144,6 +146,7 @@ class _FakeMarch:
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(min_step=0.1))
     sticky: bool = False
     min_steps: list = field(default_factory=list)
+    script: list | None = None
 
     def run(self, progress):
         self.starts.append(self.t_start)
@@ -151,7 +154,10 @@ class _FakeMarch:
         history = SolverHistory(t_reached=self.t_start)
         history.steps.append(StepRecord(t=self.t_start + 1.0, dt=1.0, converged=True,
                                         iterations=4))
-        ahead = [t for t in self.fails if t > self.t_start or self.sticky]
+        ahead = ([t for t in self.fails if t > self.t_start or self.sticky]
+                 if self.script is None else self.script[:1])
+        if self.script:
+            self.script.pop(0)
         self.problem.state.vec[:] = ahead[0] if ahead else self.t_end
         if ahead:
             history.steps.append(StepRecord(t=ahead[0] + 0.05, dt=0.05, converged=False,
@@ -179,13 +185,13 @@ class _FakeRelaxation:
         return history
 
 
-def _snapping(fails, sticky=False, **relaxation):
+def _snapping(fails, sticky=False, script=None, **relaxation):
     state = ngs.GridFunction(ngs.H1(cube(maxh=1.0), order=1))
     accepted = []
     problem = SimpleNamespace(state=state, accept_step=lambda: accepted.append(
         state.vec.FV().NumPy()[0]))
     starts = []
-    stage = SnappingMarch(_FakeMarch(problem, fails, starts, sticky=sticky),
+    stage = SnappingMarch(_FakeMarch(problem, fails, starts, sticky=sticky, script=script),
                           lambda: _FakeRelaxation(problem, **relaxation))
     return stage, problem, starts, accepted
 
@@ -218,14 +224,27 @@ def test_where_the_relaxation_fails_the_march_follows_the_snap_in_short_steps():
     assert [(s.t, s.dt) for s in history.steps][1:4] == [(3.05, 0.05), (3.0, 0.0), (3.0, 0.0)]
 
 
-def test_a_march_that_fails_again_where_it_relaxed_ends_there():
+def test_a_march_that_fails_again_where_it_relaxed_goes_on_in_finer_steps_then_ends():
     """A piece that fails at the very time of the last relaxation has made no progress: the
-    march ends with its error instead of relaxing the same state again."""
+    march is not relaxed again there but goes on in steps down to a quarter of the shortest
+    it had, and a quarter of that, ...; below ``shortest`` it ends with its error."""
     stage, problem, starts, _ = _snapping((3.0,), sticky=True)
+    stage.shortest = 1e-3
     with pytest.raises(ConvergenceError, match="min_step") as err:
         stage.run(SILENT)
-    assert stage.snaps == [3.0] and starts == [0.0, 3.0]
+    assert stage.snaps == [3.0] and starts == [0.0, 3.0, 3.0, 3.0, 3.0]
+    np.testing.assert_allclose(stage.march.min_steps, [0.1, 0.1, 0.025, 0.00625, 0.0015625])
     assert err.value.t_converged == 3.0
+
+
+def test_after_finer_steps_pass_the_snap_the_next_relaxation_gives_the_step_back():
+    """The piece after the relaxation at 3 fails at 3 again: steps down to a quarter pass
+    it, the march fails at 6, relaxes there, and goes on with its own shortest step."""
+    stage, problem, starts, _ = _snapping((), script=[3.0, 3.0, 6.0])
+    history = stage.run(SILENT)
+    assert history.converged and stage.snaps == [3.0, 6.0]
+    assert starts == [0.0, 3.0, 3.0, 6.0]
+    np.testing.assert_allclose(stage.march.min_steps, [0.1, 0.1, 0.025, 0.1])
 
 
 def test_a_step_shortened_below_min_step_ends_the_relaxation(monkeypatch):

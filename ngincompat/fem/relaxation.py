@@ -261,9 +261,13 @@ class SnappingMarch:
     reference state being that equilibrium. Where the relaxation finds none (a creased
     state in contact whose energy falls by less than round-off), the state goes back to
     the march's last step and the march follows the snap in steps down to ``shortest``,
-    as it would without relaxations. The march ends with the error of its last piece where
-    a piece makes no progress after a relaxation, or after ``max_snaps`` relaxations; the
-    state is then the last converged step of the march.
+    as it would without relaxations. Where a piece makes no progress after a relaxation
+    (the cut that called it came before the snap, whose start still needs shorter steps),
+    the march goes on from there in steps down to ``finer`` times the shortest it had,
+    again and again while it makes none; the shortest step it is given back after the
+    next relaxation. It ends with the error of its last piece where that would be below
+    ``shortest``, or after ``max_snaps`` relaxations; the state is then the last converged
+    step of the march.
 
     The history holds the march's steps and, for each relaxation, its steps at the march's
     time t with dt = 0 (growth held); :attr:`snaps` the times of the relaxations."""
@@ -272,6 +276,7 @@ class SnappingMarch:
     relax: Callable[[], RelaxationStage]
     max_snaps: int = 50
     shortest: float = 1e-6
+    finer: float = 0.25
     snaps: list = field(default_factory=list, init=False)
 
     @property
@@ -296,8 +301,17 @@ class SnappingMarch:
                 history.converged = True
                 return history
             t = failure.t_converged
-            if len(self.snaps) >= self.max_snaps or (self.snaps and t <= self.snaps[-1]):
+            if len(self.snaps) >= self.max_snaps:
                 raise ConvergenceError(str(failure), history=history, t_converged=t)
+            if self.snaps and t <= self.snaps[-1]:      # no progress since the relaxation
+                shortest = march.options.min_step * self.finer
+                if shortest < self.shortest:
+                    raise ConvergenceError(str(failure), history=history, t_converged=t)
+                progress.line(f"{label}: no step from t = {t:.6g} after the relaxation; "
+                              f"marching on in steps down to {shortest:g}")
+                march = replace(self.march, t_start=t,
+                                options=replace(self.march.options, min_step=shortest))
+                continue
             progress.line(f"{label}: the step was cut below {march.options.min_step:g} at "
                           f"t = {t:.6g}: relaxing at that growth")
             saved = problem.state.vec.CreateVector()
