@@ -33,6 +33,7 @@ COARSE = {
     "accuracy": ["--quick"],
     "curvature": ["--quick"],
     "stability": ["--quick"],
+    "skin": ["--quick"],
     "scenes": ["--scenes", "cube", "--presets", "preview"],
     "folding": ["--axons", "straight", "--preset", "preview", "--set", "t_end=10",
                 "--set", "release=false"],
@@ -40,7 +41,7 @@ COARSE = {
     "scaling": ["--quick", "--solvers", "sparsecholesky"],
 }
 #: Benchmarks whose coarse settings take more than about 30 s.
-SLOW = {"validation"}
+SLOW = {"validation", "skin"}
 
 
 def included(page):
