@@ -275,3 +275,15 @@ def test_a_saddle_is_left_along_its_unstable_mode(monkeypatch):
     assert plain.converged and plain.steps[first + 1].dt == 2 * plain.steps[first - 1].dt
     with pytest.raises(ParameterError, match="kick"):
         RelaxationStage("release", None, None, viscosity=1.0, dt=1.0, kick=-1.0)
+
+
+def test_a_saddle_met_again_is_left_the_other_way(monkeypatch):
+    """Two saddles of the same energy (the flow came back to the one it was kicked off): the
+    second kick goes the other way along the mode, so the state is back where the first
+    kick started it (0), where two kicks the same way would have left it at 0.5; a third
+    equilibrium is stable."""
+    stage, history, _ = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1, repair=1.0,
+                                           eigenvalues=(-5.0, -5.0, 1.0), kick=0.25)
+    frozen = [step for step in history.steps if step.dt == 0]
+    assert history.converged and len(frozen) == 3 and stage.eigenvalue == 1.0
+    assert np.all(stage.problem.state.vec.FV().NumPy() == 0.0)

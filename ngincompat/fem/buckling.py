@@ -133,9 +133,9 @@ def _smallest(K, M, count, negative=False):
     -r. Only those m are computed there: asked for ``count``, Lanczos about a far shift also
     has to separate the pairs near 0, whose shifted-inverted values 1 / (omega - sigma)
     nearly coincide (a contact's eigenvalue of -1.5e4 beside a cluster at 3-11 took 1,333
-    Lanczos iterations per shift and 34 s; ``docs/measurements/folding.md``, "Where the
-    time goes"). On a stable branch one factorisation (sigma = 0) gives the pairs and their
-    proof."""
+    Lanczos iterations per call and 34-40 s; ``docs/measurements/folding.md``, "The
+    march's failed steps"). On a stable branch one factorisation (sigma = 0) gives the pairs
+    and their proof."""
     A = sp.csc_matrix(K)
     lu = _symmetric_lu(A)
     below = _negatives(lu)

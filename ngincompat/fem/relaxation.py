@@ -83,7 +83,8 @@ class RelaxationStage:
     (:func:`~ngincompat.fem.buckling.smallest_eigenpairs`) >= 0: started close to a
     saddle, Newton returns to the saddle; the flow then goes on from the state before, or,
     with ``kick`` > 0, from the saddle moved along its unstable mode by ``kick`` (at the
-    mode's largest dof), with the first pseudo-time step ``dt`` again: a flow that has
+    mode's largest dof; a saddle met again, the other way), with the first pseudo-time
+    step ``dt`` again: a flow that has
     reached a saddle itself does not leave it (seen on the folding bilayer: a residual of
     5e-10 at the saddle, the smallest eigenvalue -1.8e4, tau doubled to 1e98).
     :attr:`final_residual` is the residual without viscosity at the end, :attr:`eigenvalue`
@@ -113,6 +114,7 @@ class RelaxationStage:
     initial_residual: float = field(default=float("nan"), init=False)
     final_residual: float = field(default=float("nan"), init=False)
     eigenvalue: float = field(default=float("nan"), init=False)
+    _kicked: list = field(default_factory=list, init=False)
 
     def __post_init__(self):
         require(self.max_steps >= 1, "max_steps", self.max_steps, ">= 1")
@@ -236,11 +238,19 @@ class RelaxationStage:
 
     def _kick(self, mode) -> bool:
         """Move the state (a saddle Newton converged to) along its unstable ``mode`` by
-        ``kick`` at the mode's largest dof; True if it did (``kick`` > 0)."""
+        ``kick`` at the mode's largest dof; True if it did (``kick`` > 0). A saddle met
+        again in this relaxation (its energy at frozen growth equal to a kicked one's to
+        1e-10) is left the other way, then the first way again, ...: a flow from the
+        concentric bilayer's saddle at 62.8 days with the hand-over at a quarter step
+        returned to it after each kick along +w, its energies repeating to ten digits
+        (``docs/measurements/folding.md``, "The march's failed steps")."""
         if self.kick <= 0:
             return False
+        energy = self.problem.frozen_energy()
+        again = sum(1 for e in self._kicked if math.isclose(e, energy, rel_tol=1e-10))
+        self._kicked.append(energy)
         w = mode.vec.FV().NumPy()
-        self.problem.u.vec.data += (self.kick / np.max(np.abs(w))) * mode.vec
+        self.problem.u.vec.data += ((-1) ** again * self.kick / np.max(np.abs(w))) * mode.vec
         return True
 
 
