@@ -46,7 +46,7 @@ class Choice:
 
     def scene(self, footprint, base):
         """The skin scene of ``footprint`` under this choice and the ``base`` settings."""
-        return SkinExpansionScene.from_settings({**base, **self.settings,
+        return SkinExpansionScene.from_settings({"outputs": "none", **base, **self.settings,
                                                  **self.each.get(footprint, {}),
                                                  "footprint": footprint})
 
@@ -112,7 +112,8 @@ def judge(results):
 def table(choices=None, settings=None, out=None, progress=SILENT):
     """Run the four expanders under each choice named in ``choices`` (default: all of
     :data:`CHOICES`) with the base ``settings``; returns the rows (:data:`COLUMNS`). With
-    ``out`` every run is kept in ``out/runs/<choice>/<footprint>``.
+    ``out`` every run's results.json is kept in ``out/runs/<choice>/<footprint>`` (no other
+    files: ``outputs`` "none" unless ``settings`` say otherwise).
 
     Raises
     ------
