@@ -1,18 +1,8 @@
 """Command line: ``ngincompat list | run | paper | expansion | folding | sweep | bench``.
 
-Exit codes:
-
-* 0: done;
-* 2: bad input (unknown scene or key, a value out of range, a bad expression, an output
-  folder that is a file or holds another run): one line on stderr, nothing computed;
-* 3: not converged: the last converged state was measured and written, marked
-  ``"status": "not converged"`` in results.json;
-* 4: a sweep finished with failed cases (the table has every case, failed ones with their
-  error);
-* 5: a file could not be written (a full disk, a folder made read-only): one line; no file is
-  left truncated under its final name;
-* 130: interrupted (Ctrl-C, SIGINT or SIGTERM): one line; what was finished is kept, an
-  unfinished run's results.json is marked ``"status": "interrupted"``.
+Exit codes (the ``EXIT_*`` constants; what each means in full: the table of
+``docs/guide/outputs.md``): 0 done, 2 bad input, 3 not converged (the last converged state
+written), 4 a sweep with failed cases, 5 a file not written, 130 interrupted.
 
 This is the only module that parses arguments; everything it calls takes plain values.
 """
@@ -266,9 +256,12 @@ def _add_bench(sub):
                                          "stress-test matrix, cost per Newton step")
     cases = bench.add_subparsers(dest="case", required=True)
 
-    def case(name, help):
+    def case(name, help, quick=None):
+        """A benchmark's parser with --out, and --quick where ``quick`` says what it runs."""
         p = cases.add_parser(name, help=help)
         p.add_argument("--out", help="folder for the tables and the runs' results")
+        if quick:
+            p.add_argument("--quick", action="store_true", help=quick)
         p.set_defaults(func=_cmd_bench)
         return p
 
@@ -303,32 +296,27 @@ def _add_bench(sub):
     p.add_argument("--elements", choices=("hex", "tet"), default="hex",
                    help="element shape (default hex, the paper's layout; the scene's default "
                         "is tet)")
-    p = case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
-                         "cylinder, with a plot and the cheapest setting per target")
-    p.add_argument("--quick", action="store_true",
-                   help="only coarse cube and cylinder settings (seconds)")
+    case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
+                     "cylinder, with a plot and the cheapest setting per target",
+         quick="only coarse cube and cylinder settings (seconds)")
     p = case("curvature", "the curvature of the growth metric on Regge elements against the "
-                          "exact one: errors, cost and rates under h- and p-refinement")
-    p.add_argument("--quick", action="store_true",
-                   help="only the coarse hemisphere, k = 1, 2 (seconds)")
+                          "exact one: errors, cost and rates under h- and p-refinement",
+             quick="only the coarse hemisphere, k = 1, 2 (seconds)")
     p.add_argument("--bodies", nargs="+", metavar="BODY",
                    help="among hemisphere, disc (default: both)")
     p.add_argument("--orders", type=int, nargs="+", metavar="K",
                    help="Regge degrees k (default: 1 2 3)")
-    p = case("validation", "closed forms and independent solutions no other benchmark "
-                           "tabulates: G and b of sections 3.1-3.4, folding's onset against "
-                           "the Stroh analysis, atrophy against the logistic closed form, "
-                           "its volume bookkeeping (see ngincompat.studies.validation)")
-    p.add_argument("--quick", action="store_true",
-                   help="coarse settings (about a minute)")
+    case("validation", "closed forms and independent solutions no other benchmark "
+                       "tabulates: G and b of sections 3.1-3.4, folding's onset against "
+                       "the Stroh analysis, atrophy against the logistic closed form, "
+                       "its volume bookkeeping (see ngincompat.studies.validation)",
+         quick="coarse settings (about a minute)")
     p = case("skin", "section 3.6's findings (the expanders' order, the 40 kPa) under the "
                      "choices the paper leaves open: sizes, dome, modulus, Hill constants "
-                     "(see ngincompat.studies.skin_sensitivity)")
-    p.add_argument("--choices", nargs="+", metavar="CHOICE",
-                   help="the study's choices by name (default: all; an unknown name is "
-                        "refused with the list)")
-    p.add_argument("--quick", action="store_true",
-                   help="two choices on a coarse patch (under a minute)")
+                     "(see ngincompat.studies.skin_sensitivity)",
+             quick="two choices on a coarse patch (under a minute)")
+    p.add_argument("--choices", nargs="+", metavar="CHOICE", help="the study's choices by "
+                   "name (default: all; an unknown name is refused with the list)")
     p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
                      "alternate runs, the ratio of solve times and both energy errors")
     p.add_argument("--peer", metavar="DIR",
@@ -339,15 +327,13 @@ def _add_bench(sub):
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="a parameter of our cube (repeatable; default: the scene's defaults)")
     p = case("stability", "the numerical stress-test matrix and the locking study (see "
-                          "ngincompat.studies.stability)")
-    p.add_argument("--quick", action="store_true",
-                   help="only a small corner of the matrix and locking orders 1-3")
+                          "ngincompat.studies.stability)",
+             quick="only a small corner of the matrix and locking orders 1-3")
     p.add_argument("--threads", type=int, default=1,
                    help="NGSolve threads (default 1: the cells are small, and times on a "
                         "shared machine stay comparable)")
     p = case("scaling", "one Newton step of the cube against ndof and linear solver (see "
-                        "ngincompat.studies.scaling)")
-    p.add_argument("--quick", action="store_true", help="only the two smallest sizes")
+                        "ngincompat.studies.scaling)", quick="only the two smallest sizes")
     p.add_argument("--maxh", type=float, nargs="+",
                    help="mesh sizes (default: the grid ngincompat.studies.scaling.GRID)")
     p.add_argument("--orders", type=int, nargs="+",
