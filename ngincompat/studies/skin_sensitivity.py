@@ -51,6 +51,7 @@ class Choice:
                                                  "footprint": footprint})
 
 
+#: The readings studied: the defaults, then one change each.
 CHOICES = (
     Choice("defaults", "the scene's: equal base areas ({footprint_area:g} cm^2), a rigid dome "
            "in contact, mu = {mu:g} MPa, k = {k:g} per day, theta_crit = {theta_crit:g}".format(
@@ -73,9 +74,12 @@ CHOICES = (
 #: What ``--quick`` runs: two choices on a coarse patch, inflated to 3 cc in one step and
 #: grown for half a day (seconds per expander).
 QUICK = ("defaults", "equal-size")
+#: The coarse patch of ``--quick``.
 QUICK_SETTINGS = {"maxh": 3.0, "order": 1, "growth_order": 0, "g_order": 2, "volume": 3.0,
                   "inflation_steps": 1, "theta_crit": 1.0, "hold_days": 0.5, "dt": 0.5}
 
+#: The columns of the table: the choice, the runs' status, the order and the stresses with
+#: the verdicts of the findings :data:`JUDGED`.
 COLUMNS = ("choice", "what", "status", "order", "order_verdict", "tension_released",
            "compression_contact", "stress_verdict")
 UNITS = {"tension_released": "kPa", "compression_contact": "kPa"}
