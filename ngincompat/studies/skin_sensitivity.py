@@ -97,16 +97,16 @@ def judge(results):
     the largest compression in the former contact zone (kPa; None without a contact zone),
     and the verdicts of the findings :data:`JUDGED`."""
     by_label = {f"skin-{f}": r for f, r in results.items()}
-    order_measured, order_verdict, _ = _finding("skin-order").judge(by_label)
+    _, order_verdict, _ = _finding("skin-order").judge(by_label)
     _, stress_verdict, _ = _finding("skin-stress").judge(by_label)
     done = [r for r in results.values() if r.converged]
+    mean = {f: r.metrics["theta_mean_footprint"] for f, r in results.items() if r.converged}
     kpa = 1000 if SkinExpansionScene.units["stress"] == "MPa" else 1
     tension = max((r.metrics["max_principal_stress_released"] for r in done), default=None)
     contact = [r.metrics.get("min_principal_stress_contact_zone") for r in done]
     contact = [c for c in contact if c is not None]
     return {"status": ", ".join(sorted({r.status for r in results.values()})),
-            "order": order_measured.removeprefix("mean growth over the footprint, least to "
-                                                 "most: "),
+            "order": " < ".join(f"{f} {mean[f]:.3g}" for f in sorted(mean, key=mean.get)),
             "order_verdict": order_verdict,
             "tension_released": None if tension is None else round(kpa * tension, 1),
             "compression_contact": round(-kpa * min(contact), 1) if contact else None,
