@@ -1,7 +1,11 @@
 """Shared helpers of the geometry builders."""
 
+import contextlib
+import ctypes
 import logging
+import os
 import signal
+import sys
 import threading
 import time
 
@@ -43,20 +47,22 @@ def interruptible(meshing):
     it meshes, and a run waiting on it directly took Ctrl-C only when the mesh was done (a
     1000 mm cylinder meshed for 8 minutes with Ctrl-C ignored). Interrupted, the wait sets
     Netgen's terminate flag (the mesher's own stop, which it checks in its loops), awaits the
-    thread's end (a thread left meshing crashed the interpreter's exit), clears the flag and
-    raises the interrupt. The thread blocks SIGINT and SIGTERM, which the kernel would
-    otherwise hand to any thread (one that reached the mesher's thread aborted the process
-    at its exit).
+    thread's end, clears the flag and raises the interrupt. The end is an event the thread
+    sets, not ``Thread.join``: a join that Ctrl-C interrupts marks the thread ended while it
+    still runs (CPython's ``_wait_for_tstate_lock`` up to 3.12), and a mesher left running
+    with the flag cleared crashed the interpreter's exit at random (a segmentation fault
+    after the process had said all it had to say). The thread blocks SIGINT and SIGTERM,
+    which the kernel would otherwise hand to any thread (one that reached the mesher's thread
+    aborted the process at its exit).
 
-    Only where :data:`threaded` is set (by the command line's process, which ends at once
-    after a stopped meshing: :func:`ngincompat.cli.run`); elsewhere ``meshing()`` is called
-    directly and an interrupt waits for the mesh. A process that goes on after a stopped
-    meshing can crash in Netgen's teardown of it: a sweep's worker did, a broken pool."""
-    if not threaded:
-        return meshing()
+    So in every process: the command line, a sweep's or the paper job's worker (where the
+    pool's Ctrl-C or SIGTERM reaches the case), a script, a notebook's kernel (whose
+    "interrupt" is SIGINT), each of which can go on meshing after the stop. Off the main
+    thread (a Dask worker's task) no signal arrives, and the mesh is awaited."""
     from netgen.libngpy import _meshing
 
     outcome = {}
+    ended = threading.Event()
 
     def run():
         if hasattr(signal, "pthread_sigmask"):   # the signals are the waiting thread's
@@ -65,33 +71,47 @@ def interruptible(meshing):
             outcome["mesh"] = meshing()
         except BaseException as err:     # handed to the waiting thread
             outcome["error"] = err
+        finally:
+            ended.set()
 
     _meshing._SetTerminate(False)       # an earlier interrupt's flag may still be set
-    thread = threading.Thread(target=run, name="netgen-meshing", daemon=True)
-    thread.start()
+    threading.Thread(target=run, name="netgen-meshing", daemon=True).start()
     try:
-        while thread.is_alive():
-            thread.join(WAIT)
+        while not ended.wait(WAIT):
+            pass
     except BaseException:
         started = time.perf_counter()
-        _meshing._SetTerminate(True)
-        while thread.is_alive():        # a second Ctrl-C leaves the flag set: it stops
-            thread.join(WAIT)
+        with _quiet_stdout():           # the stopped mesher's complaints of unmeshed faces
+            _meshing._SetTerminate(True)
+            while not ended.wait(WAIT):     # a second Ctrl-C leaves the flag set: it stops
+                pass
         _meshing._SetTerminate(False)
-        stopped.append(time.perf_counter() - started)
-        log.info("Netgen's mesher stopped %.2f s after the interrupt", stopped[-1])
+        log.info("Netgen's mesher stopped %.2f s after the interrupt",
+                 time.perf_counter() - started)
         raise
     if "error" in outcome:
         raise outcome["error"]
     return outcome["mesh"]
 
 
+@contextlib.contextmanager
+def _quiet_stdout():
+    """The process's standard output (file descriptor 1, where Netgen prints) sent to the
+    null device in the block, C's buffers flushed at both ends."""
+    libc = ctypes.CDLL(None)
+    sys.stdout.flush()
+    libc.fflush(None)
+    saved = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        yield
+    finally:
+        libc.fflush(None)
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(null)
+
+
 #: Seconds between the checks of an interrupt while Netgen meshes.
 WAIT = 0.1
-#: Whether :func:`interruptible` meshes in a thread of its own (see there).
-threaded = False
-#: The seconds each stopped meshing took to stop, in this process. After one, the
-#: interpreter's exit can crash in Netgen's teardown (at random, about every other time: a
-#: segmentation fault after the process has said all it had to say), which the command line
-#: avoids by ending at once (:func:`ngincompat.cli.run`).
-stopped = []

@@ -579,18 +579,8 @@ def _dispatch(args):
 
 
 def run():
-    """The program ``ngincompat``: :func:`main` on the process's arguments, Netgen's mesher
-    stopped by Ctrl-C and SIGTERM (``geometries._common.interruptible``) and, after that,
-    an immediate end: Netgen's teardown can crash the interpreter's exit then."""
-    from geometries import _common
-
-    _common.threaded = True
-    code = main()
-    if _common.stopped:
-        sys.stdout.flush()
-        sys.stderr.flush()
-        os._exit(code)
-    sys.exit(code)
+    """The program ``ngincompat``: :func:`main` on the process's arguments."""
+    sys.exit(main())
 
 
 if __name__ == "__main__":

@@ -139,3 +139,63 @@ def test_a_long_meshing_stops_within_seconds_of_the_signal(tmp_path, signum):
     assert "interrupted while meshing" in lines[-1] and "Traceback" not in "".join(lines)
     assert not any("setting up" in line for line in lines), lines
     assert not out.exists()
+
+
+#: A script (or a notebook's cell) that runs the 1000 mm cylinder through the Python API (at
+#: the preview's mesh size: a minute of meshing), is interrupted 1 s into its meshing and goes
+#: on: the process's CPU time from the interrupt to the end of the stop and over the two
+#: seconds after it, then a small cube run.
+GOES_ON = """
+import json, os, resource, signal, threading, time
+from ngincompat.errors import Interrupted
+from ngincompat.progress import Progress
+from ngincompat.scenes import SCENES
+
+def cpu():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_utime
+
+class Signal(Progress):
+    def phase(self, name):
+        if name == "meshing":
+            threading.Timer(1.0, self.fire).start()
+        return super().phase(name)
+
+    def fire(self):
+        self.sent = cpu()
+        os.kill(os.getpid(), signal.SIGINT)
+
+signal.signal(signal.SIGINT, signal.default_int_handler)
+progress = Signal(quiet=True)
+try:
+    SCENES["cylinder"].from_settings({"length": 1000, "maxh": 0.5, "order": 2,
+                                       "outputs": "none"}).run(None, progress=progress)
+    error = None
+except Interrupted as err:
+    error = str(err)
+stopping = cpu() - progress.sent
+time.sleep(2.0)
+after = cpu() - progress.sent - stopping
+cube = SCENES["cube"].from_settings({"maxh": 1.0, "order": 1, "outputs": "none"}).run(None)
+print(json.dumps({"error": error, "stopping": stopping, "after": after,
+                  "cube": cube.status}))
+"""
+
+
+def test_a_script_interrupted_while_meshing_stops_the_mesher_and_goes_on():
+    """Ctrl-C in a script or a notebook (no command line around it): the run is interrupted
+    while meshing, and the mesher stops: from the interrupt to the exception, and while the
+    script then sleeps, the process uses next to no CPU (a mesher left running would finish
+    its minute of meshing first, or go on in the background, where it also crashed the
+    interpreter's exit at random). Netgen's complaints of unmeshed faces are not printed,
+    the script meshes and solves again, and it ends with exit 0."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", GOES_ON], capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    record = json.loads(done.stdout.splitlines()[-1])
+    assert record["error"].startswith("interrupted while meshing"), record
+    assert record["stopping"] < 5.0 and record["after"] < 0.5, record
+    assert record["cube"] == "done"
+    assert "ERROR" not in done.stdout and "Traceback" not in done.stderr

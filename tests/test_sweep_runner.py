@@ -283,6 +283,43 @@ def test_ctrl_c_ends_a_sweep_with_130_finished_rows_kept_the_rest_interrupted(
     assert not (out / ".ngincompat.lock").exists()
 
 
+def test_ctrl_c_while_the_workers_mesh_stops_their_meshers_within_seconds(tmp_path):
+    """A sweep of 1000 mm cylinders, each a minute of meshing (Netgen kept the workers'
+    Ctrl-C waiting until the mesh was done): Ctrl-C as both workers mesh ends the sweep with
+    130, every row "interrupted", no traceback and no lock, and the sweep's processes
+    together use far less CPU than one mesh (their imports and a second of meshing each)."""
+    import resource
+    import signal
+    import subprocess
+
+    path = _write(tmp_path / "sweep.toml", 'scene = "cylinder"\nmetrics = ["rotation_rate"]\n'
+                  '[fixed]\nlength = 1000\nmaxh = 0.5\norder = 2\noutputs = "none"\n'
+                  '[vary]\nnu = [0.3, 0.4]')
+    out = tmp_path / "out"
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    process = subprocess.Popen([sys.executable, "-c", AS_FROM_A_TERMINAL, "sweep", "run",
+                                str(path), "--out", str(out), "--workers", "2"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    lines, meshing = [], 0
+    for line in process.stderr:
+        lines.append(line)
+        meshing += "meshing ..." in line
+        if meshing == 2:
+            time.sleep(1.0)                 # well into both meshers
+            os.killpg(process.pid, signal.SIGINT)
+            break
+    _, rest = process.communicate(timeout=600)
+    used = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = used.ru_utime + used.ru_stime - children.ru_utime - children.ru_stime
+    err = "".join(lines) + rest
+    assert process.returncode == 130, err
+    assert "Traceback" not in err
+    assert [r["status"] for r in read_table(out).rows] == ["interrupted"] * 2
+    assert cpu < 30.0, cpu
+    assert not (out / ".ngincompat.lock").exists()
+
+
 class _EndsAsTheSignalArrives:
     """A pool of one worker, in this process, on which the race of a Ctrl-C is forced: the
     first case runs to its end and writes its results.json, and then the Ctrl-C reaches the
