@@ -179,6 +179,7 @@ def _cmd_bench(args):
     start, load = time.perf_counter(), os.getloadavg()[0]
     from ngincompat.studies import (
         bench,
+        corpus,
         costs,
         curvature_rates,
         folding_costs,
@@ -213,6 +214,8 @@ def _cmd_bench(args):
         lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
     elif args.case == "skin":
         lines = skin_sensitivity.main(args.choices, quick=args.quick, out=args.out)
+    elif args.case == "inputs":
+        lines = corpus.main(quick=args.quick, out=args.out)
     else:
         lines = scaling.main(args.maxh, args.orders, quick=args.quick, solvers=args.solvers,
                              timeout=args.timeout, memory_limit=args.memory_limit,
@@ -249,8 +252,8 @@ def _cmd_sweep_plot(args):
 
 
 def _add_bench(sub):
-    """``bench scenes | cube | accuracy | curvature | validation | skin | peer | stability |
-    scaling`` and their options."""
+    """``bench scenes | cube | accuracy | curvature | validation | skin | inputs | peer |
+    stability | scaling`` and their options."""
     from ngincompat.studies.scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
@@ -317,6 +320,11 @@ def _add_bench(sub):
              quick="two choices on a coarse patch (under a minute)")
     p.add_argument("--choices", nargs="+", metavar="CHOICE", help="the study's choices by "
                    "name (default: all; an unknown name is refused with the list)")
+    p = case("inputs", "the hostile-input corpus through the command line: every numeric "
+                       "parameter's hostile and boundary values, the environment, the paper "
+                       "job's options and interrupts; the outcomes counted (see "
+                       "ngincompat.studies.corpus)",
+             quick="two parameters of the cube and NGS_NUM_THREADS (under a minute)")
     p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
                      "alternate runs, the ratio of solve times and both energy errors")
     p.add_argument("--peer", metavar="DIR",

@@ -70,13 +70,15 @@ MAX_THREADS = 256
 
 def check_environment(environ=None):
     """Raise ParameterError, naming the variable and its allowed values, if an environment
-    variable NGSolve reads at import is unusable: ``NGS_NUM_THREADS`` must be empty or an
-    integer in [1, :data:`MAX_THREADS`] (0 ran NGSolve's loops on no thread and computed
-    garbage; a word or a number out of range broke NGSolve's import)."""
-    value = (os.environ if environ is None else environ).get("NGS_NUM_THREADS", "")
-    text = value.strip()
-    if not text:
+    variable NGSolve reads at import is unusable: ``NGS_NUM_THREADS`` must be an
+    integer in [1, :data:`MAX_THREADS`] or unset (0 ran NGSolve's loops on no thread and
+    computed garbage, and so did an empty value, which NGSolve reads as 0; a word or a
+    number out of range broke NGSolve's import)."""
+    environ = os.environ if environ is None else environ
+    if "NGS_NUM_THREADS" not in environ:
         return
+    value = environ["NGS_NUM_THREADS"]
+    text = value.strip()
     require(text.isascii() and text.isdigit() and 1 <= int(text) <= MAX_THREADS,
             "NGS_NUM_THREADS", value,
             f"an integer in [1, {MAX_THREADS}] (NGSolve threads), or unset")

@@ -438,11 +438,12 @@ def test_the_discs_checks_are_left_out_of_a_state_that_never_grew():
     assert case.verify(None, {"b_e3": ngs.CF((0.0, 0.0, 0.0))}) == {}
 
 
-@pytest.mark.parametrize("value", ["0", "abc", "-1", "100000", "1.5", "\uff13"])
+@pytest.mark.parametrize("value", ["0", "abc", "-1", "100000", "1.5", "\uff13", "", " "])
 def test_an_unusable_ngs_num_threads_is_refused_in_one_line(value, monkeypatch, capsys,
                                                             tmp_path):
-    """NGSolve reads NGS_NUM_THREADS when it is imported: 0 computed garbage, a word raised a
-    traceback, -1 and 100000 broke NGSolve's import. Checked before anything is imported."""
+    """NGSolve reads NGS_NUM_THREADS when it is imported: 0 computed garbage, and so did an
+    empty value (NGSolve's 0; found by the corpus), a word raised a traceback, -1 and 100000
+    broke NGSolve's import. Checked before anything is imported."""
     monkeypatch.setenv("NGS_NUM_THREADS", value)
     assert main(["run", "cube", "--out", str(tmp_path / "out"), "-q"]) == 2
     err = capsys.readouterr().err.strip().splitlines()

@@ -1,0 +1,19 @@
+"""A stand-in for the command line's main function, for tests/test_corpus.py: its first
+argument says what it does (the corpus's driver imports it by name)."""
+
+import os
+import signal
+import time
+
+
+def main(args):
+    what = args[0]
+    if what == "hang":
+        time.sleep(600)
+    if what == "crash":
+        os.kill(os.getpid(), signal.SIGSEGV)
+    if what == "raise":
+        raise RuntimeError("a bug")
+    if what == "exit":
+        os._exit(7)
+    return int(what)
