@@ -215,7 +215,7 @@ def _cmd_bench(args):
     elif args.case == "skin":
         lines = skin_sensitivity.main(args.choices, quick=args.quick, out=args.out)
     elif args.case == "inputs":
-        lines = corpus.main(quick=args.quick, out=args.out)
+        lines = corpus.main(quick=args.quick, out=args.out, jobs=args.jobs)
     else:
         lines = scaling.main(args.maxh, args.orders, quick=args.quick, solvers=args.solvers,
                              timeout=args.timeout, memory_limit=args.memory_limit,
@@ -325,6 +325,8 @@ def _add_bench(sub):
                        "job's options and interrupts; the outcomes counted (see "
                        "ngincompat.studies.corpus)",
              quick="two parameters of the cube and NGS_NUM_THREADS (under a minute)")
+    p.add_argument("--jobs", type=int, default=1, metavar="N",
+                   help="parameters tried side by side, each in a process (default 1)")
     p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
                      "alternate runs, the ratio of solve times and both energy errors")
     p.add_argument("--peer", metavar="DIR",

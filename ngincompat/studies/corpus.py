@@ -30,6 +30,7 @@ and interrupt tries each run in a process of their own.
 
 from __future__ import annotations
 
+import concurrent.futures
 import contextlib
 import importlib
 import io
@@ -229,10 +230,12 @@ def drive():
     and a line with its exit code, whether a traceback was printed, and the last line of
     its standard error."""
     given = json.loads(sys.stdin.read())
+    records = os.fdopen(os.dup(1), "w")     # what Netgen prints to file 1 goes elsewhere
+    os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
     module, _, name = given["entry"].partition(":")
     main = getattr(importlib.import_module(module), name)
     for k, args in enumerate(given["tries"]):
-        print(json.dumps({"k": k}), flush=True)
+        print(json.dumps({"k": k}), file=records, flush=True)
         err = io.StringIO()
         start = time.perf_counter()
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
@@ -245,7 +248,7 @@ def drive():
         print(json.dumps({"k": k, "code": code, "seconds": time.perf_counter() - start,
                           "traceback": "Traceback (most recent call last)" in text,
                           "message": (text.strip().splitlines() or [""])[-1][:300]}),
-              flush=True)
+              file=records, flush=True)
 
 
 def _classify(record, out):
@@ -385,20 +388,25 @@ def interrupt_tries(folder):
             for k, i in enumerate(INTERRUPTS)]
 
 
-def run_corpus(folder, quick=False, limit=LIMIT, progress=SILENT):
+def run_corpus(folder, quick=False, limit=LIMIT, jobs=1, progress=SILENT):
     """Every try of the corpus (``quick``: :data:`QUICK_TRIES` and the environment's first
-    variable), their runs in ``folder``; returns the tries with their outcomes."""
+    variable), their runs in ``folder``, the parameters' tries ``jobs`` processes side by
+    side; returns the tries with their outcomes."""
     from ngincompat.scenes import SCENES
 
     folder = Path(folder)
     groups = (QUICK_TRIES if quick else
               [(scene, key) for scene, cls in SCENES.items() for key in numeric_parameters(cls)])
-    tries = []
-    for scene, key in groups:
+
+    def one(group):
+        scene, key = group
         batch = parameter_tries(scene, key, folder / scene)
         run_in_one_process(batch, limit)
-        tries += batch
         progress.line(f"{scene} {key}: {_counts_text(batch)}")
+        return batch
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        tries = [t for batch in pool.map(one, groups) for t in batch]
     alone = environment_tries(folder / "environment")
     if quick:
         alone = [t for t in alone if t.key == next(iter(ENVIRONMENT))]
@@ -438,15 +446,16 @@ COUNT_COLUMNS = ("group", "inputs", "tries", *OUTCOMES)
 TRY_COLUMNS = ("group", "key", "value", "outcome", "code", "seconds", "message")
 
 
-def main(quick=False, out=None, progress=None):
+def main(quick=False, out=None, jobs=1, progress=None):
     """``ngincompat bench inputs``: :func:`run_corpus` (its runs in ``out``/runs, or in a
-    scratch folder); returns the lines to print. With ``out`` the counts are written as
-    ``corpus`` and every try as ``tries`` (.md, .csv, .json)."""
+    scratch folder; ``jobs`` processes side by side); returns the lines to print. With
+    ``out`` the counts are written as ``corpus``, every try as ``tries`` and the defects as
+    ``defects`` (.md, .csv, .json)."""
     progress = progress or Progress()
     with contextlib.ExitStack() as stack:
         runs = (Path(out) / "runs" if out is not None
                 else Path(stack.enter_context(tempfile.TemporaryDirectory())))
-        tries = run_corpus(runs, quick=quick, progress=progress)
+        tries = run_corpus(runs, quick=quick, jobs=jobs, progress=progress)
     rows = count_rows(tries)
     records = [{c: getattr(t, c) for c in TRY_COLUMNS} for t in tries]
     defects = [r for r in records if r["outcome"] in DEFECTS]
