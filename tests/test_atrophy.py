@@ -105,6 +105,35 @@ def test_outputs_and_profiles(atrophied):
     assert back.profile("sections")["e3_theta"].shape == (121, 121)
 
 
+def test_the_burgers_vectors_of_each_section_lie_in_its_plane_as_the_paper_finds(atrophied):
+    """Fig. 5d: "The Burgers vectors are in the plane and aligned with the interface". For
+    isotropic growth Fg = theta I, G^T n is proportional to grad theta x n (eqs. 10, 11): in
+    the plane, and across grad theta, which the jump of the growth rate at the gray/white
+    interface points along the interface's normal. On each section b's normal component is
+    round-off against |b|, its in-plane components make up |b|, and where |b| is large they
+    are near tangent to the interface (the inner ellipsoid, semi-axes less the gray
+    thickness: a median |cos| to its normal of 0.09-0.14 on this coarse mesh, where vectors
+    of any direction would give about 0.7); the figure draws them as arrows."""
+    _, fine, _ = atrophied
+    sections = fine.profile("sections")
+    inner = np.array([3.0, 2.5, 2.0]) - 0.5
+    for k, plane in enumerate(("e1", "e2", "e3")):
+        norm = sections[f"{plane}_|b|"]
+        inplane = sections[f"{plane}_b_inplane"]
+        big = np.isfinite(norm) & (norm > 0.3 * np.nanmax(norm))
+        assert big.sum() > 50
+        assert np.nanmax(np.abs(sections[f"{plane}_b_normal"])) < 1e-8 * np.nanmax(norm)
+        assert np.allclose(np.linalg.norm(inplane, axis=-1)[big], norm[big], rtol=1e-8)
+        i, j = [m for m in range(3) if m != k]
+        U, V = np.meshgrid(sections[f"{plane}_u"], sections[f"{plane}_v"])
+        normal = np.stack([U / inner[i] ** 2, V / inner[j] ** 2], axis=-1)[big]
+        cosine = (np.abs(np.sum(normal * inplane[big], axis=-1))
+                  / (np.linalg.norm(normal, axis=-1) * norm[big]))
+        assert np.median(cosine) < 0.25, np.median(cosine)
+    sections_figure = next(f for f in fine.figures if f.file == "sections.png")
+    assert len(sections_figure.arrows) == 3
+
+
 def test_frames_at_chosen_times_make_a_pvd_time_series(tmp_path):
     """Frames at t = 4, 7 and the end: the collection names them in order, and each frame
     holds the state of its time (frozen), not the end's."""

@@ -160,3 +160,29 @@ def test_a_marked_metric_is_a_dashed_line_in_the_legend_and_a_missing_one_is_lef
     results.metrics["onset_growth"] = float("nan")          # no onset: no line
     assert not [line for line in plots.figure(results, spec).axes[0].get_lines()
                 if line.get_linestyle() == "--"]
+
+
+def test_a_maps_panel_draws_its_in_plane_vectors_as_arrows_where_they_are_not_small():
+    """A vortex u = (-y, x) r on a disc: arrows on the panel that asks for them, none on the
+    other, none outside the body (NaN) and none below the floor near the centre; each arrow
+    is the field's direction, all scaled alike."""
+    from matplotlib.quiver import Quiver
+
+    from ngincompat.workflow.plots import QUIVER, QUIVER_FLOOR, maps_figure
+
+    u = v = np.linspace(-1.0, 1.0, 41)
+    U, V = np.meshgrid(u, v)
+    inside = U ** 2 + V ** 2 <= 1.0
+    field = np.where(inside, np.hypot(U, V), np.nan)
+    vectors = np.where(inside[..., None], np.stack([-V, U], axis=-1), np.nan)
+    profile = {"e3_u": u, "e3_v": v, "e3_r": field, "e3_s": field}
+    fig = maps_figure(profile, {"r": "e3_r", "s": "e3_s"}, "cm", arrows={"r": vectors})
+    quivers = [[c for c in ax.collections if isinstance(c, Quiver)] for ax in fig.axes[::2]]
+    assert [len(q) for q in quivers] == [1, 0]
+    arrows = quivers[0][0]
+    at, uv = arrows.get_offsets(), np.column_stack([arrows.U, arrows.V])
+    r = np.hypot(at[:, 0], at[:, 1])
+    assert 0 < len(at) < QUIVER ** 2
+    assert np.all(r <= 1.0 + 1e-12) and np.all(r >= QUIVER_FLOOR - 1e-12)
+    expected = np.column_stack([-at[:, 1], at[:, 0]])
+    assert np.allclose(uv, expected * (np.linalg.norm(uv) / np.linalg.norm(expected)))

@@ -718,10 +718,13 @@ class AtrophyCase:
         return line
 
     def _sections(self, fields, n=121):
-        """theta, |b| and the max principal stress on the planes X_k = const through the
-        centre, k = 1, 2, 3, sampled on n x n grids (NaN outside the mesh)."""
+        """theta, the max principal stress and, as the paper computes them "for each of the
+        planes of interest" (Fig. 5d), |b| of the plane's own normal, b = G^T e_k (eq. 11),
+        with b's components along the plane's two axes ("b_inplane", for its arrows) and
+        along its normal ("b_normal"), on the planes X_k = const through the centre, k = 1,
+        2, 3, sampled on n x n grids (NaN outside the mesh)."""
         axes = self.extent
-        cfs = {k: fields[k] for k in ("theta", "|b|", "sigma_max_principal") if k in fields}
+        common = {k: fields[k] for k in ("theta", "sigma_max_principal") if k in fields}
         basis = np.eye(3)
         out = {}
         for k, plane in enumerate(PLANES):
@@ -729,6 +732,9 @@ class AtrophyCase:
             u = np.linspace(-axes[i], axes[i], n)
             v = np.linspace(-axes[j], axes[j], n)
             out[f"{plane}_u"], out[f"{plane}_v"] = u, v
+            b = fields[f"b_{plane}"]
+            cfs = {**common, "|b|": fields[f"|b_{plane}|"],
+                   "b_inplane": ngs.CF((b[i], b[j])), "b_normal": b[k]}
             sampled = postprocess.sample_plane(self.mesh, cfs, tuple(self.centre), basis[i],
                                                basis[j], u, v)
             out.update({f"{plane}_{key}": values for key, values in sampled.items()})
@@ -815,11 +821,13 @@ def _figures(scene, mechanics):
     labels = {"theta": "theta [-]", "|b|": f"|b| [1/{L}]",
               "sigma_max_principal": f"max principal stress [{stress}]"}
     keys = [k for k in labels if mechanics or k != "sigma_max_principal"]
-    figures.append(Figure("sections.png", "e1_u", f"[{L}]",
-                          {f"{labels[k]}, X{p[1]} through the centre": f"{p}_{k}"
-                           for p in PLANES for k in keys},
-                          f"[{L}]", f"{title}: sections (Fig. 5)", profile="sections",
-                          kind="maps"))
+    maps = {f"{labels[k]}, X{p[1]} through the centre": f"{p}_{k}"
+            for p in PLANES for k in keys}
+    figures.append(Figure("sections.png", "e1_u", f"[{L}]", maps, f"[{L}]",
+                          f"{title}: sections (Fig. 5; arrows: b = G^T e_k in the plane)",
+                          profile="sections", kind="maps",
+                          arrows={label: f"{key[:2]}_b_inplane"
+                                  for label, key in maps.items() if key.endswith("|b|")}))
     return figures
 
 

@@ -131,7 +131,8 @@ def figure(results, spec):
     """The matplotlib Figure of ``spec`` drawn from the profiles of ``results``."""
     p = results.profiles[spec.profile]
     if spec.kind == "maps":
-        return maps_figure(p, spec.curves, spec.xlabel, spec.title)
+        return maps_figure(p, spec.curves, spec.xlabel, spec.title,
+                           {label: p[key] for label, key in spec.arrows.items()})
     if spec.kind == "surface":
         panels = [surface.Panel(label, p[key], signed=None, clip=MAP_CLIP,
                                 u=p[spec.deform[label]] if label in spec.deform else None)
@@ -152,7 +153,7 @@ def figure(results, spec):
                                   if np.isfinite(results.metrics.get(k, np.nan))})
 
 
-def maps_figure(profile, maps, label, title=None):
+def maps_figure(profile, maps, label, title=None, arrows=None):
     """Colour maps of 2-D fields on planar sections, each with its colour bar.
 
     Parameters
@@ -164,6 +165,9 @@ def maps_figure(profile, maps, label, title=None):
         Panel title -> key; one row per plane, one column per field, in order.
     label : str
         Unit of the in-plane coordinates, for the axes.
+    arrows : dict, optional
+        Panel title -> array of the grid's shape with 2 components along its axes: a vector
+        field in the plane, drawn over the panel's map as arrows (:func:`_quiver`).
     """
     keys = list(maps.values())
     planes = list(dict.fromkeys(k.split("_", 1)[0] for k in keys))
@@ -177,11 +181,40 @@ def maps_figure(profile, maps, label, title=None):
         norm, cmap = colour_scale(values, clip=MAP_CLIP)
         image = ax.imshow(values, origin="lower", extent=(u[0], u[-1], v[0], v[-1]),
                           interpolation="nearest", norm=norm, cmap=cmap)
+        if arrows and panel in arrows:
+            _quiver(ax, u, v, np.asarray(arrows[panel], dtype=float))
         _panel(fig, ax, image, wrapped(panel, 3.6, 11), label)
     if title:
         fig.suptitle(wrapped(title, fig.get_figwidth(), 12), fontsize="large")
     fig.tight_layout()
     return fig
+
+
+#: Arrows per side of a map's grid (:func:`_quiver`).
+QUIVER = 20
+#: Arrows shorter than this share of the longest are left out: no dots where the field is
+#: small.
+QUIVER_FLOOR = 0.2
+
+
+def _quiver(ax, u, v, vectors):
+    """The in-plane vector field ``vectors`` (rows, columns, 2) on the grid ``u`` x ``v``
+    as arrows on :data:`QUIVER` x :data:`QUIVER` of its points, all scaled by one factor
+    (the longest 7 % of the wider axis), those below :data:`QUIVER_FLOOR` of the
+    longest left out."""
+    rows = np.linspace(0, len(v) - 1, QUIVER).round().astype(int)
+    cols = np.linspace(0, len(u) - 1, QUIVER).round().astype(int)
+    picked = vectors[np.ix_(rows, cols)]
+    length = np.linalg.norm(picked, axis=-1)
+    longest = np.nanmax(length, initial=0.0)
+    if not longest > 0:
+        return
+    keep = np.isfinite(length) & (length >= QUIVER_FLOOR * longest)
+    U, V = np.meshgrid(u[cols], v[rows])
+    scale = 0.07 * max(u[-1] - u[0], v[-1] - v[0]) / longest
+    ax.quiver(U[keep], V[keep], scale * picked[..., 0][keep], scale * picked[..., 1][keep],
+              angles="xy", scale_units="xy", scale=1.0, color="black", width=0.004,
+              headwidth=3.5, pivot="middle")
 
 
 def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):

@@ -81,6 +81,10 @@ class Figure:
         shape with 3 components; "surface": of the displacements at the points.
     view : tuple
         "surface": elevation and azimuth of the camera [degrees].
+    arrows : dict
+        "maps": panel label -> profile key of an array of the grid's shape with 2
+        components along the plane's axes, drawn as arrows over the panel's map (the paper's
+        Burgers vectors in their plane).
     marks : dict
         "profile": legend label (``{value}`` stands for the metric's value) -> metric key; a
         dashed vertical line at the metric's value (e.g. the onset of folding on the
@@ -103,6 +107,7 @@ class Figure:
     deform: dict[str, str] = field(default_factory=dict)
     view: tuple[float, float] = (10.0, 90.0)
     marks: dict[str, str] = field(default_factory=dict)
+    arrows: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass(eq=False)
