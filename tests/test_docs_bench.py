@@ -34,6 +34,7 @@ COARSE = {
     "curvature": ["--quick"],
     "stability": ["--quick"],
     "skin": ["--quick"],
+    "inputs": ["--quick"],
     "scenes": ["--scenes", "cube", "--presets", "preview"],
     "folding": ["--axons", "straight", "--preset", "preview", "--set", "t_end=10",
                 "--set", "release=false"],

@@ -438,6 +438,16 @@ def test_the_discs_checks_are_left_out_of_a_state_that_never_grew():
     assert case.verify(None, {"b_e3": ngs.CF((0.0, 0.0, 0.0))}) == {}
 
 
+def test_the_hemispheres_checks_are_left_out_of_a_state_that_never_grew():
+    """nu = -0.9999999999999999 (inside (-1, 0.5), found by the corpus): the first growth
+    step fails and the state at t = 0, where b vanishes, is measured; the alignment of b
+    relative to its largest value was a ZeroDivisionError (a traceback instead of exit 3)."""
+    case = SCENES["hemisphere"](maxh=0.5, order=1).build()
+    zero = ngs.CF((0.0, 0.0, 0.0))
+    assert case.verify(object(), {"b_radial": zero, "b_meridional": zero,
+                                  "b_circumferential": zero}) == {}
+
+
 @pytest.mark.parametrize("value", ["0", "abc", "-1", "100000", "1.5", "\uff13", "", " "])
 def test_an_unusable_ngs_num_threads_is_refused_in_one_line(value, monkeypatch, capsys,
                                                             tmp_path):

@@ -90,7 +90,7 @@ class HemisphereScene(prescribed.PrescribedScene):
 
         def verify(problem, fields):
             metrics = burgers_alignment(fields, basis, mesh)
-            if problem is not None and self.flat_face == "symmetry":
+            if metrics and problem is not None and self.flat_face == "symmetry":
                 reference = solve_radial(lambda r: 1 + f_np(r / self.R0) / 4, material.mu,
                                          material.lam, R0=self.R0)
                 metrics.update(radial_errors(reference, fields, mesh, ray, self.R0))
@@ -123,9 +123,13 @@ def spherical_basis():
 def burgers_alignment(fields, basis, mesh):
     """How far b is from the directions of section 3.2, relative to the largest |b|: zero on
     radial planes, circumferential on the meridional plane, meridional on the circumferential
-    plane (measured away from the e3 axis, where the basis is undefined)."""
+    plane (measured away from the e3 axis, where the basis is undefined). Empty where b
+    vanishes (a state that never grew: a first step that failed), where no direction is
+    defined."""
     away = ngs.IfPos(ngs.x * ngs.x + ngs.y * ngs.y - 0.01, 1.0, 0.0)
     scale = sampling.maximum(ngs.Norm(fields["b_meridional"]), mesh)
+    if not scale > 0:
+        return {}
 
     def off(b, direction):
         rest = b - ngs.InnerProduct(b, direction) * direction
