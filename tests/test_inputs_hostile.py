@@ -15,15 +15,10 @@ from ngincompat.mechanics.expressions import MAX_DEPTH, MAX_LENGTH, parse_expres
 from ngincompat.parameters import _Bool, _Choice, _Float, _Floats, _Int, _Outputs, _WordsOrFloats
 from ngincompat.scenes import SCENES
 from ngincompat.studies import sweep as sweep_pkg
+from ngincompat.studies.corpus import HOSTILE, HOSTILE_INT
 from ngincompat.studies.sweep import runner, spec, table
 
 # ----------------------------------------------------------------- the generated corpus
-
-#: Huge, non-finite, wrong, and tiny: a subnormal, and positive values far below any physical
-#: floor (each passed the "(0, x]" ranges and broke deep in meshing, solving or measuring).
-HOSTILE = ("1e308", "inf", "-inf", "nan", "0", "-1", "-1e308", "two", "", "1e-320", "1e-300",
-           "1e-10")
-HOSTILE_INT = ("100000000000000000000",)
 
 
 def _numeric(cls):

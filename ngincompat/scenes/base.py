@@ -113,7 +113,9 @@ class Scene:
     mechanics: bool = param(True, "solve the mechanics (stresses, energy); false: "
                                   "incompatibility of the growth field only")
     max_elements: int = MAX_ELEMENTS(1_000_000)
-    max_dofs: int = MAX_DOFS(10_000_000)
+    # the default: about what a direct factorization of a 3-D problem holds in a
+    # workstation's memory (the atrophy's paper preset: docs/measurements/paper-job.md)
+    max_dofs: int = MAX_DOFS(500_000)
 
     def __post_init__(self):
         # every value to its parameter's type and range; a subclass checks the relations
