@@ -329,7 +329,7 @@ class FoldingScene(Scene):
                                        "crease); 1: not refined", range="[1, 100]")
     g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
-    growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 10]")
+    growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 5]")
     length: float = param(3.0, "length of the bilayer (X1)", "length",
                           range=f"[{LENGTH_FLOOR:g}, 100]")
     height: float = param(1.0, "height of the bilayer (X2)", "length",

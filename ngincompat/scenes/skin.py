@@ -153,7 +153,7 @@ class SkinExpansionScene(Elastic, Scene):
     maxh: float = MAXH(1.0)
     g_order: int = G_ORDER(4, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
-    growth_order: int = param(3, "order of the (L2) growth field theta", range="[0, 10]")
+    growth_order: int = param(3, "order of the (L2) growth field theta", range="[0, 5]")
     footprint: str = param("rectangle", "expander base: " + ", ".join(FOOTPRINTS),
                            choices=FOOTPRINTS)
     footprint_area: float = param(24.5, "area of the expander's base, the same for every "
