@@ -3,6 +3,7 @@ argument says what it does (the corpus's driver imports it by name)."""
 
 import os
 import signal
+import sys
 import time
 
 
@@ -10,6 +11,10 @@ def main(args):
     what = args[0]
     if what == "hang":
         time.sleep(600)
+    if what == "slow":              # a long run that reports its progress
+        for step in range(600):
+            print(f"step {step}", file=sys.stderr)
+            time.sleep(0.5)
     if what == "crash":
         os.kill(os.getpid(), signal.SIGSEGV)
     if what == "raise":

@@ -16,9 +16,12 @@ of :data:`OUTCOMES`:
   and while it solves (:data:`INTERRUPTS`).
 
 A try's outcome, from its exit code and standard error: "done" (exit 0, every metric of its
-results.json finite), "refused" (2), "not converged" (3), "interrupted" (130), and the
+results.json finite), "refused" (2), "not converged" (3), "interrupted" (130), "time limit"
+(stopped at the time limit while it still reported progress: a long run, such as a year of
+growth in half-day steps, not a hang), and the
 defects: "traceback" (a Python traceback on the standard error, whatever the code), "hang"
-(no end within the time limit), "signal" (ended by a signal: a crash), "non-finite" (exit 0
+(no end within the time limit, and no progress reported for :data:`QUIET` seconds before
+it), "signal" (ended by a signal: a crash), "non-finite" (exit 0
 with a metric that is not a finite number), "lock left" (an interrupted job's folder still
 locked) and "other" (any other exit code).
 
@@ -117,10 +120,10 @@ INTERRUPTS = tuple(
                               ("solving", "growth: from", 0.2)))
 
 #: The outcomes, the expected ones first.
-OUTCOMES = ("done", "refused", "not converged", "interrupted", "traceback", "hang", "signal",
-            "non-finite", "lock left", "other")
+OUTCOMES = ("done", "refused", "not converged", "interrupted", "time limit", "traceback",
+            "hang", "signal", "non-finite", "lock left", "other")
 #: The outcomes that are defects.
-DEFECTS = OUTCOMES[4:]
+DEFECTS = OUTCOMES[5:]
 #: Exit codes of the command line and their outcomes.
 CODES = {0: "done", 2: "refused", 3: "not converged", 130: "interrupted"}
 #: The command line's main function, which :func:`drive` calls.
@@ -199,7 +202,7 @@ def parameter_tries(scene, key, folder):
     quick = [w for k, v in QUICK.get(scene, {}).items() if k != key
              for w in ("--set", f"{k}={v}")]
     return [Try(scene, key, value, ["run", scene, *preset, *quick, "--set", f"{key}={value}",
-                                    "--out", str(Path(folder) / f"{key}-{k}"), "-q"])
+                                    "--out", str(Path(folder) / f"{key}-{k}")])
             for k, value in enumerate(values)]
 
 
@@ -228,7 +231,8 @@ def drive():
     command line's main function as "module:name", and ``tries``, a list of argument lists):
     for each, a line "started", the function with its standard output and error captured,
     and a line with its exit code, whether a traceback was printed, and the last line of
-    its standard error."""
+    its standard error; while the try writes to its standard error (its progress), a line
+    "alive" at most every :data:`BEAT` seconds."""
     given = json.loads(sys.stdin.read())
     records = os.fdopen(os.dup(1), "w")     # what Netgen prints to file 1 goes elsewhere
     os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
@@ -236,7 +240,8 @@ def drive():
     main = getattr(importlib.import_module(module), name)
     for k, args in enumerate(given["tries"]):
         print(json.dumps({"k": k}), file=records, flush=True)
-        err = io.StringIO()
+        err = _Heartbeat(lambda k=k: print(json.dumps({"k": k, "alive": True}), file=records,
+                                           flush=True))
         start = time.perf_counter()
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
             try:
@@ -249,6 +254,29 @@ def drive():
                           "traceback": "Traceback (most recent call last)" in text,
                           "message": (text.strip().splitlines() or [""])[-1][:300]}),
               file=records, flush=True)
+
+
+#: Seconds between the "alive" lines of a try that reports progress.
+BEAT = 1.0
+#: A try stopped at the limit is a hang when its last progress is older than this (or than
+#: half the limit); a try still reporting progress then is a long run stopped at the limit
+#: ("time limit").
+QUIET = 120.0
+
+
+class _Heartbeat(io.StringIO):
+    """A captured standard error that calls ``beat`` on a write, at most every :data:`BEAT`
+    seconds."""
+
+    def __init__(self, beat):
+        super().__init__()
+        self.beat, self.last = beat, -math.inf
+
+    def write(self, text):
+        if time.perf_counter() - self.last >= BEAT:
+            self.last = time.perf_counter()
+            self.beat()
+        return super().write(text)
 
 
 def _classify(record, out):
@@ -302,6 +330,7 @@ def _follow(process, tries, limit):
     threading.Thread(target=lambda: [*map(lines.put, process.stdout), lines.put("")],
                      daemon=True).start()
     current, started, ended = None, time.perf_counter(), 0
+    alive = started
     while True:
         try:
             line = lines.get(timeout=None if current is None
@@ -309,7 +338,13 @@ def _follow(process, tries, limit):
         except queue.Empty:
             os.killpg(process.pid, signal.SIGKILL)
             process.wait()
-            _set(tries[current], "hang", None, limit, f"no end within {limit:g} s")
+            quiet = time.perf_counter() - alive
+            if quiet < min(QUIET, limit / 2):
+                _set(tries[current], "time limit", None, limit,
+                     f"still reporting progress at {limit:g} s (last {quiet:.0f} s before)")
+            else:
+                _set(tries[current], "hang", None, limit,
+                     f"no end within {limit:g} s, no progress for {quiet:.0f} s")
             return current + 1
         if not line:
             code = process.wait()
@@ -321,8 +356,12 @@ def _follow(process, tries, limit):
             _set(tries[current], what, code, time.perf_counter() - started, why)
             return current + 1
         record = json.loads(line)
+        if record.get("alive"):
+            alive = time.perf_counter()
+            continue
         if "code" not in record:
             current, started = record["k"], time.perf_counter()
+            alive = started
             continue
         attempt = tries[record["k"]]
         _set(attempt, _classify(record, _out_of(attempt.args)), record["code"],
