@@ -238,6 +238,17 @@ def test_a_huge_body_is_refused_by_its_element_count():
     assert math.isinf(estimate.disc_elements(R0=1e308, height=1e308, maxh=1e-308))
 
 
+def test_a_body_within_the_element_count_but_past_the_memory_is_refused_by_its_unknowns():
+    """A disc 1000 mm high at the preview's mesh (about 250,000 elements, under max_elements)
+    ran past ten minutes of the corpus's limit: its ~1e6 unknowns are past the default
+    max_dofs, which a direct factorization of a 3-D problem holds in a workstation's memory;
+    raised, it passes."""
+    with pytest.raises(ParameterError, match="disc mesh would have about 9.8e\\+05 unknowns.*"
+                                             "max_dofs = 500000"):
+        SCENES["disc"].from_settings({"height": "1000"}, preset="preview")
+    SCENES["disc"].from_settings({"height": "1000", "max_dofs": "2000000"}, preset="preview")
+
+
 # ----------------------------------------------------------------- expressions
 
 @pytest.mark.parametrize("text, what", [
