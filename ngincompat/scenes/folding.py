@@ -330,8 +330,8 @@ class FoldingScene(Scene):
     g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
                                    "Curl Fg")
     growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 5]")
-    length: float = param(3.0, "length of the bilayer (X1; a hemisphere's cortex is about "
-                          "30 cm around)", "length", range=f"[{LENGTH_FLOOR:g}, 30]")
+    length: float = param(3.0, "length of the bilayer (X1)", "length",
+                          range=f"[{LENGTH_FLOOR:g}, 100]")
     height: float = param(1.0, "height of the bilayer (X2)", "length",
                           range=f"[{LENGTH_FLOOR:g}, 100]")
     cortex_thickness: float = param(0.05, "thickness of the cortex", "length",
