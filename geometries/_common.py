@@ -47,13 +47,15 @@ def interruptible(meshing):
     it meshes, and a run waiting on it directly took Ctrl-C only when the mesh was done (a
     1000 mm cylinder meshed for 8 minutes with Ctrl-C ignored). Interrupted, the wait sets
     Netgen's terminate flag (the mesher's own stop, which it checks in its loops), awaits the
-    thread's end, clears the flag and raises the interrupt. The end is an event the thread
-    sets, not ``Thread.join``: a join that Ctrl-C interrupts marks the thread ended while it
-    still runs (CPython's ``_wait_for_tstate_lock`` up to 3.12), and a mesher left running
-    with the flag cleared crashed the interpreter's exit at random (a segmentation fault
-    after the process had said all it had to say). The thread blocks SIGINT and SIGTERM,
-    which the kernel would otherwise hand to any thread (one that reached the mesher's thread
-    aborted the process at its exit).
+    thread's end, clears the flag and raises the interrupt. The end is a flag the thread
+    sets, polled with ``time.sleep``: not ``Thread.join``, which, interrupted by Ctrl-C,
+    marks the thread ended while it still runs (CPython's ``_wait_for_tstate_lock`` up to
+    3.12), and a mesher left running with the flag cleared crashed the interpreter's exit at
+    random (a segmentation fault after the process had said all it had to say); nor
+    ``Event.wait``, which, interrupted, can release its condition's lock twice ("release
+    unlocked lock"). The thread blocks SIGINT and SIGTERM, which the kernel would otherwise
+    hand to any thread (one that reached the mesher's thread aborted the process at its
+    exit).
 
     So in every process: the command line, a sweep's or the paper job's worker (where the
     pool's Ctrl-C or SIGTERM reaches the case), a script, a notebook's kernel (whose
@@ -77,14 +79,14 @@ def interruptible(meshing):
     _meshing._SetTerminate(False)       # an earlier interrupt's flag may still be set
     threading.Thread(target=run, name="netgen-meshing", daemon=True).start()
     try:
-        while not ended.wait(WAIT):
-            pass
+        while not ended.is_set():
+            time.sleep(WAIT)
     except BaseException:
         started = time.perf_counter()
         with _quiet_stdout():           # the stopped mesher's complaints of unmeshed faces
             _meshing._SetTerminate(True)
-            while not ended.wait(WAIT):     # a second Ctrl-C leaves the flag set: it stops
-                pass
+            while not ended.is_set():       # a second Ctrl-C leaves the flag set: it stops
+                time.sleep(WAIT)
         _meshing._SetTerminate(False)
         log.info("Netgen's mesher stopped %.2f s after the interrupt",
                  time.perf_counter() - started)

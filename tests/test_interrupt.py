@@ -123,7 +123,8 @@ def test_a_long_meshing_stops_within_seconds_of_the_signal(tmp_path, signum):
 
     out = tmp_path / "run"
     process = subprocess.Popen([sys.executable, "-c", AS_FROM_A_TERMINAL, "run", "cylinder",
-                                "--preset", "preview", "--set", "length=1000", "--out",
+                                "--preset", "preview", "--set", "length=1000", "--set",
+                                "max_dofs=2000000", "--out",
                                 str(out)], stderr=subprocess.PIPE, text=True)
     lines = []
     for line in process.stderr:
@@ -168,7 +169,8 @@ signal.signal(signal.SIGINT, signal.default_int_handler)
 progress = Signal(quiet=True)
 try:
     SCENES["cylinder"].from_settings({"length": 1000, "maxh": 0.5, "order": 2,
-                                       "outputs": "none"}).run(None, progress=progress)
+                                       "max_dofs": 2000000, "outputs": "none"}).run(
+        None, progress=progress)
     error = None
 except Interrupted as err:
     error = str(err)

@@ -293,7 +293,8 @@ def test_ctrl_c_while_the_workers_mesh_stops_their_meshers_within_seconds(tmp_pa
     import subprocess
 
     path = _write(tmp_path / "sweep.toml", 'scene = "cylinder"\nmetrics = ["rotation_rate"]\n'
-                  '[fixed]\nlength = 1000\nmaxh = 0.5\norder = 2\noutputs = "none"\n'
+                  '[fixed]\nlength = 1000\nmaxh = 0.5\norder = 2\nmax_dofs = 2000000\n'
+                  'outputs = "none"\n'
                   '[vary]\nnu = [0.3, 0.4]')
     out = tmp_path / "out"
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
