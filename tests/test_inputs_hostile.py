@@ -12,18 +12,17 @@ from geometries import bilayer, cube, cylinder, disc, estimate, hemisphere, skin
 from ngincompat.cli import main
 from ngincompat.errors import ExpressionError, ParameterError
 from ngincompat.mechanics.expressions import MAX_DEPTH, MAX_LENGTH, parse_expression
-from ngincompat.parameters import _Bool, _Choice, _Float, _Floats, _Int, _Outputs, _WordsOrFloats
+from ngincompat.parameters import _Bool, _Choice, _Floats, _Int, _Outputs, _WordsOrFloats
 from ngincompat.scenes import SCENES
 from ngincompat.studies import sweep as sweep_pkg
-from ngincompat.studies.corpus import HOSTILE, HOSTILE_INT
+from ngincompat.studies.corpus import HOSTILE, HOSTILE_INT, numeric_parameters
 from ngincompat.studies.sweep import runner, spec, table
 
 # ----------------------------------------------------------------- the generated corpus
 
 
 def _numeric(cls):
-    return [(key, p) for key, p in cls.declarations().items()
-            if isinstance(p.kind, (_Float, _Int, _Floats, _WordsOrFloats))]
+    return [(key, cls.declarations()[key]) for key in numeric_parameters(cls)]
 
 
 def _numbers(p):

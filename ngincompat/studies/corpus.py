@@ -76,8 +76,8 @@ QUICK = {
              "inflation_steps": "1", "theta_crit": "1", "hold_days": "0.5", "dt": "0.5"},
 }
 
-#: Values of the environment variables: NGSolve's threads (read when NGSolve is imported),
-#: the MPI launchers' rank counts (a run started without a launcher), the peer's folder.
+#: Values of the environment variables: NGSolve's threads (read when NGSolve is imported)
+#: and the MPI launchers' rank counts (a run started without a launcher).
 ENVIRONMENT = {
     "NGS_NUM_THREADS": ("0", "-1", "abc", "1.5", "100000", "1e308", "nan", "", " 2 ", "1",
                         "2"),
@@ -238,10 +238,13 @@ def drive():
     os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
     module, _, name = given["entry"].partition(":")
     main = getattr(importlib.import_module(module), name)
+
+    def record(**fields):
+        print(json.dumps(fields), file=records, flush=True)
+
     for k, args in enumerate(given["tries"]):
-        print(json.dumps({"k": k}), file=records, flush=True)
-        err = _Heartbeat(lambda k=k: print(json.dumps({"k": k, "alive": True}), file=records,
-                                           flush=True))
+        record(k=k)
+        err = _Heartbeat(lambda k=k: record(k=k, alive=True))
         start = time.perf_counter()
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
             try:
@@ -250,10 +253,9 @@ def drive():
                 traceback.print_exc()
                 code = 1
         text = err.getvalue()
-        print(json.dumps({"k": k, "code": code, "seconds": time.perf_counter() - start,
-                          "traceback": "Traceback (most recent call last)" in text,
-                          "message": (text.strip().splitlines() or [""])[-1][:300]}),
-              file=records, flush=True)
+        record(k=k, code=code, seconds=time.perf_counter() - start,
+               traceback="Traceback (most recent call last)" in text,
+               message=(text.strip().splitlines() or [""])[-1][:300])
 
 
 #: Seconds between the "alive" lines of a try that reports progress.
