@@ -6,9 +6,11 @@ import numpy as np
 import pytest
 
 from ngincompat.errors import ParameterError
+from ngincompat.references import bifurcation
 from ngincompat.references.bifurcation import (
     Bilayer,
     critical_growth,
+    determinant,
     moduli,
     onset,
     prebuckled_cortex,
@@ -74,6 +76,31 @@ def test_stiff_thin_film_meets_the_thin_film_formula():
     growth, wavelength = thin_film(1000.0, 1.0, 0.05)
     assert first.growth - 1 == pytest.approx(growth - 1, rel=0.01)
     assert first.wavelength == pytest.approx(wavelength, rel=0.01)
+
+
+def test_a_deep_layer_is_carried_only_as_deep_as_its_growing_solutions_need(monkeypatch):
+    """A short wavelength in a deep substrate (k h = 3,000): carried :data:`SATURATION` / 2k
+    deep, the basis spans the same growing solutions as carried through all of it, the
+    determinant keeps its sign and its root, in a few dozen sub-steps, not thousands."""
+    k = 300.0
+    deep = Bilayer(height=10.05, cortex=0.05, mu_cortex=3.0, lam_cortex=300.0, mu_sub=1.0,
+                   lam_sub=100.0)
+    qr, calls = np.linalg.qr, []
+    monkeypatch.setattr(np.linalg, "qr", lambda *a: calls.append(1) or qr(*a))
+    Z, sign = deep.substrate_basis(k)
+    assert len(calls) <= bifurcation.SATURATION
+    values = [determinant(deep, k, theta) for theta in (1.2, 2.0)]
+    root = critical_growth(deep, k, resolution=0.05)
+    deep.substrate_basis.cache_clear()
+    deep.cortex_moduli.cache_clear()
+    monkeypatch.setattr(bifurcation, "SATURATION", np.inf)
+    Z_full, sign_full = deep.substrate_basis(k)
+    assert len(calls) > 1000
+    np.testing.assert_allclose(Z @ Z.T, Z_full @ Z_full.T, atol=1e-12)
+    full = [determinant(deep, k, theta) for theta in (1.2, 2.0)]
+    assert np.sign(values) @ np.sign(full) == 2
+    assert np.isfinite(root)
+    assert critical_growth(deep, k, resolution=0.05) == pytest.approx(root, abs=1e-10)
 
 
 def test_bad_bilayers_name_the_parameter():

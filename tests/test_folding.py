@@ -102,6 +102,7 @@ def test_regional_material_and_law_need_every_region():
     (dict(order=1), "order = 1.*>= 2"),
     (dict(cortex_thickness=1.0), "cortex_thickness = 1.0.*in \\(0, height = 1\\)"),
     (dict(cortex_rate=0.0), "cortex_rate = 0.0.*in \\[1e-06, "),
+    (dict(length=0.001), "length = 0.001.*>= cortex_thickness = 0.05"),
 ])
 def test_bad_settings_name_the_parameter_and_its_range(setting, message):
     with pytest.raises(ParameterError, match=message):

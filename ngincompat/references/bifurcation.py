@@ -168,11 +168,29 @@ class Bilayer:
         return _propagate(stroh_matrix(A, k), depth, Z)
 
 
+#: Depth, in e-foldings of the gap between the growing and the decaying solutions, past which
+#: a layer is carried no further (:func:`_propagate`): e^-40, below double precision.
+SATURATION = 40.0
+
+
 def _propagate(K, h, Z):
     """exp(K h) Z in sub-steps with orthonormalisation after each (the growing solutions would
     otherwise swamp each other); returns the basis and the sign of the determinant of the
-    discarded triangular factors, so that det(top rows) keeps the sign of the exact one."""
-    steps = max(1, int(np.ceil(np.max(np.abs(np.linalg.eigvals(K).real)) * h)))
+    discarded triangular factors, so that det(top rows) keeps the sign of the exact one.
+
+    A layer deeper than :data:`SATURATION` / gap (gap: the real parts' distance from the two
+    decaying solutions to the two growing ones, 2k in the unstressed substrate) is carried
+    over that depth only: there exp(K h') Z = Q' R' spans the growing solutions' invariant
+    subspace to machine precision, and the rest of the layer maps it to itself by
+    Q' M with det M > 0 (M is an exponential), which changes neither the span nor the sign
+    of det(top rows) det(R). The cost of a short wavelength in a thick layer (k h in the
+    thousands) is then that of a few wavelengths' depth.
+    """
+    rates = np.sort(np.linalg.eigvals(K).real)
+    gap = rates[2] - rates[1]
+    if gap > 0:
+        h = min(h, SATURATION / gap)
+    steps = max(1, int(np.ceil(max(abs(rates[0]), abs(rates[-1])) * h)))
     transfer = expm(K * (h / steps))
     sign = 1.0
     for _ in range(steps):

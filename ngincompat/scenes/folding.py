@@ -384,6 +384,11 @@ class FoldingScene(Scene):
                 "cortex)")
         require(self.cortex_thickness < self.height, "cortex_thickness",
                 self.cortex_thickness, f"in (0, height = {self.height:g})")
+        # a section shorter than its cortex is thick is a column, not a bilayer: its folds
+        # (half a wavelength at most the length) would be shorter than the layer that folds
+        require(self.length >= self.cortex_thickness, "length", self.length,
+                f">= cortex_thickness = {self.cortex_thickness:g} (a section shorter than its "
+                "cortex is thick has no room for a fold)")
         require(self.cortex_maxh <= self.maxh, "cortex_maxh", self.cortex_maxh,
                 f"in (0, maxh = {self.maxh:g}]")
         require(self.cortex_maxh <= self.cortex_thickness / 2, "cortex_maxh",
