@@ -84,6 +84,10 @@ def run_case(task):
     return outcome(results, error)
 
 
+#: Whether the process was started with Ctrl-C ignored (by a shell, for a job in the
+#: background): then its cases ignore Ctrl-C too, as its own process does.
+_SIGINT_IGNORED = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+
 #: Set once the cases are interrupted (in a local worker: the event :func:`_init_worker` was
 #: given): a case that has not started does not start.
 _stop = None
@@ -91,16 +95,27 @@ _stop = None
 
 @contextlib.contextmanager
 def _interruptible():
-    """Ctrl-C and SIGTERM raise KeyboardInterrupt in the block (in a local worker, which
-    ignores them otherwise): a batch system's stop, sent to every process of the job, ends
-    the case "interrupted" with its record and its folder's lock released, where the
-    default SIGTERM killed the worker (a broken pool, a stale lock). Off the main thread (a
-    Dask worker's task) nothing changes."""
+    """The first Ctrl-C or SIGTERM raises KeyboardInterrupt in the block, the next ones are
+    ignored (a local worker ignores them outside it, :func:`_ignore`): a batch system's stop,
+    sent to every process of the job, ends the case "interrupted" with its record and its
+    folder's lock released, where the default SIGTERM killed the worker (a broken pool, a
+    stale lock); and the stop arrives twice (to the whole job, then from the pool,
+    :meth:`LocalPool.close`), where a second KeyboardInterrupt, raised while the case wrote
+    its record and released its lock, left the lock behind. Ctrl-C stays ignored in a
+    process started with it ignored (:data:`_SIGINT_IGNORED`). Off the main thread (a Dask
+    worker's task) nothing changes."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = (signal.signal(signal.SIGINT, signal.default_int_handler),
-                signal.signal(signal.SIGTERM, _terminate))
+    taken = []
+
+    def once(signum, frame):
+        if not taken:
+            taken.append(signum)
+            raise KeyboardInterrupt
+
+    previous = (signal.signal(signal.SIGINT, signal.SIG_IGN if _SIGINT_IGNORED else once),
+                signal.signal(signal.SIGTERM, once))
     try:
         yield
     finally:
@@ -108,8 +123,10 @@ def _interruptible():
         signal.signal(signal.SIGTERM, previous[1])
 
 
-def _terminate(signum, frame):
-    raise KeyboardInterrupt
+def _ignore(signum, frame):
+    """A local worker's Ctrl-C and SIGTERM outside a case: nothing. A handler rather than
+    SIG_IGN, which, set while a signal is pending, makes Python print a traceback ("Signal
+    15 ignored due to race condition")."""
 
 
 @contextlib.contextmanager
@@ -157,8 +174,8 @@ def _init_worker(threads, stop):
     SIGTERM ignored but while a case runs (:func:`_interruptible`; an idle worker would print
     the KeyboardInterrupt of its wait for work), and the pool's ``stop`` event."""
     global _stop
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)     # the pool ends an idle worker itself
+    signal.signal(signal.SIGINT, signal.SIG_IGN if _SIGINT_IGNORED else _ignore)
+    signal.signal(signal.SIGTERM, _ignore)     # the pool ends an idle worker itself
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     config.configure(threads=threads)
