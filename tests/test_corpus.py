@@ -70,10 +70,20 @@ def test_a_done_run_with_a_metric_that_is_not_a_finite_number_is_a_defect(metric
     assert corpus._classify(record, tmp_path) == outcome
 
 
-def test_an_interrupted_run_ends_interrupted_and_its_environment_is_its_own(tmp_path):
+@pytest.mark.parametrize("corpus_sigint", [signal.default_int_handler, signal.SIG_IGN],
+                         ids=["from a terminal", "in the background"])
+def test_an_interrupted_run_ends_interrupted_and_its_environment_is_its_own(tmp_path,
+                                                                            corpus_sigint):
+    """The try takes Ctrl-C as from a terminal also where the corpus runs in the background
+    (Ctrl-C ignored, which its children would inherit: the run rightly ignored it)."""
     attempt = Try("cube", "interrupt", "SIGINT", ["run", "cube", "--preset", "preview",
                                                   "--out", str(tmp_path / "run")])
-    corpus.run_alone(attempt, interrupt=Interrupt("x", (), signal.SIGINT, "growth: from", 0.0))
+    previous = signal.signal(signal.SIGINT, corpus_sigint)
+    try:
+        corpus.run_alone(attempt, interrupt=Interrupt("x", (), signal.SIGINT, "growth: from",
+                                                      0.0))
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert attempt.outcome == "interrupted" and attempt.code == 130, attempt
     assert not (tmp_path / "run" / ".ngincompat.lock").exists()
     blank = Try("environment", "NGS_NUM_THREADS", "", ["run", "cube", "--out",

@@ -128,6 +128,11 @@ DEFECTS = OUTCOMES[5:]
 CODES = {0: "done", 2: "refused", 3: "not converged", 130: "interrupted"}
 #: The command line's main function, which :func:`drive` calls.
 ENTRY = "ngincompat.cli:main"
+#: The program of a try run alone: the command line, Ctrl-C taken as from a terminal even
+#: where the corpus runs in the background (whose shell ignores Ctrl-C and would pass that
+#: on: the job would rightly ignore the interrupt tries' SIGINT).
+ALONE = ("import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+         "from ngincompat.cli import main; sys.exit(main(sys.argv[1:]))")
 #: Seconds a try may take before it is a hang (an accepted value runs in seconds).
 LIMIT = 600.0
 #: What ``--quick`` tries: every value of two parameters of the cube, and one environment
@@ -377,12 +382,12 @@ def _set(attempt, outcome, code, seconds, message):
 
 
 def run_alone(attempt, limit=LIMIT, interrupt=None):
-    """Run one try in a process of its own (``python -m ngincompat.cli``, its ``env`` on
+    """Run one try in a process of its own (the command line, :data:`ALONE`, its ``env`` on
     top of this process's), with ``interrupt`` (an :class:`Interrupt`) sent to its process
     group; sets its outcome."""
     start = time.perf_counter()
     with tempfile.TemporaryFile("w+") as err:
-        process = subprocess.Popen([sys.executable, "-m", "ngincompat.cli", *attempt.args],
+        process = subprocess.Popen([sys.executable, "-c", ALONE, *attempt.args],
                                    env={**os.environ, **attempt.env}, text=True,
                                    stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                    start_new_session=True)
