@@ -371,13 +371,15 @@ def test_the_table_costs_the_same_per_finished_case_however_many_cases(tmp_path,
     assert per_case[200] < 1.5 * per_case[10]
 
 
-@pytest.mark.parametrize("scene, settings", [("atrophy", ["nu=0"]),
+@pytest.mark.parametrize("scene, settings", [("atrophy", ["nu=0"]), ("atrophy", ["nu=1e-300"]),
                                              ("cube", ["formulation=mixed", "nu=0"]),
+                                             ("cube", ["formulation=mixed", "nu=1e-7"]),
                                              ("cube", ["formulation=mixed", "nu=-0.5"])])
-def test_the_mixed_formulation_refuses_nu_at_or_below_0_before_computing(scene, settings,
-                                                                        tmp_path, capsys):
-    """Its pressure term p^2 / (2 lambda) needs lambda > 0: atrophy at nu = 0 (the
-    out-of-process corpus) ended "not converged" at t = 0, exit 3 for a bad input."""
+def test_the_mixed_formulation_refuses_nu_below_its_floor_before_computing(scene, settings,
+                                                                         tmp_path, capsys):
+    """Its pressure term p^2 / (2 lambda) needs lambda / mu >= 2e-6: atrophy at nu = 0 and at
+    nu = 1e-300 (the out-of-process corpus; a non-finite energy) ended "not converged" at
+    t = 0, exit 3 for a bad input."""
     out = tmp_path / "out"
     args = [a for s in settings for a in ("--set", s)]
     assert main(["run", scene, *args, "--out", str(out), "-q"]) == 2

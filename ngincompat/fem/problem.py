@@ -107,24 +107,41 @@ def compiled(cf, realcompile, maxderiv=1):
     return cf.Compile()
 
 
+#: The smallest Poisson's ratio of the mixed formulation. Its pressure term -p^2 / (2 lambda),
+#: lambda / mu = 2 nu / (1 - 2 nu), divides by zero at nu = 0 and outweighs the elastic
+#: energy a millionfold below this (nu = 1e-300 overflowed to a non-finite energy and was
+#: reported as "not converged"): the mixed form is for the nearly incompressible.
+MIXED_NU_MIN = 1e-6
+
+#: The largest Poisson's ratio of the displacement formulation (lambda / mu = 5e4): nearer
+#: 0.5 it locks and Newton fails (the cube's preview at nu = 0.499999 stopped "not
+#: converged" at t = 0.15), where the mixed formulation converges.
+DISPLACEMENT_NU_MAX = 0.49999
+
+
 def check_formulation(material, formulation, order):
     """Raise ParameterError unless ``formulation`` ("displacement" or "mixed") can be used with
     ``material`` at displacement ``order``: the mixed form needs a bulk split of the energy
     and order >= 2."""
     require(formulation in ("displacement", "mixed"), "formulation", formulation,
             "displacement or mixed")
+    mu, lam = material.mu, getattr(material, "lam", None)
+    if formulation == "displacement" and isinstance(lam, numbers.Real):
+        nu = lam / (2 * (lam + mu))
+        require(nu <= DISPLACEMENT_NU_MAX, "nu", round(nu, 12),
+                f"<= {DISPLACEMENT_NU_MAX:g} for the displacement formulation, which locks "
+                "nearer incompressibility: use formulation=mixed")
     if formulation == "mixed":
         require(isinstance(material, MixedMaterial), "formulation", formulation,
                 f"displacement for the {material.name} material (mixed needs a bulk split "
                 "of the energy, as neo-hookean has)")
         require(order >= 2, "order", order, ">= 2 for the mixed formulation")
-        mu, lam = material.mu, material.lam
         if isinstance(lam, numbers.Real):   # (moduli per region: each scene checks its own)
-            # its pressure term -p^2 / (2 lam): lam = 0 (nu = 0) divided by zero, and the run
-            # failed as "not converged" at t = 0
-            require(lam > 0, "nu", round(lam / (2 * (lam + mu)), 12),
-                    "in (0, 0.5) for the mixed formulation (its pressure term p^2 / "
-                    "(2 lambda) needs lambda > 0)")
+            nu = lam / (2 * (lam + mu))
+            require(nu >= MIXED_NU_MIN, "nu", round(nu, 12) if nu >= 1e-12 else nu,
+                    f"in [{MIXED_NU_MIN:g}, 0.5) for the mixed formulation (its pressure "
+                    "term p^2 / (2 lambda) needs lambda / mu >= 2e-6; a compressible body "
+                    "is the displacement formulation's)")
 
 
 class GrowthMechanics:
