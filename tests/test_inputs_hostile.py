@@ -542,3 +542,19 @@ def test_the_paper_job_with_an_empty_section_list_is_refused(only, tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--only" in err[0] and "names no section" in err[0], err
     assert not out.exists()
+
+
+@pytest.mark.parametrize("settings, message", [
+    (["nu=-0.995"], "nu = -0.995 is out of range: allowed in [-0.99, 0.5)"),
+    (["nu=0.499999"], "nu = 0.499999 is out of range: allowed <= 0.49999 for the displacement "
+                      "formulation, which locks nearer incompressibility: use formulation=mixed")])
+def test_poissons_ratio_is_refused_where_the_formulation_fails(settings, message, tmp_path,
+                                                               capsys):
+    """The cube at nu = -0.999 and at 0.499999 (displacement formulation) ended "not
+    converged" part way (the corpus); at 0.499999 the mixed formulation converges."""
+    out = tmp_path / "out"
+    args = [a for s in settings for a in ("--set", s)]
+    assert main(["run", "cube", "--preset", "preview", *args, "--out", str(out), "-q"]) == 2
+    assert capsys.readouterr().err.strip() == f"ngincompat: error: {message}"
+    assert not out.exists()
+    SCENES["cube"].from_settings({"nu": "0.499999", "formulation": "mixed"})
