@@ -101,3 +101,19 @@ def test_the_quick_corpus_counts_its_tries_by_outcome(tmp_path):
     assert total["tries"] == sum(total[o] for o in corpus.OUTCOMES)
     assert all(total[o] == 0 for o in corpus.DEFECTS), lines
     assert total["done"] > 0 and total["refused"] > 0
+
+
+def test_a_corpus_run_again_into_the_same_folder_gives_the_same_outcomes(tmp_path,
+                                                                        monkeypatch):
+    """The runs of the first corpus are removed: they had refused the second's tries as
+    other runs in their folders ("holds another run"), a refusal of the folder, not of the
+    value."""
+    monkeypatch.setattr(corpus, "QUICK_TRIES", (("cube", "side"),))
+    monkeypatch.setattr(corpus, "ENVIRONMENT", {"NGS_NUM_THREADS": ("abc",)})
+    outcomes = []
+    for _ in range(2):
+        corpus.main(quick=True, out=tmp_path)
+        rows = json.loads((tmp_path / "tries.json").read_text())["rows"]
+        outcomes.append([(r["key"], r["value"], r["outcome"]) for r in rows])
+    assert any(o == "done" for *_, o in outcomes[0])       # a run whose folder it reuses
+    assert outcomes[0] == outcomes[1]

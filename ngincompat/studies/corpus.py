@@ -41,6 +41,7 @@ import json
 import math
 import os
 import queue
+import shutil
 import signal
 import subprocess
 import sys
@@ -493,14 +494,16 @@ TRY_COLUMNS = ("group", "key", "value", "outcome", "code", "seconds", "message")
 
 
 def main(quick=False, out=None, jobs=1, progress=None):
-    """``ngincompat bench inputs``: :func:`run_corpus` (its runs in ``out``/runs, or in a
-    scratch folder; ``jobs`` processes side by side); returns the lines to print. With
-    ``out`` the counts are written as ``corpus``, every try as ``tries`` and the defects as
-    ``defects`` (.md, .csv, .json)."""
+    """``ngincompat bench inputs``: :func:`run_corpus` (its runs in ``out``/runs, emptied
+    first, or in a scratch folder; ``jobs`` processes side by side); returns the lines to
+    print. With ``out`` the counts are written as ``corpus``, every try as ``tries`` and the
+    defects as ``defects`` (.md, .csv, .json)."""
     progress = progress or Progress()
     with contextlib.ExitStack() as stack:
         runs = (Path(out) / "runs" if out is not None
                 else Path(stack.enter_context(tempfile.TemporaryDirectory())))
+        # the runs of an earlier corpus there would refuse this one's as other runs
+        shutil.rmtree(runs, ignore_errors=True)
         tries = run_corpus(runs, quick=quick, jobs=jobs, progress=progress)
     rows = count_rows(tries)
     records = [{c: getattr(t, c) for c in TRY_COLUMNS} for t in tries]
