@@ -184,6 +184,18 @@ def test_the_contact_measures_what_the_expander_presses():
     assert measured["contact_area"] > 0 and measured["contact_pressure_max"] > 0
 
 
+def test_a_term_that_forgets_its_energy_cannot_be_built():
+    """With Term a Protocol used as a base, its ``energy`` body ``...`` returned None, and a
+    line search compared None."""
+
+    class Forgetful(Term):
+        def attach(self, problem, unknowns):
+            return None
+
+    with pytest.raises(TypeError, match="energy"):
+        Forgetful()
+
+
 class Foundation(Term):
     """A test's own term: an elastic foundation of stiffness k under the boundary
     ``bottom``, the energy k / 2 int |u|^2 dA."""

@@ -24,9 +24,9 @@ and :class:`~ngincompat.fem.contact.ExpanderContact`, the penalty contact with a
 is one class with the methods of :class:`Term`; nothing else needs to know it.
 """
 
+import abc
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
 
 import ngsolve as ngs
 import numpy as np
@@ -49,15 +49,15 @@ class Unknown:
     field: ngs.GridFunction
 
 
-class Term(Protocol):
+class Term(abc.ABC):
     """What a term of a :class:`~ngincompat.fem.coupled.CoupledProblem` provides.
 
     The problem calls :meth:`spaces` of every term, builds its state on the displacement
     space followed by those spaces, then :meth:`attach` of every term in the order given
     (the order in which their integrals enter the residual). A term is bound to the one
-    problem it is attached to. The defaults below are those of a term without unknowns,
-    measures, history or checkpointed data; a term may subclass this protocol to inherit
-    them.
+    problem it is attached to. A term implements :meth:`attach` and :meth:`energy` (a
+    class that forgets one cannot be instantiated); the other methods' defaults are those
+    of a term without unknowns, measures, history or checkpointed data.
     """
 
     def spaces(self, problem) -> Sequence[ngs.FESpace]:
@@ -65,15 +65,15 @@ class Term(Protocol):
         displacement ``space`` are set when this is called)."""
         return ()
 
+    @abc.abstractmethod
     def attach(self, problem, unknowns: Sequence[Unknown]):
         """Bind the term to ``problem`` (its displacement is ``problem.displacement``),
         ``unknowns`` those of :meth:`spaces`; returns the term's residual, integrals linear
         in the test functions (e.g. ``r * ngs.dx``), or None."""
-        ...
 
+    @abc.abstractmethod
     def energy(self) -> float:
         """The term's energy at the problem's current state and step."""
-        ...
 
     def held_energy(self, u):
         """The term's energy as integrals in the displacement alone, ``u`` a trial function
@@ -89,14 +89,14 @@ class Term(Protocol):
         """What the term reports of the current state, by name."""
         return {}
 
-    def accept_step(self) -> None:
+    def accept_step(self) -> None:  # noqa: B027 - a hook: nothing for a term without history
         """The converged state becomes the start of the next step."""
 
     def saved(self) -> dict:
         """What a checkpoint keeps of the term besides the state (name -> array or float)."""
         return {}
 
-    def restore(self, data) -> None:
+    def restore(self, data) -> None:  # noqa: B027 - a hook: nothing for a term saving none
         """Take back what :meth:`saved` kept, from a checkpoint's ``data`` (a mapping that
         may lack the keys of older checkpoints)."""
 
