@@ -283,11 +283,16 @@ def test_ctrl_c_ends_a_sweep_with_130_finished_rows_kept_the_rest_interrupted(
     assert not (out / ".ngincompat.lock").exists()
 
 
-def test_ctrl_c_while_the_workers_mesh_stops_their_meshers_within_seconds(tmp_path):
+@pytest.mark.parametrize("to_the_group", [True, False],
+                         ids=["ctrl-c-to-the-group", "sigterm-to-the-sweep-alone"])
+def test_ctrl_c_while_the_workers_mesh_stops_their_meshers_within_seconds(tmp_path,
+                                                                          to_the_group):
     """A sweep of 1000 mm cylinders, each a minute of meshing (Netgen kept the workers'
     Ctrl-C waiting until the mesh was done): Ctrl-C as both workers mesh ends the sweep with
     130, every row "interrupted", no traceback and no lock, and the sweep's processes
-    together use far less CPU than one mesh (their imports and a second of meshing each)."""
+    together use far less CPU than one mesh (their imports and a second of meshing each).
+    So does a SIGTERM to the sweep's process alone (a batch system that signals the job's
+    leader), which the pool passes on to its workers."""
     import resource
     import signal
     import subprocess
@@ -308,7 +313,10 @@ def test_ctrl_c_while_the_workers_mesh_stops_their_meshers_within_seconds(tmp_pa
         meshing += "meshing ..." in line
         if meshing == 2:
             time.sleep(1.0)                 # well into both meshers
-            os.killpg(process.pid, signal.SIGINT)
+            if to_the_group:
+                os.killpg(process.pid, signal.SIGINT)
+            else:
+                os.kill(process.pid, signal.SIGTERM)
             break
     _, rest = process.communicate(timeout=600)
     used = resource.getrusage(resource.RUSAGE_CHILDREN)

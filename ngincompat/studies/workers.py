@@ -180,6 +180,16 @@ def _init_worker(threads, stop):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     config.configure(threads=threads)
     _stop = stop
+    threading.Thread(target=_stop_when_set, args=(stop,), name="stop-watch",
+                     daemon=True).start()
+
+
+def _stop_when_set(stop):
+    """A local worker's watch: once the pool's cases are interrupted (``stop`` set by
+    :meth:`LocalPool.close`), a SIGTERM to itself, which stops its case
+    (:func:`_interruptible`) or, between cases, does nothing."""
+    stop.wait()
+    os.kill(os.getpid(), signal.SIGTERM)
 
 
 def error_message(err):
@@ -219,10 +229,7 @@ class LocalPool:
         and the running ones are interrupted (a Ctrl-C at a terminal has reached them
         already), and their ends are awaited: they write their records quickly."""
         if cancel:
-            self.stop.set()
-            for process in list(getattr(self.executor, "_processes", {}).values()):
-                with contextlib.suppress(OSError):
-                    os.kill(process.pid, signal.SIGINT)
+            self.stop.set()     # each worker stops its case (:func:`_stop_when_set`)
         self.executor.shutdown(wait=True, cancel_futures=cancel)
 
 
