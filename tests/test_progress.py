@@ -1,7 +1,11 @@
 """Progress reports: named cases, stages and steps, plain lines when not on a terminal."""
 
 import io
+import time
 
+import pytest
+
+from ngincompat import progress as progress_module
 from ngincompat.fem.solver import NewtonSolver
 from ngincompat.progress import Progress
 from ngincompat.scenes import CubeScene
@@ -77,3 +81,36 @@ def test_stages_outside_the_plan_or_alone_carry_no_number():
         progress.march("hold", 0.0, 10.0, "day").step(5.0, 5.0, 4)
     assert "[cube] growth: t = 0.5/1 (4 Newton iterations)" in _lines(stream)
     assert "[skin] hold: t = 5/10 day (4 Newton iterations)" in _lines(stream)
+
+
+@pytest.mark.parametrize("bars", [False, True], ids=["lines", "bars"])
+def test_a_case_silent_for_still_seconds_says_it_is_still_computing(monkeypatch, bars):
+    """A 100 cm bilayer meshed for 92 s and iterated its first step for three minutes
+    without a word. Silent for :data:`STILL` seconds, a case says so, naming what it was
+    last doing; a marching stage's bar that moves is not silence; after the case, nothing."""
+    monkeypatch.setattr(progress_module, "STILL", 0.4)
+    stream = io.StringIO()
+    report = Progress(stream=stream, bars=bars)
+    with report.case("big"):
+        report.line("meshing ...")
+        time.sleep(1.0)
+        stage = report.march("growth", 0.0, 1.0)
+        for k in range(1, 7):
+            time.sleep(0.15)
+            stage.step(k / 6, 1 / 6, 3)
+        stage.close()
+    ended = stream.getvalue()
+    time.sleep(0.8)
+    lines = stream.getvalue().splitlines()
+    assert stream.getvalue() == ended
+    still = [k for k, line in enumerate(lines) if "still computing" in line]
+    assert still and lines[still[0]].startswith("[big] still computing (0 s since: meshing ...")
+    assert all(k < next(i for i, line in enumerate(lines) if "growth" in line) for k in still)
+
+
+def test_a_quiet_case_says_nothing_while_silent(monkeypatch):
+    monkeypatch.setattr(progress_module, "STILL", 0.2)
+    stream = io.StringIO()
+    with Progress(quiet=True, stream=stream).case("big"):
+        time.sleep(0.6)
+    assert stream.getvalue() == ""
