@@ -99,7 +99,8 @@ def test_regional_material_and_law_need_every_region():
 @pytest.mark.parametrize("setting, message", [
     (dict(axons="wavy"), "axons = 'wavy'.*curved, concentric, straight, none"),
     (dict(cortex_maxh=0.04), "cortex_maxh = 0.04.*<= cortex_thickness / 2"),
-    (dict(order=1), "order = 1.*>= 2"),
+    (dict(order=1), "order = 1.*allowed 2 \\(quadratic"),
+    (dict(order=3), "order = 3.*allowed 2 .*element-internal dofs"),
     (dict(cortex_thickness=1.0), "cortex_thickness = 1.0.*in \\(0, height = 1\\)"),
     (dict(cortex_rate=0.0), "cortex_rate = 0.0.*in \\[1e-06, "),
     (dict(length=0.001), "length = 0.001.*>= cortex_thickness = 0.05"),

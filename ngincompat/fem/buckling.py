@@ -218,8 +218,8 @@ def smallest_eigenpairs(problem, count=1, negative=False):
     admissible = np.array(V.FreeDofs(), dtype=bool)
     admissible[list(problem.pinned)] = False
     require(np.array_equal(free, admissible), "order", problem.order,
-            "one without element-internal displacement dofs (<= 3 on tetrahedra), which the "
-            "condensed tangent leaves out")
+            "one without element-internal displacement dofs (<= 2 on triangles, <= 3 on "
+            "tetrahedra), which the condensed tangent leaves out")
     with config.task_manager():
         tangent = problem.frozen_tangent()
     rows = np.zeros(tangent.height, dtype=bool)

@@ -318,7 +318,9 @@ class FoldingScene(Scene):
                          "strain_energy_released": "stress length^2"}
     units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
 
-    order: int = ORDER(2)
+    order: int = ORDER(2, help="polynomial order of the displacement: 2 (across the cortex at "
+                               "least quadratic; from order 3 the triangles have element-"
+                               "internal dofs, which the tangent's eigenpairs leave out)")
     maxh: float = MAXH(0.15, help="mesh size in the subcortex")
     cortex_maxh: float = param(0.0125, "mesh size in the cortex and on the interface "
                                        "(>= 2 quadratic elements across the cortex; 4 by "
@@ -380,8 +382,9 @@ class FoldingScene(Scene):
 
     def __post_init__(self):
         super().__post_init__()
-        require(self.order >= 2, "order", self.order, ">= 2 (quadratic elements across the "
-                "cortex)")
+        require(self.order == 2, "order", self.order, "2 (quadratic elements across the "
+                "cortex; from order 3 the triangles have element-internal dofs, which the "
+                "tangent's eigenpairs leave out)")
         require(self.cortex_thickness < self.height, "cortex_thickness",
                 self.cortex_thickness, f"in (0, height = {self.height:g})")
         # a section shorter than its cortex is thick is a column, not a bilayer: its folds
