@@ -19,7 +19,7 @@ from ngincompat.scenes.base import MODULUS_FLOOR, Param
 #: Moduli are at most 1e6 in a scene's stress unit: past every soft tissue (kPa to MPa) and,
 #: in MPa, past the shear modulus of diamond (about 5e5 MPa).
 MU = Param("shear modulus", "stress", range=f"[{MODULUS_FLOOR:g}, 1e6]")
-#: Poisson's ratio down to -0.99: nearer -1 the bulk modulus is below a 150th of the shear
+#: Poisson's ratio down to -0.99: nearer -1 the bulk modulus is below 1/450 of the shear
 #: modulus, a body that changes volume for nothing (the cube at -0.999 did not converge),
 #: and no tissue is that auxetic. Up to 0.5: nearly incompressible tissue takes the mixed
 #: formulation (:data:`~ngincompat.fem.problem.DISPLACEMENT_NU_MAX`).
