@@ -17,6 +17,7 @@ from conftest import local_dask_cluster
 
 from ngincompat.cli import main
 from ngincompat.errors import ConvergenceError, ParameterError
+from ngincompat.studies import corpus
 from ngincompat.studies.sweep import load_sweep, parse_sweep, read_table, run_case, run_sweep
 from ngincompat.studies.workers import interrupted
 from ngincompat.workflow import output
@@ -224,9 +225,7 @@ def test_failed_cases_make_the_command_line_exit_4(tmp_path, capfd):
 
 
 #: The command line, run with Ctrl-C's default handler whatever this process inherited.
-AS_FROM_A_TERMINAL = ("import signal, sys; signal.signal(signal.SIGINT, "
-                      "signal.default_int_handler); from ngincompat.cli import main; "
-                      "sys.exit(main(sys.argv[1:]))")
+AS_FROM_A_TERMINAL = corpus.ALONE
 
 
 @pytest.mark.parametrize("when, delay, most_done",
