@@ -246,7 +246,8 @@ def drive():
     main = getattr(importlib.import_module(module), name)
 
     def record(**fields):
-        print(json.dumps(fields), file=records, flush=True)
+        records.write(json.dumps(fields) + "\n")
+        records.flush()
 
     for k, args in enumerate(given["tries"]):
         record(k=k)
