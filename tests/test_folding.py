@@ -432,7 +432,7 @@ def test_driver_summary_figure_and_the_burgers_vector_of_the_flat_state(tmp_path
     r = results["curved"]
     scene = FoldingScene.from_settings({**settings, "axons": "curved"})
     theta_c = 1 + scene.cortex_rate * scene.t_end
-    s, values = postprocess.sample_line(r.domain, {"b": r.fields["b"]}, (0.25, 0.0),
+    s, values = postprocess.sample_line(r.domain, {"b": r.fields["b_e3"]}, (0.25, 0.0),
                                         (0.25, scene.height), n=3001)
     b1 = -values["b"][:, 0]
     integral = np.sum((b1[1:] + b1[:-1]) / 2 * np.diff(s))

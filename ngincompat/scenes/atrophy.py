@@ -61,7 +61,7 @@ from ngincompat.fem.solver import NewtonOptions, SolverHistory
 from ngincompat.fem.stepping import solve_growth
 from ngincompat.fem.transport import FisherKPP, diffusion_tensor
 from ngincompat.incompatibility import curvature as cv
-from ngincompat.incompatibility import operators as inc
+from ngincompat.incompatibility.measure import Incompatibility
 from ngincompat.mechanics.atrophy import AtrophyLaw, exposure_increment
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.mechanics.kinematics import deformation_gradient
@@ -79,6 +79,7 @@ from ngincompat.scenes.base import (
     check_time_steps,
     param,
 )
+from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.hemisphere import spherical_basis
 from ngincompat.scenes.material import MU, NU
@@ -88,7 +89,7 @@ from ngincompat.workflow.pipeline import Solution, solve_stages, timed
 from ngincompat.workflow.results import Figure, Results
 
 TISSUES = ("gray", "white")
-PLANES = ("e1", "e2", "e3")
+PLANES = {"e1": (1, 0, 0), "e2": (0, 1, 0), "e3": (0, 0, 1)}
 #: The fields of a frame of the time series (the end's fields.vtu has more).
 FRAME_FIELDS = ("c", "theta", "u", "J", "Je", *(f"|b_{p}|" for p in PLANES),
                 "sigma_max_principal")
@@ -369,7 +370,7 @@ class AtrophyScene(Scene):
 
 
 @dataclass(eq=False)
-class AtrophyCase:
+class AtrophyCase(SceneCase):
     """The atrophy scene's case: transport, exposure, atrophy and the mechanics, walked in
     one stage per snapshot (:class:`AtrophyStage`)."""
 
@@ -380,6 +381,8 @@ class AtrophyCase:
     #: The fields of :data:`FRAME_FIELDS` at the snapshot times
     #: (:class:`~ngincompat.workflow.frames.Frames`).
     frames: Frames = field(init=False)
+    #: The incompatibility of the current growth (:meth:`_incompatibility_fields`).
+    incompatibility: Incompatibility | None = field(default=None, init=False)
 
     def __post_init__(self):
         scene, mesh = self.scene, self.mesh
@@ -483,16 +486,15 @@ class AtrophyCase:
         with config.task_manager():
             solve_stages(stages, progress, solution)
 
-    def interrupted(self, solution: Solution) -> Results:
-        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
-                                    solver=dict(solution.histories))
-        if self.problem is not None:
-            results.mesh.ndof = self.problem.ndof
+    def ndof(self, solution: Solution) -> int | None:
+        """The mechanics' unknowns (None without mechanics)."""
+        return None if self.problem is None else self.problem.ndof
+
+    def keep(self, results: Results) -> None:
+        """The series of the front and the snapshots' profiles."""
         results.profiles = {"series": {k: np.array(v) for k, v in self.series.items()}}
-        results.frames = list(self.frames)
         if self.snapshots:
             results.profiles["snapshots"] = {k: np.array(v) for k, v in self.snapshots.items()}
-        return results
 
     def measure(self, solution: Solution, progress: Progress) -> Results:
         """Volumes, incompatibility, residual stress, profile, sections and figures."""
@@ -534,35 +536,28 @@ class AtrophyCase:
         return fields
 
     def _incompatibility_fields(self):
-        """G by the projected path (eq. 10) and b on the coordinate planes (eq. 11)."""
-        growth = IsotropicGrowth(self.theta)
-        G, curl_Fg, self.Fg_h = inc.incompatibility_projected(growth.Fg, self.mesh,
-                                                              self.scene.g_order)
-        self.G = G
-        fields = {"c": self.transport.c, "theta": self.theta, "exposure": self.exposure,
-                  "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
-        for label, n in zip(PLANES, ((1, 0, 0), (0, 1, 0), (0, 0, 1)), strict=True):
-            b = inc.burgers_vector(G, ngs.CF(n))
-            fields[f"b_{label}"] = b
-            fields[f"|b_{label}|"] = ngs.Norm(b)
-        fields["|b|"] = _larger(_larger(fields["|b_e1|"], fields["|b_e2|"]),
-                                fields["|b_e3|"])
-        return fields
+        """The incompatibility's fields on the coordinate planes (projected path:
+        :class:`~ngincompat.incompatibility.measure.Incompatibility`), beside the
+        transport's."""
+        self.incompatibility = Incompatibility.projected(
+            IsotropicGrowth(self.theta).Fg, self.mesh, self.scene.g_order, PLANES)
+        return {"c": self.transport.c, "theta": self.theta, "exposure": self.exposure,
+                **self.incompatibility.fields()}
 
     def _incompatibility(self):
         """The fields of :meth:`_incompatibility_fields`, the largest |b| and ||G||_L2."""
         fields = self._incompatibility_fields()
-        G_norm = ngs.Integrate(ngs.InnerProduct(self.G, self.G), self.mesh,
-                               order=2 * self.scene.g_order)
         return fields, {"burgers_max": sampling.maximum(fields["|b|"], self.mesh),
-                        "G_norm_L2": max(G_norm, 0.0) ** 0.5}
+                        "G_norm_L2": self.incompatibility.norm_L2(
+                            self.mesh, 2 * self.scene.g_order)}
 
     def _curvature(self, fields):
         """The curvature of Cg (:mod:`ngincompat.incompatibility.curvature`): theta is computed on
         the mesh, so
         the Regge path on the continuous interpolant of Fg that G comes from; adds the fields,
         returns the metrics."""
-        extra, metrics = cv.measure_growth(self.Fg_h, self.mesh, self.G, exact=False)
+        extra, metrics = cv.measure_growth(self.incompatibility.Fg_h, self.mesh,
+                                            self.incompatibility.G, exact=False)
         fields.update(extra)
         return metrics
 
@@ -768,11 +763,6 @@ def bounding_box(mesh):
                else np.empty((0, 3)))
     corners = parallel.gather_rows(mesh, corners)
     return corners.min(axis=0), corners.max(axis=0)
-
-
-def _larger(a, b):
-    """max(a, b) of two scalar CoefficientFunctions."""
-    return ngs.IfPos(a - b, a, b)
 
 
 def _figures(scene, mechanics):

@@ -143,7 +143,7 @@ from ngincompat.fem.shape import circle_curvature, sulci
 from ngincompat.fem.solver import NewtonOptions, NewtonSolver
 from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation
-from ngincompat.incompatibility import operators as inc
+from ngincompat.incompatibility.measure import Incompatibility
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import FiberGrowth
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw
@@ -163,6 +163,7 @@ from ngincompat.scenes.base import (
     check_time_steps,
     param,
 )
+from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.trust import Indicator
 from ngincompat.workflow.frames import Frames
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
@@ -439,7 +440,7 @@ class FoldingScene(Scene):
 
 
 @dataclass(eq=False)
-class FoldingCase:
+class FoldingCase(SceneCase):
     """The folding scene's case: the coupled bilayer and the observations of its growth.
 
     ``series`` holds, per converged step of the perfect branch and per record (every
@@ -802,14 +803,6 @@ class FoldingCase:
             reactions = np.linalg.norm(pin_reactions(self.problem))
             self.noted["release_reaction_rel"] = float(reactions / self.reactions)
 
-    def interrupted(self, solution: Solution) -> Results:
-        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
-                                    solver=dict(solution.histories))
-        results.mesh.ndof = self.problem.ndof
-        results.metrics = dict(self.noted)
-        results.frames = list(self.frames)
-        return results
-
     def measure(self, solution: Solution, progress: Progress) -> Results:
         results = self.interrupted(solution)
         results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
@@ -883,15 +876,13 @@ class FoldingCase:
                      / (s.cortex_thickness * s.length))
 
     def incompatibility(self):
-        """theta_a, G (eq. 10, projected path), b on the plane normal to e3 (eq. 11), |b| and
-        Curl Fg : Curl Fg of the current growth."""
+        """theta_a and the incompatibility of the current growth on the paper's plane normal
+        to e3 (projected path: :class:`~ngincompat.incompatibility.measure.Incompatibility`)."""
         theta = self.growth.theta
-        G, curl_Fg, _ = inc.incompatibility_projected(FiberGrowth(theta, self.f0).Fg,
-                                                      self.mesh, self.scene.g_order)
-        b = inc.burgers_vector(G, ngs.CF((0, 0, 1)))
+        measured = Incompatibility.projected(FiberGrowth(theta, self.f0).Fg, self.mesh,
+                                             self.scene.g_order, {"e3": (0, 0, 1)})
         return {"theta_a": self.mesh.MaterialCF({"subcortex": theta, "cortex": 1.0}),
-                "G": G, "b": b, "|b|": ngs.Norm(b),
-                "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
+                **measured.fields()}
 
     def _stresses(self, growth, u, suffix, metrics):
         """The Cauchy stress of the growth term ``growth`` at the displacement ``u`` and its

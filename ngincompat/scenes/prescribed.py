@@ -23,11 +23,13 @@ from ngincompat.fem.solver import LINEAR_SOLVERS, NewtonOptions, resolve_linear_
 from ngincompat.fem.stages import PrescribedGrowthStage
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import operators as inc
+from ngincompat.incompatibility.measure import Incompatibility
 from ngincompat.mechanics.growth import check_positive
 from ngincompat.mechanics.kinematics import deformation_gradient
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.scenes import curvature as curvature_report
 from ngincompat.scenes.base import Scene, param
+from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.material import Elastic
 from ngincompat.workflow.pipeline import solve_stages, timed
@@ -43,7 +45,7 @@ REUSE_CONTRACTION = 0.5
 
 
 @dataclass(eq=False)
-class PrescribedCase:
+class PrescribedCase(SceneCase):
     """What a prescribed-growth scene builds: the case of :mod:`ngincompat.workflow.pipeline`.
 
     Attributes
@@ -118,14 +120,6 @@ class PrescribedCase:
     def measure(self, solution, progress):
         """See :func:`_measure`."""
         return _measure(self, solution, progress)
-
-    def interrupted(self, solution):
-        """The record of an interrupted run: parameters, histories, no metrics."""
-        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
-                                    solver=dict(solution.histories))
-        if solution.state is not None:
-            results.mesh.ndof = solution.state.ndof
-        return results
 
 
 #: Poisson's ratio from which the displacement formulation is flagged as locking, at order
@@ -327,28 +321,18 @@ def _incompatibility(scene, case, problem):
     the second derivatives of the displacement (no projection either)."""
     mesh, growth = case.mesh, case.growth
     Fg = growth.Fg
-    if case.analytic:
-        dFg = inc.gradient_exact(Fg)
-    else:
-        dFg = inc.project_tensor(Fg, mesh, scene.g_order)[1]
-    curl_Fg = inc.curl(dFg)
-    G = inc.incompatibility_tensor(Fg, curl_Fg)
-    fields = {"G": G, "curlFg_sq": inc.curl_norm_squared(curl_Fg)}
-    metrics = {}
-    norms = []
-    for label, n in case.planes.items():
-        b = inc.burgers_vector(G, n)
-        fields[f"b_{label}"] = b
-        fields[f"|b_{label}|"] = ngs.Norm(b)
-        norms.append(sampling.maximum(ngs.Norm(b), mesh))
-    metrics["burgers_max"] = max(norms) if norms else 0.0
+    measured = (Incompatibility.exact(Fg, case.planes) if case.analytic
+                else Incompatibility.projected(Fg, mesh, scene.g_order, case.planes))
+    fields = measured.fields()
+    G, dFg = fields["G"], measured.dFg
+    metrics = {"burgers_max": measured.burgers_max(mesh)}
     exact = growth.closed_form_G() if case.analytic else None
-    if exact is not None:
+    if exact is None:
+        metrics["G_norm_L2"] = measured.norm_L2(mesh, 10, scale=case.mirror)
+    else:       # ||G||_L2 of the closed form
         metrics["G_error_L2_rel"] = inc.relative_l2_error(G, exact, mesh)
-    # ||G||_L2 of the closed form where there is one, else of the computed G
-    reference = G if exact is None else exact
-    metrics["G_norm_L2"] = (case.mirror * ngs.Integrate(ngs.InnerProduct(reference, reference),
-                                                        mesh, order=10)) ** 0.5
+        metrics["G_norm_L2"] = (case.mirror * ngs.Integrate(ngs.InnerProduct(exact, exact),
+                                                            mesh, order=10)) ** 0.5
     if problem is not None:
         F = deformation_gradient(problem.u)
         dF = problem.u.Operator("hesse").Reshape((3, 3, 3))

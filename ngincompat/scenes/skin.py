@@ -73,7 +73,7 @@ from ngincompat.fem.stages import (
 )
 from ngincompat.fem.terms import DeadTraction, GrowthEnergy, VolumeConstraint
 from ngincompat.incompatibility import curvature as cv
-from ngincompat.incompatibility import operators as inc
+from ngincompat.incompatibility.measure import Incompatibility
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import AreaGrowth
 from ngincompat.mechanics.laws import HillLaw
@@ -91,6 +91,7 @@ from ngincompat.scenes.base import (
     check_time_steps,
     param,
 )
+from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.material import MU, Elastic
 from ngincompat.scenes.trust import Indicator
@@ -257,7 +258,7 @@ CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
 
 
 @dataclass(eq=False)
-class SkinCase:
+class SkinCase(SceneCase):
     """The skin scene's case: the coupled problem and the stages it walks.
 
     Stages: ``inflation`` (volume 0 -> V, growth frozen), with an expander in contact
@@ -452,14 +453,9 @@ class SkinCase:
         (the measures of the problem's terms)."""
         return {f"{k}_{when}": v for k, v in self.problem.measures().items()}
 
-    def interrupted(self, solution: Solution) -> Results:
-        results = self.scene.record(self.mesh, status=solution.status, error=solution.error,
-                                    solver=dict(solution.histories))
-        results.mesh.ndof = self.problem.ndof
-        results.metrics = dict(self.noted)
+    def keep(self, results: Results) -> None:
+        """The hold's checkpoint."""
         results.files = [CHECKPOINT]
-        results.frames = list(self.frames)
-        return results
 
     def _frame_fields(self, u):
         """The fields of a frame at the displacement ``u``: u, theta, J and Je = J / theta
@@ -487,12 +483,13 @@ class SkinCase:
                                                         definedon=footprint) / area
         growth = AreaGrowth(theta, self.N0)
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
-            G, _, Fg_h = inc.incompatibility_projected(growth.Fg, mesh, scene.g_order)
-            b = inc.burgers_vector(G, self.N0.cf)
-            metrics["burgers_max"], where = sampling.argmax(ngs.Norm(b), mesh)
+            measured = Incompatibility.projected(growth.Fg, mesh, scene.g_order,
+                                                 {"e3": self.N0.cf})
+            flds = {"theta": theta, **measured.fields()}
+            metrics["burgers_max"], where = sampling.argmax(flds["|b|"], mesh)
             metrics["burgers_max_radius"] = float(np.hypot(*where[:2]))
         # the problem's state is back at the end of the hold (the inflated, grown skin)
-        flds = {"theta": theta, "b": b, "|b|": ngs.Norm(b), "u_end_of_hold": self.problem.u}
+        flds["u_end_of_hold"] = self.problem.u
         if self.in_contact:
             flds.update(gap=self.holder.gap(), contact_pressure=self.holder.contact_pressure())
         for stage, relaxed in self.relaxed.items():
@@ -505,16 +502,17 @@ class SkinCase:
             metrics[f"max_principal_stress_{stage}"] = sampling.maximum(
                 flds[f"sigma_max_{stage}"], mesh)
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
-        metrics.update(_apex(mesh, theta, ngs.Norm(b)))
+        metrics.update(_apex(mesh, theta, flds["|b|"]))
         if self.in_contact and "sigma_min_released" in flds:
             metrics.update(_compression(mesh, self.holder, flds["sigma_min_released"]))
         if "curvature" in scene.output_set():
             # growth computed on the mesh: the Regge path, on the continuous interpolant of Fg
             # that G is computed from (theta itself may jump between elements)
             with progress.phase("curvature"), timed(timings, "curvature"):
-                extra, measured = cv.measure_growth(Fg_h, mesh, G, exact=False)
+                extra, curved = cv.measure_growth(measured.Fg_h, mesh, measured.G,
+                                                  exact=False)
             flds.update(extra)
-            metrics.update(measured)
+            metrics.update(curved)
         line = ((-4.99, 0.0, 0.0), (4.99, 0.0, 0.0))
         sampled = [k for k in ("theta", "|b|", "sigma_max_clamped", "sigma_max_released",
                                "einstein_norm_g", "scalar_curvature") if k in flds]
