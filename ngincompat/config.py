@@ -20,10 +20,22 @@ where an order needs more (:func:`ensure_heap`).
 
 import contextlib
 import os
+from importlib import metadata
 
 from ngincompat.errors import require
 
-VERSION = "0.1.0"
+
+def _version():
+    """The package's version from its installed metadata (``pyproject.toml``'s, written by
+    pip); "0+unknown" for a source tree on the path that was never installed."""
+    try:
+        return metadata.version("ngincompat")
+    except metadata.PackageNotFoundError:
+        return "0+unknown"
+
+
+#: The package's version (one place: ``pyproject.toml``, read through the metadata).
+VERSION = _version()
 
 #: The local heap (bytes) the package keeps at least, unless :func:`configure` says otherwise.
 DEFAULT_HEAP = 200 * 1000 * 1000

@@ -2,6 +2,7 @@
 
 import json
 import re
+from pathlib import Path
 
 import pytest
 from conftest import SKIN_COARSE
@@ -112,6 +113,21 @@ def test_version_names_ngincompat_and_ngsolve(capsys):
     out = capsys.readouterr().out
     assert out.startswith(f"ngincompat {VERSION} ")
     assert f"NGSolve {ngsolve.__version__}" in out
+
+
+def test_the_version_is_written_once_in_pyproject_and_read_from_the_metadata():
+    import tomllib
+    from importlib import metadata
+
+    import ngincompat
+    from ngincompat import config
+    root = Path(__file__).resolve().parents[1]
+    declared = tomllib.loads((root / "pyproject.toml").read_text())["project"]["version"]
+    assert config.VERSION == ngincompat.__version__ == metadata.version("ngincompat")
+    assert config.VERSION == declared
+    written = [p.relative_to(root) for p in (root / "ngincompat").rglob("*.py")
+               if f'"{declared}"' in p.read_text()]
+    assert written == []
 
 
 def _run_help(capsys):

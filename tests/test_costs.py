@@ -97,15 +97,19 @@ def test_bench_folding_splits_each_fields_time_into_kinds_of_work(tmp_path, caps
 
 
 def test_bench_folding_runs_each_field_on_a_baseline_checkout_after_this_one(tmp_path, capsys):
-    """``--baseline`` a checkout (here a copy of this one's packages, its version marked):
+    """``--baseline`` a checkout (here a copy of this one's packages, its version marked
+    in metadata of its own):
     each field twice, this version first, the baseline's row from the copy's code, the same
     results; a folder that is no checkout is refused in one line."""
     root, base = Path(__file__).resolve().parents[1], tmp_path / "base"
     for package in ("ngincompat", "geometries"):
         shutil.copytree(root / package, base / package,
                         ignore=shutil.ignore_patterns("__pycache__"))
-    config = base / "ngincompat" / "config.py"
-    config.write_text(config.read_text().replace('VERSION = "', 'VERSION = "0+baseline-'))
+    # the copy's own metadata, found first on its path: the version its runs report
+    info = base / "ngincompat-0+baseline.test.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: ngincompat\n"
+                                   "Version: 0+baseline.test\n")
     out = tmp_path / "out"
     assert main(["bench", "folding", "--axons", "straight", "--preset", "preview",
                  "--set", "t_end=10", "--set", "release=false", "--baseline", str(base),
@@ -114,7 +118,7 @@ def test_bench_folding_runs_each_field_on_a_baseline_checkout_after_this_one(tmp
     assert [(r["axons"], r["version"], r["status"]) for r in runs] == [
         ("straight", "this", "done"), ("straight", "baseline", "done")]
     assert not runs[0]["program"].startswith("0+baseline")
-    assert runs[1]["program"].startswith("0+baseline-")
+    assert runs[1]["program"].startswith("0+baseline.test")
     this, baseline = io.read_json(out / "metrics.json")["rows"]
     assert this.pop("version") == "this" and baseline.pop("version") == "baseline"
     assert this == baseline
