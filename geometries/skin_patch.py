@@ -5,11 +5,10 @@ import math
 from netgen.occ import Axes, Box, Cylinder, Glue, Pnt, WorkPlane, Z
 
 from ngincompat.errors import require
+from ngincompat.names import FOOTPRINTS
 
 from ._common import check_mesh_args, mesh_shape
 
-#: The shapes of the expander's footprint, marked on the patch's bottom face.
-FOOTPRINTS = ("rectangle", "circle", "square", "crescent")
 #: The paper's patch: 10 x 10 cm, 0.3 cm thick.
 SIDE, THICKNESS = 10.0, 0.3
 
@@ -25,8 +24,9 @@ def skin_patch(side=SIDE, thickness=THICKNESS, footprint="rectangle", footprint_
         Edge of the patch (cm), > 0. Default 10 (the paper's 10 x 10 cm^2).
     thickness : float
         Thickness (cm), in (0, side). Default 0.3.
-    footprint : {"rectangle", "circle", "square", "crescent"}
-        Shape of the expander's base, centred on the patch.
+    footprint : str
+        Shape of the expander's base, centred on the patch: one of
+        :data:`ngincompat.names.FOOTPRINTS`.
     footprint_size : float, optional
         Characteristic size (cm): the rectangle is size x size/2, the square size x size, the
         circle has diameter size, the crescent is a disc of diameter size minus a disc of the

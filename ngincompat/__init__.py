@@ -20,8 +20,8 @@ The layers underneath, each a subpackage that imports only the ones below it (th
 ``fem`` | ``references``   discretisation and solvers | independent solutions for checks
 ``mechanics``              kinematics, growth tensors and laws, materials, direction fields
 ``incompatibility``        Curl Fg, G, Burgers vectors, curvature of the growth metric
-base modules               errors, typed parameters, config, atomic files, MPI, progress,
-                           sampling points
+base modules               errors, the names of scenes, axons and footprints, typed
+                           parameters, config, atomic files, MPI, progress, sampling points
 =========================  ================================================================
 
 Importing the package changes nothing in NGSolve; :func:`configure` sets threads and heap.

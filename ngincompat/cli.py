@@ -19,7 +19,7 @@ import sys
 import threading
 import time
 
-from ngincompat import config, parallel
+from ngincompat import config, names, parallel
 from ngincompat.errors import (
     ConvergenceError,
     Interrupted,
@@ -277,7 +277,7 @@ def _add_bench(sub):
                    help="seconds a run may take before it is stopped (default 3600)")
     p = case("folding", "what the folding scene costs per axon field, and where its time "
                         "goes (assembly, factorisation, contact search, ...)")
-    p.add_argument("--axons", nargs="+", choices=FOLDING_AXONS, default=list(FOLDING_AXONS),
+    p.add_argument("--axons", nargs="+", choices=names.AXONS, default=list(names.AXONS),
                    help="axon fields (default: all three)")
     p.add_argument("--preset", choices=PRESETS, default="default",
                    help="the scene's preset (default: default)")
@@ -414,13 +414,6 @@ def _add_variants(sub, command, help, scene, option, what, choices, func):
     p.set_defaults(func=func)
 
 
-#: The scenes ``run`` takes, for its help (the registry itself,
-#: :data:`ngincompat.scenes.SCENES`, imports NGSolve and every scene; a test keeps the two
-#: equal).
-SCENE_NAMES = ("cube", "hemisphere", "disc", "cylinder", "skin", "folding", "custom", "atrophy")
-#: The axon fields of the folding scene (``ngincompat.mechanics.fields.AXONS``, which
-#: imports NGSolve; a test keeps the two equal).
-FOLDING_AXONS = ("curved", "concentric", "straight")
 #: The files every scene writes besides results.json when neither --outputs nor
 #: ``--set outputs=...`` says otherwise (the scenes' default ``outputs``; a test keeps them
 #: equal).
@@ -451,7 +444,6 @@ class _Version(argparse.Action):
 
 
 def build_parser():
-    from geometries import FOOTPRINTS
     parser = argparse.ArgumentParser(
         prog="ngincompat",
         description="Growth of soft tissue and the geometric incompatibility it leaves.")
@@ -465,7 +457,7 @@ def build_parser():
     p.set_defaults(func=_cmd_list)
 
     p = sub.add_parser("run", help="run a scene and write its results to a folder")
-    p.add_argument("scene", help="the scene: " + ", ".join(SCENE_NAMES)
+    p.add_argument("scene", help="the scene: " + ", ".join(names.SCENES)
                    + " ('ngincompat list' describes them)")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
@@ -507,10 +499,10 @@ def build_parser():
     p.set_defaults(func=_cmd_paper)
 
     _add_variants(sub, "expansion", "the skin-expansion scene for all four expanders",
-                  "skin", "--footprints", "expanders", FOOTPRINTS, _cmd_expansion)
+                  "skin", "--footprints", "expanders", names.FOOTPRINTS, _cmd_expansion)
     _add_variants(sub, "folding", "the cortical-folding scene for the three axon fields",
                   "folding", "--axons", "axon fields",
-                  FOLDING_AXONS,
+                  names.AXONS,
                   _cmd_folding)
     _add_bench(sub)
     _add_sweep(sub)

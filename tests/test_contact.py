@@ -19,10 +19,6 @@ COARSE = dict(footprint="circle", maxh=3.0, order=1, growth_order=0, g_order=2,
               inflation_steps=1, volume=3.0, hold_days=0.5, dt=0.5, outputs="none")
 
 
-def test_the_expander_shapes_a_dome_for_every_footprint_of_the_skin_patch():
-    assert Expander.FOOTPRINTS == FOOTPRINTS
-
-
 @pytest.mark.parametrize("footprint", FOOTPRINTS)
 def test_dome_is_one_at_its_top_zero_on_the_edge_and_outside(footprint):
     dome = Expander(footprint, footprint_size(footprint, 24.5), 1.0)

@@ -51,6 +51,7 @@ from typing import ClassVar
 import ngsolve as ngs
 import numpy as np
 
+from ngincompat import names
 from ngincompat.errors import require
 from ngincompat.fem.terms import VolumeHolder
 
@@ -78,9 +79,8 @@ class Expander:
     """A rigid dome over a footprint; ``penalty`` kappa (MPa/cm) enforces the contact, its
     ramp rounded over the penetration ``width`` eps (cm)."""
 
-    #: The domes this module can shape, one per footprint of the skin patch
-    #: (:data:`geometries.FOOTPRINTS`, which a test keeps equal to this).
-    FOOTPRINTS: ClassVar[tuple[str, ...]] = ("rectangle", "circle", "square", "crescent")
+    #: The domes this module can shape, one per footprint of the skin patch.
+    FOOTPRINTS: ClassVar[tuple[str, ...]] = names.FOOTPRINTS
 
     footprint: str
     size: float

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
+from ngincompat import names
 from ngincompat.errors import ParameterError
 
 _AXES = {"e1": (1.0, 0.0, 0.0), "e2": (0.0, 1.0, 0.0), "e3": (0.0, 0.0, 1.0)}
@@ -89,10 +90,11 @@ def from_name(spec, parameter="direction"):
         return axons(spec[len("axons_"):])
     raise ParameterError(
         f"{parameter} = {spec!r} is unknown: allowed e1, e2, e3, radial, radial_xy, "
-        "circumferential, axons_curved, axons_concentric, axons_straight")
+        "circumferential, " + ", ".join(f"axons_{kind}" for kind in AXONS))
 
 
-AXONS = ("curved", "concentric", "straight")
+#: The axon fields (:data:`ngincompat.names.AXONS`).
+AXONS = names.AXONS
 #: Depth of the focus of the curved and concentric axons below the interface (cm): the curved
 #: axons meet the interface at most atan(length / (2 FOCUS_DEPTH)) from its normal, 26.6
 #: degrees on the paper's 3 cm strip.
@@ -104,7 +106,8 @@ def axons(kind, interface=0.95, length=3.0, focus_depth=FOCUS_DEPTH, vertical="e
 
     Parameters
     ----------
-    kind : {"curved", "concentric", "straight"}
+    kind : str
+        One of :data:`ngincompat.names.AXONS`.
         ``straight``: normal to the cortex-subcortex interface (the ``vertical``);
         ``curved``: fanning outward, radial from a focus ``focus_depth`` below the interface
         at the middle of the strip; ``concentric``: arcs around that focus (the out-of-plane

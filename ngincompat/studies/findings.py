@@ -43,6 +43,7 @@ from typing import Callable
 
 import numpy as np
 
+from ngincompat import names
 from ngincompat.mechanics.fields import FOCUS_DEPTH
 
 AGREES, PARTLY, DIFFERS, IMPOSED, NOT_RUN = "agrees", "partly", "differs", "imposed", "not run"
@@ -489,7 +490,7 @@ def _atrophy_stress(f, r):
 
 # --- 3.6 skin -----------------------------------------------------------------------------
 
-FOOTPRINTS = ("rectangle", "circle", "square", "crescent")
+FOOTPRINTS = names.FOOTPRINTS
 SKIN = tuple(f"skin-{f}" for f in FOOTPRINTS)
 
 
@@ -561,7 +562,7 @@ def _skin_stress(f, *runs):
 
 # --- 3.7 folding --------------------------------------------------------------------------
 
-AXONS = ("curved", "concentric", "straight")
+AXONS = names.AXONS
 FOLDING = tuple(f"folding-{a}" for a in AXONS)
 #: The axon fields the paper calls normal to the cortex. Its caption orders Fig. 7a's columns
 #: "curved outward, concentric, normal to the interface", and the gradient at the interface

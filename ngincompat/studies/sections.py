@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ngincompat import names
 from ngincompat.scenes import (
     AtrophyScene,
     CubeScene,
@@ -42,9 +43,9 @@ SECTIONS = (
     Section("3.5", "Brain atrophy", (("atrophy", AtrophyScene, {}),)),
     Section("3.6", "Area growth induced by skin expansion",
             tuple((f"skin-{f}", SkinExpansionScene, dict(footprint=f))
-                  for f in ("rectangle", "circle", "square", "crescent"))),
+                  for f in names.FOOTPRINTS)),
     Section("3.7", "Axon growth in brain development",
             tuple((f"folding-{a}", FoldingScene, dict(axons=a))
-                  for a in ("curved", "concentric", "straight"))),
+                  for a in names.AXONS)),
 )
 NUMBERS = tuple(s.number for s in SECTIONS)
