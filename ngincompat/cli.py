@@ -10,6 +10,7 @@ This is the only module that parses arguments; everything it calls takes plain v
 import argparse
 import contextlib
 import errno
+import importlib
 import logging
 import os
 import resource
@@ -176,50 +177,14 @@ def _cmd_folding(args):
 
 
 def _cmd_bench(args):
+    """Runs the benchmark ``args.case`` (its runner, ``args.run``, registered with its
+    parser by :func:`_add_bench`) and records how the tables were made."""
     start, load = time.perf_counter(), os.getloadavg()[0]
-    from ngincompat.studies import (
-        bench,
-        corpus,
-        costs,
-        curvature_rates,
-        folding_costs,
-        peer,
-        scaling,
-        skin_sensitivity,
-        stability,
-        validation,
-    )
     from ngincompat.workflow import io, tables
     # the checkout's state before the benchmark rewrites its own (possibly committed) tables:
     # asked once per process, so the records of every file it writes say the same
     io.git_state()
-    if args.case == "scenes":
-        lines = costs.main(args.scenes, args.presets, out=args.out, timeout=args.timeout)
-    elif args.case == "folding":
-        lines = folding_costs.main(args.axons, args.preset, threads=args.threads,
-                                   out=args.out, timeout=args.timeout,
-                                   settings=_settings(args.set), baseline=args.baseline)
-    elif args.case == "peer":
-        lines = peer.main(args.peer, _settings(args.set), pairs=args.pairs, out=args.out)
-    elif args.case == "cube":
-        lines = bench.cube_main(args.maxh, args.orders, out=args.out, elements=args.elements)
-    elif args.case == "accuracy":
-        lines = bench.accuracy_main(out=args.out, quick=args.quick)
-    elif args.case == "curvature":
-        lines = curvature_rates.main(out=args.out, quick=args.quick, names=args.bodies,
-                                     orders=args.orders)
-    elif args.case == "validation":
-        lines = validation.main(out=args.out, quick=args.quick, progress=Progress())
-    elif args.case == "stability":
-        lines = stability.main(quick=args.quick, threads=args.threads, out=args.out)
-    elif args.case == "skin":
-        lines = skin_sensitivity.main(args.choices, quick=args.quick, out=args.out)
-    elif args.case == "inputs":
-        lines = corpus.main(quick=args.quick, out=args.out, jobs=args.jobs)
-    else:
-        lines = scaling.main(args.maxh, args.orders, quick=args.quick, solvers=args.solvers,
-                             timeout=args.timeout, memory_limit=args.memory_limit,
-                             out=args.out)
+    lines = args.run(args)
     print("\n".join(lines))
     if args.out is not None:
         usage = [resource.getrusage(who) for who in (resource.RUSAGE_SELF,
@@ -259,24 +224,31 @@ def _add_bench(sub):
                                          "stress-test matrix, cost per Newton step")
     cases = bench.add_subparsers(dest="case", required=True)
 
-    def case(name, help, quick=None):
-        """A benchmark's parser with --out, and --quick where ``quick`` says what it runs."""
+    def case(name, help, study, run, quick=None):
+        """A benchmark's parser with --out, and --quick where ``quick`` says what it runs;
+        ``run(args, module)`` runs it and returns its lines, ``module`` the study
+        ``ngincompat.studies.<study>`` (imported only when the benchmark runs)."""
         p = cases.add_parser(name, help=help)
         p.add_argument("--out", help="folder for the tables and the runs' results")
         if quick:
             p.add_argument("--quick", action="store_true", help=quick)
-        p.set_defaults(func=_cmd_bench)
+        p.set_defaults(func=_cmd_bench, run=lambda args: run(
+            args, importlib.import_module(f"ngincompat.studies.{study}")))
         return p
 
     p = case("scenes", "what each scene costs at each preset: dofs, Newton iterations, wall and "
-                       "CPU time, peak memory, error against the finest")
+                       "CPU time, peak memory, error against the finest", "costs",
+             lambda a, m: m.main(a.scenes, a.presets, out=a.out, timeout=a.timeout))
     p.add_argument("--scenes", nargs="+", metavar="SCENE", help="default: every scene")
     p.add_argument("--presets", nargs="+", metavar="PRESET",
                    help="default: every preset of each scene (preview, default, paper)")
     p.add_argument("--timeout", type=float, default=3600.0,
                    help="seconds a run may take before it is stopped (default 3600)")
     p = case("folding", "what the folding scene costs per axon field, and where its time "
-                        "goes (assembly, factorisation, contact search, ...)")
+                        "goes (assembly, factorisation, contact search, ...)", "folding_costs",
+             lambda a, m: m.main(a.axons, a.preset, threads=a.threads, out=a.out,
+                                 timeout=a.timeout, settings=_settings(a.set),
+                                 baseline=a.baseline))
     p.add_argument("--axons", nargs="+", choices=names.AXONS, default=list(names.AXONS),
                    help="axon fields (default: all three)")
     p.add_argument("--preset", choices=PRESETS, default="default",
@@ -291,7 +263,8 @@ def _add_bench(sub):
     p.add_argument("--timeout", type=float, default=3600.0,
                    help="seconds a run may take before it is stopped (default 3600)")
     p = case("cube", "run time against error of the cube (energy against the converged "
-                     "energy)")
+                     "energy)", "bench",
+             lambda a, m: m.cube_main(a.maxh, a.orders, out=a.out, elements=a.elements))
     p.add_argument("--maxh", type=float, nargs="+", default=[0.5, 0.25],
                    help="mesh sizes (default: 0.5 0.25)")
     p.add_argument("--orders", type=int, nargs="+", default=[2, 3, 4, 5],
@@ -300,10 +273,13 @@ def _add_bench(sub):
                    help="element shape (default hex, the paper's layout; the scene's default "
                         "is tet)")
     case("accuracy", "run time against error of cube, hemisphere (symmetry mode) and "
-                     "cylinder, with a plot and the cheapest setting per target",
+                     "cylinder, with a plot and the cheapest setting per target", "bench",
+         lambda a, m: m.accuracy_main(out=a.out, quick=a.quick),
          quick="only coarse cube and cylinder settings (seconds)")
     p = case("curvature", "the curvature of the growth metric on Regge elements against the "
                           "exact one: errors, cost and rates under h- and p-refinement",
+             "curvature_rates",
+             lambda a, m: m.main(out=a.out, quick=a.quick, names=a.bodies, orders=a.orders),
              quick="only the coarse hemisphere, k = 1, 2 (seconds)")
     p.add_argument("--bodies", nargs="+", metavar="BODY",
                    help="among hemisphere, disc (default: both)")
@@ -313,22 +289,26 @@ def _add_bench(sub):
                        "tabulates: G and b of sections 3.1-3.4, folding's onset against "
                        "the Stroh analysis, atrophy against the logistic closed form, "
                        "its volume bookkeeping (see ngincompat.studies.validation)",
+         "validation", lambda a, m: m.main(out=a.out, quick=a.quick, progress=Progress()),
          quick="coarse settings (about a minute)")
     p = case("skin", "section 3.6's findings (the expanders' order, the 40 kPa) under the "
                      "choices the paper leaves open: sizes, dome, modulus, Hill constants "
-                     "(see ngincompat.studies.skin_sensitivity)",
+                     "(see ngincompat.studies.skin_sensitivity)", "skin_sensitivity",
+             lambda a, m: m.main(a.choices, quick=a.quick, out=a.out),
              quick="two choices on a coarse patch (under a minute)")
     p.add_argument("--choices", nargs="+", metavar="CHOICE", help="the study's choices by "
                    "name (default: all; an unknown name is refused with the list)")
     p = case("inputs", "the hostile-input corpus through the command line: every numeric "
                        "parameter's hostile and boundary values, the environment, the paper "
                        "job's options and interrupts; the outcomes counted (see "
-                       "ngincompat.studies.corpus)",
+                       "ngincompat.studies.corpus)", "corpus",
+             lambda a, m: m.main(quick=a.quick, out=a.out, jobs=a.jobs),
              quick="two parameters of the cube and NGS_NUM_THREADS (under a minute)")
     p.add_argument("--jobs", type=int, default=1, metavar="N",
                    help="parameters tried side by side, each in a process (default 1)")
     p = case("peer", "the cube side by side with FEniCSx (the peer of issue 15): "
-                     "alternate runs, the ratio of solve times and both energy errors")
+                     "alternate runs, the ratio of solve times and both energy errors", "peer",
+             lambda a, m: m.main(a.peer, _settings(a.set), pairs=a.pairs, out=a.out))
     p.add_argument("--peer", metavar="DIR",
                    help="the peer's folder (env_dolfinx.sh, fenicsx_growth.py; default: "
                         "$NGINCOMPAT_PEER)")
@@ -337,13 +317,17 @@ def _add_bench(sub):
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="a parameter of our cube (repeatable; default: the scene's defaults)")
     p = case("stability", "the numerical stress-test matrix and the locking study (see "
-                          "ngincompat.studies.stability)",
+                          "ngincompat.studies.stability)", "stability",
+             lambda a, m: m.main(quick=a.quick, threads=a.threads, out=a.out),
              quick="only a small corner of the matrix and locking orders 1-3")
     p.add_argument("--threads", type=int, default=1,
                    help="NGSolve threads (default 1: the cells are small, and times on a "
                         "shared machine stay comparable)")
     p = case("scaling", "one Newton step of the cube against ndof and linear solver (see "
-                        "ngincompat.studies.scaling)", quick="only the two smallest sizes")
+                        "ngincompat.studies.scaling)", "scaling",
+             lambda a, m: m.main(a.maxh, a.orders, quick=a.quick, solvers=a.solvers,
+                                 timeout=a.timeout, memory_limit=a.memory_limit, out=a.out),
+             quick="only the two smallest sizes")
     p.add_argument("--maxh", type=float, nargs="+",
                    help="mesh sizes (default: the grid ngincompat.studies.scaling.GRID)")
     p.add_argument("--orders", type=int, nargs="+",
