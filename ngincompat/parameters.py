@@ -470,7 +470,7 @@ class Parameter:
         return self.kind.to_json(value)
 
 
-_CACHE = {}
+_CACHE: dict[type, dict[str, Parameter]] = {}
 
 
 def declarations(cls):

@@ -93,7 +93,9 @@ class CoupledProblem:
         self.fes = ngs.FESpace([self.space] + [s for spaces in added for s in spaces])
         self.state = ngs.GridFunction(self.fes)
         self.u = self.state.components[0]
-        self.symmetry, self.pinned, self._rigid = {}, (), False
+        self.symmetry: dict[str, str] = {}
+        self.pinned: tuple[int, ...] = ()
+        self._rigid = False
         self._frozen = None
         self.support(symmetry or {})
         self.realcompile = (self.fes.ndof >= REALCOMPILE_NDOF if realcompile is None

@@ -21,8 +21,10 @@ import numpy as np
 from ngincompat import config
 from ngincompat.errors import ConvergenceError, require
 from ngincompat.fem import buckling
+from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.solver import NewtonOptions, NewtonSolver, SolverHistory, StepRecord
 from ngincompat.fem.stages import CoupledStage
+from ngincompat.fem.terms import ViscousRegularisation
 from ngincompat.progress import Progress
 
 
@@ -101,8 +103,8 @@ class RelaxationStage:
     """
 
     name: str
-    problem: object
-    viscous: object
+    problem: CoupledProblem
+    viscous: ViscousRegularisation
     viscosity: float
     dt: float
     switch: float = 0.1
@@ -299,6 +301,7 @@ class SnappingMarch:
         march = self.march
         problem = march.problem
         while True:
+            failure: ConvergenceError | None
             try:
                 piece = march.run(progress)
             except ConvergenceError as err:

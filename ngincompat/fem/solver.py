@@ -19,7 +19,6 @@ residual norms, line-search lengths and the energy.
 
 import logging
 import math
-from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Protocol
 
@@ -54,7 +53,7 @@ class NewtonProblem(Protocol):
         The space of ``state``.
     freedofs : ngsolve.BitArray
         The dofs the tangent is inverted on (with static condensation: the coupling ones).
-    pinned : sequence of int
+    pinned : tuple of int
         Dofs held fixed in addition to the Dirichlet ones (rigid-body pins).
     condense : bool
         Whether ``form`` condenses element-interior dofs.
@@ -68,7 +67,7 @@ class NewtonProblem(Protocol):
     state: ngs.GridFunction
     fes: ngs.FESpace
     freedofs: ngs.BitArray
-    pinned: Sequence[int]
+    pinned: tuple[int, ...]
     condense: bool
     inverse: str
     has_energy: bool

@@ -15,7 +15,7 @@ The relaxation to an equilibrium at held growth and the march that passes its sn
 are in :mod:`ngincompat.fem.relaxation`.
 
 Each has a ``name`` and ``run(progress) -> SolverHistory`` (the
-:class:`~ngincompat.workflow.pipeline.Stage` protocol).
+:class:`Stage` protocol).
 """
 
 from __future__ import annotations
@@ -24,15 +24,32 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
+import ngsolve as ngs
 import numpy as np
 
 from ngincompat import config
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import ConvergenceError, ParameterError, require
+from ngincompat.fem.contact import ExpanderContact
+from ngincompat.fem.coupled import CoupledProblem
+from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.fem.solver import NewtonOptions, NewtonSolver, SolverHistory, StepRecord
 from ngincompat.fem.stepping import solve_coupled, solve_growth
+from ngincompat.fem.terms import DeadTraction, VolumeHolder
 from ngincompat.progress import Progress
+
+
+@runtime_checkable
+class Stage(Protocol):
+    """One part of a load history: inflation, a week of growth, a release, ..."""
+
+    name: str
+
+    def run(self, progress: Progress) -> SolverHistory:
+        """March the stage to its end; raise ConvergenceError (state: last converged step)
+        or Interrupted."""
 
 
 @dataclass(eq=False)
@@ -49,12 +66,12 @@ class PrescribedGrowthStage:
     """
 
     name: str
-    problem: object
-    time: object
+    problem: GrowthMechanics
+    time: ngs.Parameter
     options: NewtonOptions = field(default_factory=NewtonOptions)
     t_start: float = 0.0
     t_end: float = 1.0
-    start: object = None
+    start: ngs.CoefficientFunction | None = None
     start_options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=50))
 
     def run(self, progress: Progress) -> SolverHistory:
@@ -127,15 +144,15 @@ class CoupledStage:
     """
 
     name: str
-    problem: object
+    problem: CoupledProblem
     t_end: float
     dt: float
     t_start: float = 0.0
     grow: bool = True
     volume: tuple[float | None, float] | None = None
-    holder: object = None
+    holder: VolumeHolder | None = None
     traction: tuple[float, float] | None = None
-    dead_load: object = None
+    dead_load: DeadTraction | None = None
     start: Callable[[], object] | None = None
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
@@ -158,10 +175,11 @@ class CoupledStage:
             self.problem.dt.Set(0.0)
         span = self.t_end - self.t_start
         s = 1.0 if span <= 0 else (t - self.t_start) / span
-        if self.volume is not None:
+        if self.volume is not None and self.holder is not None:
             v0, v1 = self.volume
+            assert v0 is not None, "run() sets the volume at the start"
             self.holder.set_target(v0 + (v1 - v0) * s, lift=t > self._loaded)
-        if self.traction is not None:
+        if self.traction is not None and self.dead_load is not None:
             s0, s1 = self.traction
             self.dead_load.scale.Set(s0 + (s1 - s0) * s)
         self._loaded = t
@@ -179,7 +197,7 @@ class CoupledStage:
     def run(self, progress: Progress) -> SolverHistory:
         if self.start is not None:
             self.start()
-        if self.volume is not None and self.volume[0] is None:
+        if self.volume is not None and self.volume[0] is None and self.holder is not None:
             self.volume = (self.holder.target.Get(), self.volume[1])
         self.load(self.t_start)
         self.save(self.t_start)
@@ -196,8 +214,8 @@ class FallbackStage:
     from) and ``second`` instead, under ``first``'s name. The history holds the failed
     attempt's steps first."""
 
-    first: object
-    second: object
+    first: Stage
+    second: Stage
     reset: Callable[[], object]
 
     @property
@@ -238,8 +256,8 @@ class ContactControlStage:
     """
 
     name: str
-    problem: object
-    contact: object
+    problem: CoupledProblem
+    contact: ExpanderContact
     target: float
     rtol: float = 1e-4
     max_rounds: int = 20

@@ -336,6 +336,11 @@ class VolumeHolder(Term):
         return ngs.Integrate(enclosed_volume_density(self.u), self.mesh, ngs.BND,
                              definedon=self.mesh.Boundaries(self.boundary))
 
+    @abc.abstractmethod
+    def set_target(self, volume: float, lift: bool = False) -> None:
+        """Hold the volume ``volume`` from now on (``lift``: move the state with the holder
+        where it has a shape that moves)."""
+
     def saved(self):
         return {"volume_target": self.target.Get()}
 

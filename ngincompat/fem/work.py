@@ -36,7 +36,7 @@ def part(kind: str):
     """Count the block's wall time, less that of the parts inside it, as ``kind``."""
     if kind not in KINDS:
         raise ValueError(f"kind of work {kind!r}: allowed {', '.join(KINDS)}")
-    entry = [kind, time.perf_counter(), 0.0]
+    entry: list = [kind, time.perf_counter(), 0.0]
     _running.append(entry)
     try:
         yield

@@ -28,7 +28,7 @@ kind is one class::
 
 from collections.abc import KeysView
 from dataclasses import dataclass
-from typing import ClassVar, Protocol, Self, runtime_checkable
+from typing import TYPE_CHECKING, ClassVar, Protocol, Self, TypeAlias, runtime_checkable
 
 import ngsolve as ngs
 import numpy as np
@@ -39,7 +39,7 @@ from ngincompat.mechanics import bounds
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.sampling import element_boxes, element_points
 
-CF = ngs.CoefficientFunction
+CF: TypeAlias = ngs.CoefficientFunction
 
 
 @runtime_checkable
@@ -94,6 +94,9 @@ class GrowthKind:
     kind: ClassVar[str]
     direction_role: ClassVar[str | None] = None
     theta: CF
+
+    if TYPE_CHECKING:   # the constructor a registered kind has (a dataclass's)
+        def __init__(self, theta: CF, direction: DirectionField | None = None) -> None: ...
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)

@@ -12,13 +12,13 @@ growth part c^g of eq. (49) exactly (it is the symbolic derivative of the same r
 """
 
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, TypeAlias
 
 import ngsolve as ngs
 
 from ngincompat.errors import require
 
-CF = ngs.CoefficientFunction
+CF: TypeAlias = ngs.CoefficientFunction
 
 
 class GrowthLaw(Protocol):

@@ -16,14 +16,14 @@ uniform parameters (mu, nu, k1, k2, kappa) of its classmethod ``from_parameters`
 import dataclasses
 from collections.abc import KeysView, Sequence
 from dataclasses import dataclass
-from typing import ClassVar, Protocol, Self, runtime_checkable
+from typing import TYPE_CHECKING, ClassVar, Protocol, Self, TypeAlias, runtime_checkable
 
 import ngsolve as ngs
 
 from ngincompat.errors import ParameterError, require
 from ngincompat.mechanics import kinematics
 
-CF = ngs.CoefficientFunction
+CF: TypeAlias = ngs.CoefficientFunction
 
 
 @runtime_checkable
@@ -81,6 +81,11 @@ class MaterialKind:
 
     name: ClassVar[str]
     needs_fibers: ClassVar[bool] = False
+
+    if TYPE_CHECKING:   # what :meth:`__init_subclass__` requires of a registered material
+        @classmethod
+        def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
+                            kappa: float = 0.0) -> Self: ...
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -145,7 +150,8 @@ class NeoHookean(MaterialKind):
     needs_fibers = False
 
     def __post_init__(self):
-        if not isinstance(self.mu, CF):     # moduli per region are checked by by_region
+        # moduli per region are checked by by_region
+        if not isinstance(self.mu, ngs.CoefficientFunction):
             _check_lame(self.mu, self.lam)
 
     @classmethod

@@ -274,7 +274,7 @@ def onset(bilayer: Bilayer, length=None, modes=range(1, 81), k_range=None, theta
         ks = [n * np.pi / length for n in modes]
     else:
         require(k_range is not None, "k_range", k_range, "(k_min, k_max) without a length")
-        ks = list(np.geomspace(*k_range, 40))
+        ks = list(np.geomspace(k_range[0], k_range[1], 40))
     roots = _first_roots(bilayer, ks, 1.0, theta_max, resolution, first_only=True)
     i = int(np.argmin(roots))
     if not np.isfinite(roots[i]):

@@ -46,7 +46,7 @@ MARKERS = ("results.json", "summary.json")
 #: process that died (killed, a crashed machine) is removed with a warning.
 LOCK = ".ngincompat.lock"
 #: Folders :func:`prepare` created in this process (removed by :func:`release` if empty).
-_created = set()
+_created: set[Path] = set()
 #: Folders no run writes into: the root of the file system and its system folders, and
 #: anything in the kernel's (:data:`KERNEL`).
 SYSTEM = ("/", "/bin", "/boot", "/dev", "/etc", "/lib", "/lib32", "/lib64", "/proc", "/run",

@@ -21,7 +21,7 @@ import logging
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, Protocol
 
 from netgen.libngpy._meshing import NgException
 
@@ -49,17 +49,6 @@ def timed(timings: dict, phase: str):
         yield
     finally:
         timings[phase] = timings.get(phase, 0.0) + _time.perf_counter() - start
-
-
-@runtime_checkable
-class Stage(Protocol):
-    """One part of a load history: inflation, a week of growth, a release, ..."""
-
-    name: str
-
-    def run(self, progress: Progress) -> SolverHistory:
-        """March the stage to its end; raise ConvergenceError (state: last converged step)
-        or Interrupted."""
 
 
 @dataclass
@@ -195,7 +184,7 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
         parallel.on_root(output.release, out)
 
 
-def _run(scene, out, progress, label):
+def _run(scene, out: Path | None, progress: Progress, label: str | None) -> Results:
     """:func:`run` in a folder already prepared (or none)."""
     with progress.case(label or scene.name):
         timings: dict[str, float] = {}

@@ -71,13 +71,13 @@ def boundary_triangles(mesh, subdivision: int):
     Returns an array of shape (n, 3, 3): n triangles, three corners, three coordinates."""
     k = subdivision
     # barycentric corners of the k^2 small triangles of the unit triangle
-    small = []
+    corners = []
     for i in range(k):
         for j in range(k - i):
-            small.append(((i, j), (i + 1, j), (i, j + 1)))
+            corners.append(((i, j), (i + 1, j), (i, j + 1)))
             if i + j + 1 < k:
-                small.append(((i + 1, j), (i + 1, j + 1), (i, j + 1)))
-    small = np.asarray(small, float) / k                     # (m, 3, 2): (l1, l2) per corner
+                corners.append(((i + 1, j), (i + 1, j + 1), (i, j + 1)))
+    small = np.asarray(corners, float) / k                   # (m, 3, 2): (l1, l2) per corner
     out = []
     for el in mesh.Elements(ngs.BND):
         p = np.array([mesh[v].point for v in el.vertices])

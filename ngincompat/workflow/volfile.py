@@ -232,7 +232,7 @@ if type(m.GetGeometry()).__name__ == "NetgenGeometry":
 
 
 #: SHA-256 of the geometry parts this process has test-read successfully.
-_GEOMETRIES_READ = set()
+_GEOMETRIES_READ: set[str] = set()
 
 
 def _probe_geometry(path, geometry_part):
