@@ -144,8 +144,8 @@ def test_a_marked_metric_is_a_dashed_line_in_the_legend_and_a_missing_one_is_lef
     """The folding eigenvalue's curve marks the onset, theta_c where it crosses zero."""
     from types import SimpleNamespace
 
-    from ngincompat.scenes.folding import FoldingScene, _figures
-    spec = next(f for f in _figures(FoldingScene(), {"depth": {}, "section": {}})
+    from ngincompat.scenes.folding import FoldingScene, figures
+    spec = next(f for f in figures(FoldingScene(), {"depth": {}, "section": {}})
                 if f.file == "eigenvalue.png")
     assert list(spec.marks.values()) == ["onset_growth"]
     theta = np.array([1.08, 1.16, 1.24, 1.28, 1.32])

@@ -1,4 +1,6 @@
-"""Scenes: one module per scene, each a frozen dataclass of parameters with ``run(out)``."""
+"""Scenes: one per section of the paper (a module, or a package split by concern where the
+scene is large: its parameters, its case, its figures), each a frozen dataclass of
+parameters with ``run(out)``."""
 
 from ngincompat.errors import ParameterError
 from ngincompat.scenes.atrophy import AtrophyScene

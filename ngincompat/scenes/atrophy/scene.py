@@ -1,0 +1,305 @@
+"""The atrophy scene's parameters (section 3.5): the brain, the transport, the atrophy and
+the mechanics, with their presets, metrics and checks of trust."""
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import ngsolve as ngs
+import numpy as np
+
+from geometries import brain, brain_geometry, estimate
+from geometries import fsaverage_brain as fsaverage
+from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
+from ngincompat import parallel
+from ngincompat.errors import ParameterError, require
+from ngincompat.fem.problem import check_formulation
+from ngincompat.mechanics.atrophy import AtrophyLaw
+from ngincompat.mechanics.materials import NeoHookean
+from ngincompat.scenes.atrophy.case import JE_DEVIATION, AtrophyCase
+from ngincompat.scenes.atrophy.tissues import TISSUES, bounding_box
+from ngincompat.scenes.base import (
+    G_ORDER,
+    LENGTH_FLOOR,
+    MAX_STEPS,
+    MAXH,
+    ORDER,
+    TIME_FLOOR,
+    Scene,
+    check_time_steps,
+    param,
+)
+from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
+from ngincompat.scenes.material import MU, NU
+from ngincompat.scenes.trust import Indicator
+
+GEOMETRIES = ("idealized", "mni152", "fsaverage")
+#: Named seeds: MNI coordinates [mm] of the left hemisphere (x mirrored for the right).
+#: entorhinal: the anterior parahippocampal gyrus of the medial temporal lobe, where tau
+#: tangles appear first (Braak & Braak, Acta Neuropathol 82 (1991) 239, stage I-II) and
+#: where Weickenmeier et al. (J Mech Phys Solids 124 (2019) 264) seed tau; the coordinates
+#: are an estimate read off the anatomy, not a published centroid.
+NAMED_SEEDS = {"entorhinal": (-25.0, -10.0, -30.0)}
+#: The default seed of the idealized brain (its basal pole) [cm].
+IDEALIZED_SEED = (0.0, 0.0, -5.0)
+#: The cortex is resolved with at least this many elements across its thickness (median).
+CORTEX_ELEMENTS_ACROSS = 2
+#: Endings of a user's own brain: a NIfTI label image (1 gray, 2 white) or a Netgen mesh
+#: with materials gray and white.
+USER_FILES = (".nii", ".nii.gz", ".vol", ".vol.gz")
+
+
+
+@dataclass(frozen=True)
+class AtrophyScene(Scene):
+    """Brain atrophy driven by the spreading of misfolded protein (section 3.5)."""
+
+    name = "atrophy"
+    distributed = True
+    summary = ("section 3.5: misfolded protein spreads (Fisher-KPP) and shrinks gray matter "
+               "faster than white")
+    units = {"length": "cm", "stress": "kPa", "energy": "mJ", "time": "yr"}
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
+    presets = {"preview": dict(snapshots=1), "paper": dict(maxh=0.7, dt=0.1)}
+    metrics = ("volume_loss", "gray_volume_loss", "white_volume_loss", "volume_loss_theta",
+               "volume_bookkeeping_error", "Je_deviation_max", "Je_deviation_volume_fraction",
+               "burgers_max",
+               "burgers_peak_depth", "max_principal_stress", "stress_peak_depth", "strain_energy",
+               "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
+               "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
+               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error",
+               "gray_volume", "white_volume", "volume_surface_deviation",
+               "cortex_elements_across_min", "cortex_elements_across_median",
+               "cortex_thickness", "burgers_interface_fraction",
+               "interface_band_volume_fraction", "stress_interface_over_surface")
+    metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
+                         "strain_energy": "energy",
+                         "G_norm_L2": "length^(1/2)", "front_radius": "length",
+                         "burgers_peak_depth": "length", "stress_peak_depth": "length",
+                         "c_integral": "length^3", "gray_volume": "length^3",
+                         "white_volume": "length^3", "cortex_thickness": "length",
+                         **CURVATURE_QUANTITIES}
+    #: The coarse run --maxh 2 --set t_end=10 --set dt=1 --set snapshots=2 gave 3.5e-5 while
+    #: the mixed form's pair on tetrahedra was not stable, 4e-16 with its bubbles
+    #: (docs/measurements/mixed.md). (|Je - 1|: trust.)
+    indicators = (
+        Indicator("equilibrium_residual_rel", 1e-6, "the equilibrium is not met: refine, or "
+                  "use formulation=mixed"),
+    )
+
+    order: int = ORDER(2, help="polynomial order of the displacement (>= 2 for mixed)")
+    maxh: float = MAXH(1.0, help="mesh size (the voxel edge of mni152 and NIfTI brains)")
+    g_order: int = G_ORDER(2, help="order of the H1 space that Fg is projected into for "
+                                   "Curl Fg")
+    geometry: str = param("idealized", "brain: idealized (ellipsoid), fsaverage (a hemisphere "
+                          "from the pial and white surfaces, needs nilearn), mni152 (MNI "
+                          "ICBM152 template, needs nilearn), or a file: NIfTI labels (1 gray, "
+                          "2 white) or a Netgen mesh (materials gray, white)")
+    elements: str = param("hex", "elements of a voxel brain (mni152, NIfTI): hex, or tet (six "
+                          "per voxel, as the curvature output needs)", choices=ELEMENTS)
+    semi_axes: tuple[float, float, float] = param(
+        (8.5, 7.0, 6.0), "semi-axes of the idealized brain along e1, e2, e3", "length",
+        range=f"[{LENGTH_FLOOR:g}, 100]")
+    gray_thickness: float = param(0.3, "thickness of the gray-matter shell", "length",
+                                  range=f"[{LENGTH_FLOOR:g}, 10]")
+    d_ext: float = param(0.015, "extracellular (isotropic) diffusivity", "length^2/time",
+                         range="[0, 100]")
+    d_axn: float = param(0.0, "axonal diffusivity added along radial axons in white matter",
+                         "length^2/time", range="[0, 100]")
+    alpha: float = param(0.6, "conversion rate of misfolded protein", "1/time", range="[0, 100]")
+    seed: Literal["uniform", "entorhinal"] | tuple[float, float, float] = param(
+        IDEALIZED_SEED, "seed: uniform, entorhinal (cortex of the medial temporal lobe, on "
+        "fsaverage its nearest pial vertex), or its centre X,Y,Z (in or on the body); the "
+        "default is entorhinal on the fsaverage brain", "length", range="[-100, 100]")
+    hemisphere: str = param("left", "hemisphere of the fsaverage brain",
+                            choices=fsaverage.HEMISPHERES)
+    ico: int = param(4, "icosahedral subdivision of the fsaverage surfaces (4: 2562, 5: 10242 "
+                     "vertices)", range="[4, 5]")
+    cortex_layers: int = param(2, "layers of prisms (3 tetrahedra each) across the cortex of "
+                               "the fsaverage brain; 0: Netgen fills it from the surfaces",
+                               range="[0, 8]")
+    seed_radius: float = param(1.0, "radius s of the Gaussian seed", "length",
+                               range=f"[{LENGTH_FLOOR:g}, 100]")
+    c0: float = param(0.1, "concentration at the seed's centre (or everywhere if uniform)",
+                      range="(0, 1]")
+    rate_gray: float = param(0.03, "initial rate of volume loss of gray matter at c = 1",
+                             "1/time", range="[0, 10]")
+    rate_white: float = param(0.001, "initial rate of volume loss of white matter at c = 1",
+                              "1/time", range="[0, 10]")
+    theta_min: float = param(0.7, "smallest volume ratio theta (largest loss 1 - theta_min)",
+                             range="(0, 1)")
+    t_end: float = param(40.0, "duration (at most a lifetime)", "time",
+                         range=f"[{TIME_FLOOR:g}, 150]")
+    dt: float = param(0.2, "time step of transport and atrophy", "time",
+                      range=f"[{TIME_FLOOR:g}, 150]")
+    snapshots: int = param(4, "equilibria solved at this many equally spaced times",
+                           range=f"[1, {MAX_STEPS}]")
+    times: tuple[float, ...] = param((), "times of the equilibria and of the frames of "
+                                     "fields.pvd instead: comma list in (0, t_end] (t_end is "
+                                     "always one)", "time",
+                                     range=f"[{TIME_FLOOR:g}, 150]")
+    mu_gray: float = MU(1.0, help="shear modulus of gray matter")
+    mu_white: float = MU(1.0, help="shear modulus of white matter")
+    nu: float = NU(0.49)                # both tissues
+    formulation: Literal["mixed", "displacement"] = param(
+        "mixed", "mixed (pressure against volumetric locking, on Je) or displacement")
+
+    def trust(self, results):
+        """The elastic volume change |Je - 1| = |J / theta - 1| above :data:`JE_DEVIATION`
+        (nu = 0.49 allows about 1e-2), with the share of the volume where it is: elements
+        that do not resolve the tissues' mismatch, or poorly shaped ones, whose stress and
+        |b| the maxima may report. A cortex with fewer than :data:`CORTEX_ELEMENTS_ACROSS`
+        elements across its thickness (median) does not resolve the gray/white mismatch it
+        carries."""
+        metrics, found = results.metrics, []
+        deviation = metrics.get("Je_deviation_max")
+        share = metrics.get("Je_deviation_volume_fraction")
+        if deviation is not None and deviation > JE_DEVIATION:
+            where = "" if share is None else f" over a volume fraction of {share:.2g}"
+            found.append(f"Je_deviation_max = {deviation:.3g} > {JE_DEVIATION:g}{where}: the "
+                         "elastic volume change is far from what nu allows there (an "
+                         "unresolved gray matter or poorly shaped elements; the maxima of "
+                         "stress and |b| may sit there): refine (smaller maxh, more "
+                         "cortex_layers on the fsaverage brain)")
+        across = metrics.get("cortex_elements_across_median")
+        if across is not None and across < CORTEX_ELEMENTS_ACROSS:
+            found.append(f"cortex_elements_across_median = {across:g} < "
+                         f"{CORTEX_ELEMENTS_ACROSS}: the cortex is under-resolved; the stress "
+                         "and |b| at the gray/white interface are not converged: refine (more "
+                         "cortex_layers on the fsaverage brain, a smaller maxh or "
+                         "gray_thickness / maxh >= 2 on the idealized one)")
+        return found
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.geometry == "fsaverage" and self.seed == IDEALIZED_SEED:
+            object.__setattr__(self, "seed", "entorhinal")     # the default, outside it
+        require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
+                self.geometry, f"{', '.join(GEOMETRIES)} or a file ending in "
+                f"{', '.join(USER_FILES)}")
+        axes = self.axes()
+        require(self.gray_thickness < min(axes) / 2, "gray_thickness",
+                self.gray_thickness, f"in (0, {min(axes) / 2:g}) (half the smallest semi-axis)")
+        require(self.seed not in NAMED_SEEDS or self.geometry != "idealized", "seed",
+                self.seed, "uniform or X,Y,Z on the idealized brain (named seeds need an "
+                "anatomical one: geometry = fsaverage, mni152)")
+        centre = self.seed_centre()
+        if centre is not None and self.geometry == "idealized":
+            inside = sum((x / a) ** 2 for x, a in zip(centre, axes, strict=True))
+            require(inside <= 1 + 1e-9, "seed", self.seed,
+                    "uniform, or X,Y,Z inside or on the body "
+                    f"((X/{axes[0]:g})^2 + (Y/{axes[1]:g})^2 + (Z/{axes[2]:g})^2 <= 1)")
+        require(self.dt <= self.t_end, "dt", self.dt, f"in (0, t_end = {self.t_end:g}]")
+        check_time_steps("t_end", self.t_end, "dt", self.dt)
+        require(self.snapshots <= self.n_steps(), "snapshots", self.snapshots,
+                f"an integer in [1, {self.n_steps()}] (the number of time steps)")
+        self.snapshot_steps()
+        for law in self.laws().values():
+            law.check_step(self.t_end / self.n_steps())
+        self.material_moduli()
+        check_formulation(NeoHookean.from_nu(self.mu_gray, self.nu), self.formulation,
+                          self.order)
+
+    def axes(self):
+        """The semi-axes as three floats."""
+        return self.semi_axes
+
+    def seed_centre(self):
+        """The seed's centre, or None for a uniform seed (a named one in the brain's
+        coordinates: :func:`geometries.fsaverage_brain.from_mni`)."""
+        if self.seed == "uniform":
+            return None
+        if self.seed in NAMED_SEEDS:
+            x, y, z = NAMED_SEEDS[self.seed]
+            point = fsaverage.from_mni((-x if self.hemisphere == "right" else x, y, z))
+            if self.geometry == "fsaverage":     # on the cortex: the nearest pial vertex
+                pial = fsaverage.surfaces(self.hemisphere, self.ico)[0]
+                point = pial[np.argmin(np.linalg.norm(pial - point, axis=1))]
+            return tuple(float(v) for v in point)
+        return self.seed
+
+    def n_steps(self):
+        """Number of equal time steps, of length t_end / n <= dt."""
+        return max(1, int(np.ceil(self.t_end / self.dt - 1e-9)))
+
+    def snapshot_steps(self):
+        """The steps (counted from 0) after which the equilibrium is solved and a frame of the
+        time series taken: ``times`` rounded to the nearest step, else ``snapshots`` equally
+        spaced ones; the last step always."""
+        n = self.n_steps()
+        if not self.times:
+            return [round(k * n / self.snapshots) for k in range(1, self.snapshots + 1)]
+        allowed = f"a comma list of times in (0, t_end = {self.t_end:g}]"
+        require(all(0 < t <= self.t_end + 1e-9 for t in self.times), "times", self.times,
+                allowed)
+        return sorted({max(1, round(t / self.t_end * n)) for t in self.times} | {n})
+
+    def laws(self):
+        """The atrophy law of each tissue."""
+        return {"gray": AtrophyLaw(self.rate_gray, self.theta_min, "rate_gray"),
+                "white": AtrophyLaw(self.rate_white, self.theta_min, "rate_white")}
+
+    def material_moduli(self):
+        """tissue -> (mu, nu), checked."""
+        moduli = {"gray": (self.mu_gray, self.nu), "white": (self.mu_white, self.nu)}
+        for mu, nu in moduli.values():
+            NeoHookean.from_nu(mu, nu)
+        return moduli
+
+    def mesh_estimate(self):
+        # a voxel brain has at most the voxels of its image (mni152: maxh in [0.4, 2] cm)
+        if self.geometry != "idealized":
+            return None
+        return estimate.brain_elements(semi_axes=self.axes(), maxh=self.maxh), "tet"
+
+    def build(self):
+        mesh = self.distributed_mesh()
+        missing = set(TISSUES) - set(mesh.GetMaterials())
+        if missing:
+            raise ParameterError(f"geometry = {self.geometry}: the brain mesh lacks the "
+                                 f"materials {', '.join(sorted(missing))}")
+        centre = self.seed_centre()
+        if centre is not None and parallel.maximum(mesh, mesh(*centre).nr) < 0:
+            low, high = bounding_box(mesh)
+            raise ParameterError(
+                f"seed = {self.seed} is outside the body: allowed uniform, or X,Y,Z inside "
+                f"it (bounding box {np.round(low, 2).tolist()} to "
+                f"{np.round(high, 2).tolist()})")
+        if "curvature" in self.output_set() and parallel.total(mesh, sum(
+                el.type != ngs.ET.TET for el in mesh.Elements(ngs.VOL))):
+            raise ParameterError(f"outputs = {self.outputs}: the curvature of the growth metric "
+                                 f"(Regge elements) needs a tetrahedral mesh; geometry = "
+                                 f"{self.geometry} is meshed with hexahedra (a voxel brain "
+                                 f"takes --set elements=tet)")
+        return AtrophyCase(self, mesh)
+
+    def distributed_mesh(self):
+        """The brain of :meth:`mesh`, distributed over the ranks of an MPI run
+        (:mod:`ngincompat.parallel`; the ellipsoid curved on every rank)."""
+        if parallel.world() is None:
+            return self.mesh()
+        if self.geometry == "idealized":
+            return parallel.distribute_geometry(
+                brain_geometry(self.axes(), self.gray_thickness), self.maxh, self.order)
+        return parallel.distribute(self.mesh)
+
+    def mesh(self):
+        """The brain: the ellipsoid, the MNI152 template, or the user's file (cm)."""
+        if self.geometry == "idealized":
+            return brain(semi_axes=self.axes(), gray=self.gray_thickness, maxh=self.maxh,
+                         curve_order=self.order)
+        if self.geometry == "mni152":
+            return mni152(self.maxh, self.elements)
+        if self.geometry == "fsaverage":
+            return fsaverage.fsaverage(self.hemisphere, self.ico, self.cortex_layers,
+                                       maxh=self.maxh)
+        if self.geometry.endswith((".nii", ".nii.gz")):
+            return from_nifti(self.geometry, self.maxh, self.elements)
+        if not Path(self.geometry).is_file():
+            raise ParameterError(f"geometry = {self.geometry}: no such file")
+        try:
+            return ngs.Mesh(self.geometry)
+        except Exception as err:   # Netgen raises its own kinds for unreadable files
+            raise ParameterError(f"geometry = {self.geometry}: not a readable Netgen mesh "
+                                 f"({err})") from None
+

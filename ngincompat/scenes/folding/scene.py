@@ -1,0 +1,194 @@
+"""The folding scene's parameters (section 3.7): the bilayer, its growth, the steps, the
+contact and the release, with their presets and metrics."""
+
+from dataclasses import dataclass
+
+from geometries import bilayer, estimate
+from ngincompat.errors import require
+from ngincompat.mechanics import fields
+from ngincompat.mechanics.laws import ConstantRateLaw, StrainDrivenLaw
+from ngincompat.references.bifurcation import Bilayer
+from ngincompat.scenes.base import (
+    G_ORDER,
+    LENGTH_FLOOR,
+    MAXH,
+    MODULUS_FLOOR,
+    ORDER,
+    RATE_FLOOR,
+    TIME_FLOOR,
+    Scene,
+    check_time_steps,
+    param,
+)
+from ngincompat.scenes.folding.case import FoldingCase
+from ngincompat.scenes.trust import Indicator
+
+#: The axon fields of Fig. 7 (left to right), and "none": no axon growth.
+AXONS = (*fields.AXONS, "none")
+
+
+@dataclass(frozen=True)
+class FoldingScene(Scene):
+    """A 3 x 1 cm cortex-subcortex bilayer growing between fixed ends (section 3.7)."""
+
+    name = "folding"
+    summary = "section 3.7: cortical folding, a growing cortex on a subcortex with axon growth"
+    variant = ("axons",)
+    # the measurements behind them: docs/measurements/solver-costs.md, "Presets"; the
+    # preview is the paper's bilayer to its 75 days, its subcortex coarse, its cortex two
+    # elements thick (it does not crease) and its steps and records longer
+    # (docs/measurements/folding.md, "The section", "Convergence at the paper's 75 days")
+    presets = {"preview": dict(maxh=0.5, cortex_maxh=0.025, dt=10.0, onset_dt=5.0,
+                               approach_dt=10.0, observe_dt=10.0),
+               "paper": dict(maxh=0.1)}
+    # far above what converged runs give (docs/measurements/folding.md, the release)
+    indicators = (
+        Indicator("equilibrium_residual", 1e-6, "the grown state is not an equilibrium: the "
+                  "relaxation stopped short of it"),
+        Indicator("release_reaction_rel", 1e-6, "the released body is not self-equilibrated: "
+                  "its pins carry load"))
+    metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude", "sulci",
+               "sulcus_depth",
+               "t_reached", "theta_c_reached", "Je_min", "self_contact_area",
+               "self_contact_penetration_max", "burgers_interface_mean",
+               "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
+               "equilibrium_residual", "equilibrium_eigenvalue", "max_principal_stress",
+               "max_principal_stress_released", "top_curvature_released",
+               "peak_tension_depth", "peak_tension_depth_released", "release_reaction_rel",
+               "top_stretch_min", "strain_energy", "strain_energy_released")
+    metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
+                         "max_principal_stress_released": "stress",
+                         "onset_wavelength": "length",
+                         "fold_amplitude": "length", "sulcus_depth": "length",
+                         "onset_time": "time",
+                         "t_reached": "time", "self_contact_area": "length",
+                         "self_contact_penetration_max": "length",
+                         "burgers_interface_mean": "1/length",
+                         "burgers_max_depth": "length", "burgers_max_X1": "length",
+                         "equilibrium_eigenvalue": "stress/length^2",
+                         "top_curvature_released": "1/length",
+                         "peak_tension_depth": "length",
+                         "peak_tension_depth_released": "length",
+                         "strain_energy": "stress length^2",
+                         "strain_energy_released": "stress length^2"}
+    units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
+
+    order: int = ORDER(2, help="polynomial order of the displacement: 2 (across the cortex at "
+                               "least quadratic; from order 3 the triangles have element-"
+                               "internal dofs, which the tangent's eigenpairs leave out)")
+    maxh: float = MAXH(0.15, help="mesh size in the subcortex")
+    cortex_maxh: float = param(0.0125, "mesh size in the cortex and on the interface "
+                                       "(>= 2 quadratic elements across the cortex; 4 by "
+                                       "default, where the folds crease)", "length",
+                               range=f"[{LENGTH_FLOOR:g}, 100]")
+    top_refinement: float = param(1.0, "cortex_maxh / the mesh size on the top surface, "
+                                       "graded to cortex_maxh below (where the folds "
+                                       "crease); 1: not refined", range="[1, 100]")
+    g_order: int = G_ORDER(3, help="order of the H1 space that Fg is projected into for "
+                                   "Curl Fg")
+    growth_order: int = param(1, "order of the (L2) growth field theta", range="[0, 5]")
+    length: float = param(3.0, "length of the bilayer (X1)", "length",
+                          range=f"[{LENGTH_FLOOR:g}, 100]")
+    height: float = param(1.0, "height of the bilayer (X2)", "length",
+                          range=f"[{LENGTH_FLOOR:g}, 100]")
+    cortex_thickness: float = param(0.05, "thickness of the cortex", "length",
+                                    range=f"[{LENGTH_FLOOR:g}, 100]")
+    mu_white: float = param(1.0, "shear modulus of the subcortex (white matter)", "stress",
+                            range=f"[{MODULUS_FLOOR:g}, 1e6]")
+    mu_ratio: float = param(3.0, "mu_gray / mu_white", range="[1e-3, 1000]")
+    lam_ratio: float = param(100.0, "lambda / mu in both layers (nearly incompressible; "
+                                    "1e6: nu = 0.4999995)",
+                             range="[1e-3, 1e6]")
+    cortex_rate: float = param(0.008, "cortex growth rate: theta_c = 1 + cortex_rate t",
+                               "1/time", range=f"[{RATE_FLOOR:g}, 10]")
+    axon_rate: float = param(0.08, "G_axn of d theta_a/dt = G_axn <lambda_e - "
+                                   "stretch_crit>", "1/time", range=f"[{RATE_FLOOR:g}, 100]")
+    stretch_crit: float = param(1.0, "axon stretch lambda_e below which axons do not grow",
+                                range="[0.1, 10]")
+    axon_max: float = param(3.0, "saturation of axon growth (eq. 45, gamma = 0)",
+                            range="(1, 10]")
+    axons: str = param("curved", "axon field: " + ", ".join(AXONS), choices=AXONS)
+    t_end: float = param(75.0, "end of growth (the paper's 75 days: theta_c = 1.6 with "
+                               "cortex_rate read per day)", "time", range=f"[{TIME_FLOOR:g}, 1000]")
+    dt: float = param(2.5, "first time step (adaptive: cut on failure, doubled on ease)",
+                      "time", range=f"[{TIME_FLOOR:g}, 1000]")
+    approach_dt: float = param(10.0, "largest time step on the perfect branch (at least "
+                                     "onset_dt) until 2 onset_dt before the bifurcation "
+                                     "analysis' onset", "time", range=f"[{TIME_FLOOR:g}, 1000]")
+    onset_dt: float = param(1.25, "largest time step on the perfect branch (resolution of "
+                                  "the onset)", "time", range=f"[{TIME_FLOOR:g}, 1000]")
+    observe_dt: float = param(1.25, "growth time between the records of the viscous march "
+                                    "(smallest eigenvalue, fold amplitude, top stretch); 0: "
+                                    "every step", "time", range="[0, 1000]")
+    imperfection: float = param(0.01, "amplitude of the first buckling mode added at the "
+                                      "onset / cortex_thickness", range="[1e-6, 0.1]")
+    buckle: bool = param(True, "past the onset, perturb by the buckling mode and follow the "
+                               "folds to t_end (false: end at the onset)")
+    release: bool = param(True, "at the end remove the supports but the rigid-motion pins "
+                                "(growth frozen)")
+    contact_penalty: float = param(1e4, "penalty kappa of the top surface's self-contact "
+                                        "(pressure per penetration)", "stress/length",
+                                   range="[1e-3, 1e8]")
+    contact_width: float = param(0.0005, "penetration over which the contact penalty's ramp "
+                                         "is rounded", "length", range="[0, 1]")
+    viscosity: float = param(100.0, "viscous regularisation after the onset: eta / mu_white "
+                                   "(eta in stress x time / length^2)", "time/length^2",
+                             range="[1e-3, 1e6]")
+
+    def __post_init__(self):
+        super().__post_init__()
+        require(self.order == 2, "order", self.order, "2 (quadratic elements across the "
+                "cortex; from order 3 the triangles have element-internal dofs, which the "
+                "tangent's eigenpairs leave out)")
+        require(self.cortex_thickness < self.height, "cortex_thickness",
+                self.cortex_thickness, f"in (0, height = {self.height:g})")
+        # a section shorter than its cortex is thick is a column, not a bilayer: its folds
+        # (half a wavelength at most the length) would be shorter than the layer that folds
+        require(self.length >= self.cortex_thickness, "length", self.length,
+                f">= cortex_thickness = {self.cortex_thickness:g} (a section shorter than its "
+                "cortex is thick has no room for a fold)")
+        require(self.cortex_maxh <= self.maxh, "cortex_maxh", self.cortex_maxh,
+                f"in (0, maxh = {self.maxh:g}]")
+        require(self.cortex_maxh <= self.cortex_thickness / 2, "cortex_maxh",
+                self.cortex_maxh, f"<= cortex_thickness / 2 = {self.cortex_thickness / 2:g} "
+                "(two quadratic elements across the cortex)")
+        for step in ("dt", "approach_dt", "onset_dt"):     # observe_dt = 0: every step
+            check_time_steps("t_end", self.t_end, step, getattr(self, step))
+        self.axon_law()
+
+    def axon_law(self):
+        """The subcortex's law: stretch-driven (eq. 45, gamma = 0) or, without axons, none."""
+        if self.axons == "none":
+            return ConstantRateLaw(0.0)
+        return StrainDrivenLaw(tau=1.0 / self.axon_rate, theta_max=self.axon_max, gamma=0.0,
+                               theta_crit=self.stretch_crit)
+
+    @property
+    def top_maxh(self):
+        """The mesh size on the top surface, cortex_maxh / top_refinement."""
+        return self.cortex_maxh / self.top_refinement
+
+    @property
+    def mu_gray(self):
+        return self.mu_ratio * self.mu_white
+
+    def bifurcation_bilayer(self):
+        """The same bilayer for the independent linear bifurcation analysis
+        (:mod:`ngincompat.references.bifurcation`)."""
+        lam = self.lam_ratio
+        return Bilayer(self.height, self.cortex_thickness, self.mu_gray, lam * self.mu_gray,
+                       self.mu_white, lam * self.mu_white)
+
+    def mesh_estimate(self):
+        return (estimate.bilayer_elements(length=self.length, height=self.height,
+                                          cortex=self.cortex_thickness,
+                                          maxh=self.maxh, cortex_maxh=self.cortex_maxh,
+                                          top_maxh=self.top_maxh),
+                "triangle")
+
+    def build(self):
+        mesh = bilayer(length=self.length, height=self.height,
+                       cortex=self.cortex_thickness, maxh=self.maxh,
+                       cortex_maxh=self.cortex_maxh, top_maxh=self.top_maxh)
+        return FoldingCase(self, mesh)
+
