@@ -1,7 +1,6 @@
-"""The package's shape: the layers' contracts hold, and no module grows past about 600 lines
-without saying why at its top."""
+"""The package's shape: the layers' contracts hold, and no module grows past 600 lines (a
+concern that outgrows them becomes a package of modules)."""
 
-import ast
 import pathlib
 import shutil
 import subprocess
@@ -10,10 +9,8 @@ import sys
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-#: Lines above which a module states, in its docstring, why it is one module.
+#: The most lines a module has.
 LONG = 600
-#: The phrase that opens that statement.
-REASON = "Why one module:"
 
 
 def _modules():
@@ -22,7 +19,8 @@ def _modules():
 
 def test_the_import_contracts_hold():
     """lint-imports (import-linter on grimp's graph, which reads the imports inside functions
-    too) keeps the layers of pyproject.toml, geometries on ngincompat.errors, and no cycles."""
+    too) keeps the layers of pyproject.toml, geometries on ngincompat.errors and names, and no
+    cycles."""
     exe = shutil.which("lint-imports", path=str(pathlib.Path(sys.executable).parent))
     if exe is None:
         pytest.skip("import-linter is not installed (the test extra has it)")
@@ -32,10 +30,6 @@ def test_the_import_contracts_hold():
 
 
 @pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(ROOT)))
-def test_a_long_module_says_why_it_is_one(path):
-    source = path.read_text()
-    if source.count("\n") <= LONG:
-        return
-    doc = ast.get_docstring(ast.parse(source)) or ""
-    assert REASON in doc, (f"{path.relative_to(ROOT)} has {source.count(chr(10))} lines: "
-                           f"split it, or say at its top ('{REASON} ...') why it is one")
+def test_no_module_is_longer_than_600_lines(path):
+    lines = path.read_text().count("\n")
+    assert lines <= LONG, f"{path.relative_to(ROOT)} has {lines} lines: split it by concern"

@@ -1,12 +1,14 @@
 """The ``finding-rules`` directive: the rules by which ``ngincompat paper``'s report judges the
 paper's findings, one row per rule, made from :func:`ngincompat.studies.findings.rules` when
-the site is built (and again whenever that module changes), so the page cannot drift from the
+the site is built (and again whenever a module of it changes), so the page cannot drift from the
 code.
 
 Columns: the section and figure, the paper's words (quoted), the measure (what is computed
 from which case), the thresholds that give each verdict with their sources, and the verdicts
 the rule can give.
 """
+
+from pathlib import Path
 
 from docutils import nodes
 from sphinx.util.docutils import SphinxDirective
@@ -36,8 +38,9 @@ class FindingRules(SphinxDirective):
     """``.. finding-rules::``: the table of every rule."""
 
     def run(self):
-        # the page is read again when the rules change
-        self.env.note_dependency(findings.__file__)
+        # the page is read again when the rules change (any module of the package)
+        for module in sorted(Path(findings.__file__).parent.glob("*.py")):
+            self.env.note_dependency(str(module))
         group = nodes.tgroup(cols=len(RULE_COLUMNS))
         group += [nodes.colspec(colwidth=w) for w in WIDTHS]
         head = nodes.thead()
