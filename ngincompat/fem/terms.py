@@ -262,17 +262,18 @@ class DeadTraction(Term):
     def attach(self, problem, unknowns):
         self.problem = problem
         self.field = ngs.GridFunction(problem.space, name="traction")
-        return -self.scale * ngs.InnerProduct(self.field, problem.displacement.test) * ngs.ds(
-            self.boundaries)
+        return self._work(problem.displacement.test)
+
+    def _work(self, w):
+        """-s int t . w dA: the energy at w = u, the residual at the test function (the
+        energy is linear in u)."""
+        return -self.scale * ngs.InnerProduct(self.field, w) * ngs.ds(self.boundaries)
 
     def held_energy(self, u):
-        return -self.scale * ngs.InnerProduct(self.field, u) * ngs.ds(self.boundaries)
+        return self._work(u)
 
     def energy(self):
-        problem = self.problem
-        return -self.scale.Get() * ngs.Integrate(
-            ngs.InnerProduct(self.field, problem.u), problem.mesh,
-            definedon=problem.mesh.Boundaries(self.boundaries))
+        return ngs.Integrate(self._work(self.problem.u), self.problem.mesh)
 
     def hold(self):
         """Hold the current state in equilibrium by this traction: t with
