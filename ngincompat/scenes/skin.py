@@ -513,7 +513,8 @@ class SkinCase(SceneCase):
                                                   exact=False)
             flds.update(extra)
             metrics.update(curved)
-        line = ((-4.99, 0.0, 0.0), (4.99, 0.0, 0.0))
+        edge = SIDE / 2 - LINE_INSET
+        line = ((-edge, 0.0, 0.0), (edge, 0.0, 0.0))
         sampled = [k for k in ("theta", "|b|", "sigma_max_clamped", "sigma_max_released",
                                "einstein_norm_g", "scalar_curvature") if k in flds]
         s, values = postprocess.sample_line(mesh, {k: flds[k] for k in sampled}, *line)
@@ -525,6 +526,10 @@ class SkinCase(SceneCase):
             curvature_report.report(scene, results, "X1", {"|b| on e3": "|b|"})
         return results
 
+
+#: The profile along X1 through the middle ends this far inside the patch's edges [cm], where
+#: a point exactly on the edge may be placed outside the mesh by round-off.
+LINE_INSET = 0.01
 
 #: The fields of the maps at mid-thickness (Fig. 6 a-c and the compression after release).
 MAPS = {"area growth theta [-]": "theta", "|b| on e3 [1/{L}]": "|b|",
