@@ -13,7 +13,7 @@ log-safe products of ratios, so a dimension of 1e308 gives an infinite estimate,
 
 Each function takes the builder's keywords (the same defaults) and returns the estimated number
 of elements; :data:`ESTIMATES` maps the builders' names (:data:`geometries.BUILDERS`) to them.
-The estimates are within a factor 4 of the meshes' counts (tests/test_inputs_hostile.py).
+The estimates are within a factor 4 of the meshes' counts (tests/workflow/test_inputs_hostile.py).
 """
 
 import math

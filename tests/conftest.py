@@ -110,3 +110,25 @@ def peer_stand_in(folder):
         "import sys\nassert sys.argv[1:] == ['--N', '4', '--degree', '4', '--quiet']\n"
         f"print('noise')\nprint('RESULT ' + {json.dumps(json.dumps(record))})\n")
     return folder, record
+
+
+#: Voxel edge of the synthetic label images (mm).
+VOXEL = 5.0
+
+
+def voxel_labels():
+    """A label image (0 outside, 1 gray, 2 white): a 6 x 5 x 4 block, a white core of
+    2 x 2 x 1, the rest gray; and one gray island."""
+    lab = np.zeros((10, 9, 8), dtype=np.int16)
+    lab[1:7, 1:6, 1:5] = 1
+    lab[3:5, 2:4, 2:3] = 2
+    lab[8, 7, 6] = 1                      # an island: not face-connected to the block
+    return lab
+
+
+def write_nifti(path, lab, affine=None):
+    """``lab`` written as a NIfTI image of :data:`VOXEL` voxels (nibabel: the brain extra)."""
+    import nibabel
+    affine = np.diag([VOXEL, VOXEL, VOXEL, 1.0]) if affine is None else affine
+    nibabel.save(nibabel.Nifti1Image(lab, affine), str(path))
+    return str(path)

@@ -42,7 +42,7 @@ point's displacement through ``u.Other()`` on curved elements of any order, and 
 to the problem's form as extra elements whose energy it differentiates symbolically: the
 exact tangent of Pi_c with frozen pairs, and it takes part in the static condensation and the
 compound space of a :class:`~ngincompat.fem.coupled.CoupledProblem` (checked against the
-closed form of two blocks pressed together, tests/test_self_contact.py). Its limits, taken
+closed form of two blocks pressed together, tests/fem/test_self_contact.py). Its limits, taken
 here: the pairs and normals are frozen between updates (no linearisation of the closest-point
 projection), and its gap function's evaluation keeps the displacement of the last update, so
 the measures (:meth:`SelfContact.measures`) use a third ``ContactBoundary`` updated with the

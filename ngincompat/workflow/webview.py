@@ -10,7 +10,7 @@ webgui bundle (three.js and dat.gui included, LGPL-2.1) shipped in the
 ``webgui_jupyter_widgets`` package (``js/webgui.js``, read from the installed package's
 folder, not imported: its Python side needs Jupyter). Its bundle of 2024-10 draws the scenes
 of NGSolve 6.2.2608 (surface, deformation, colour map, clipping plane; checked in a browser
-by tests/test_webview.py).
+by tests/workflow/test_webview.py).
 
 The page is the scene at the window's size (the viewer sizes itself by the parent of the
 element it draws into) under a header naming the field and its unit (the

@@ -17,7 +17,7 @@ import pytest
 from matplotlib.image import imread
 from netgen.csg import CSGeometry, OrthoBrick, Pnt
 from netgen.webgui import GenerateHTML
-from test_report import CHROMIUM, needs_chromium
+from studies.test_report import CHROMIUM, needs_chromium
 
 from ngincompat.workflow import webview
 

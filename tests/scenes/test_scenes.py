@@ -213,7 +213,7 @@ def test_custom_scene_on_a_vol_file_with_growth_data_from_a_previous_run(tmp_pat
 
 
 def test_custom_scene_on_a_gmsh_file(tmp_path):
-    from test_inputs import write_box_msh
+    from workflow.test_inputs import write_box_msh
     path = tmp_path / "box.msh"
     write_box_msh(path, n=(2, 1, 1), size=(2.0, 1.0, 1.0))
     results = CustomScene(mesh=str(path), theta="1 + 0.1*X1*t", order=2,

@@ -1,4 +1,4 @@
-"""A stand-in for the command line's main function, for tests/test_corpus.py: its first
+"""A stand-in for the command line's main function, for tests/studies/test_corpus.py: its first
 argument says what it does (the corpus's driver imports it by name)."""
 
 import os

@@ -101,7 +101,7 @@ def test_bench_folding_runs_each_field_on_a_baseline_checkout_after_this_one(tmp
     in metadata of its own):
     each field twice, this version first, the baseline's row from the copy's code, the same
     results; a folder that is no checkout is refused in one line."""
-    root, base = Path(__file__).resolve().parents[1], tmp_path / "base"
+    root, base = Path(__file__).resolve().parents[2], tmp_path / "base"
     for package in ("ngincompat", "geometries"):
         shutil.copytree(root / package, base / package,
                         ignore=shutil.ignore_patterns("__pycache__"))

@@ -17,8 +17,9 @@ def _threads(env, code="import ngincompat\n"):
              "with config.task_manager():\n"
              "    from pyngcore import GetNumThreads; print(GetNumThreads())")
     env = {k: v for k, v in os.environ.items() if k != "NGS_NUM_THREADS"} | env
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                         text=True, check=True, cwd=os.path.dirname(os.path.dirname(__file__)))
+                         text=True, check=True, cwd=root)
     return int(out.stdout.split()[-1])
 
 

@@ -17,11 +17,11 @@ import sys
 from pathlib import Path
 
 import pytest
-from test_report import CHROMIUM, browse, needs_chromium
+from studies.test_report import CHROMIUM, browse, needs_chromium
 
 from ngincompat.scenes import SCENES
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
 sys.path.insert(0, str(DOCS / "_ext"))
 from api_pages import defined, public_modules  # noqa: E402  (docs/_ext on the path first)

@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 #: The most lines a module has.
 LONG = 600
 
@@ -33,3 +33,18 @@ def test_the_import_contracts_hold():
 def test_no_module_is_longer_than_600_lines(path):
     lines = path.read_text().count("\n")
     assert lines <= LONG, f"{path.relative_to(ROOT)} has {lines} lines: split it by concern"
+
+
+def test_the_tests_mirror_the_layers_and_no_folder_shadows_a_package():
+    """tests/<layer> for each layer of ngincompat that has tests (the base modules in
+    tests/base), tests/geometry for the geometries, tests/project for the repository; the
+    folders are on the test path (pyproject's pythonpath), so none may be named like a
+    package the tests import."""
+    folders = {p.name for p in (ROOT / "tests").iterdir()
+               if p.is_dir() and not p.name.startswith((".", "_"))}
+    layers = {p.name for p in (ROOT / "ngincompat").iterdir()
+              if p.is_dir() and (p / "__init__.py").is_file()}
+    assert folders - layers <= {"base", "cli", "geometry", "project"}, folders - layers
+    assert not folders & {"ngincompat", "geometries"}
+    assert all(any(p.glob("test_*.py")) for p in (ROOT / "tests").iterdir()
+               if p.name in folders)

@@ -15,7 +15,7 @@ from conftest import peer_stand_in
 
 from ngincompat.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
 PAGES = ("validation.md", "performance.md")
 GENERATED = "_generated/"

@@ -2,7 +2,7 @@
 theta > 0 between sampled points that they give.
 
 The enclosure is checked against numpy's own evaluation of the same text (the reference of
-tests/test_expressions.py) at points drawn inside random boxes: every value numpy computes
+tests/mechanics/test_expressions.py) at points drawn inside random boxes: every value numpy computes
 lies in the enclosure, and where numpy gives NaN the enclosure proves nothing.
 """
 
@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
-from test_expressions import EXPRESSION_TEXTS, _reference_env, reference
+from mechanics.test_expressions import EXPRESSION_TEXTS, _reference_env, reference
 
 from geometries import cube
 from ngincompat.cli import main

@@ -34,7 +34,7 @@ from conftest import (
 from ngincompat.cli import EXIT_FAILED_CASES, main
 from ngincompat.workflow import io
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 README = ROOT / "README.md"
 DOCS = ROOT / "docs"
 #: The hand-written pages, in the order a reader meets them; the measurement logs last.

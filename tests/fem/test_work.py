@@ -3,7 +3,7 @@
 import time
 
 import pytest
-from test_coupled import LAW, _stretched_bar
+from fem.test_coupled import LAW, _stretched_bar
 
 from ngincompat.fem import work
 from ngincompat.fem.solver import NewtonOptions

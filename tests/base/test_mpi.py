@@ -13,7 +13,7 @@ import pytest
 
 from ngincompat.scenes.cube import CubeScene
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 # coarse: 3 hexahedra per edge, so the profile line X2 = X3 = 1/2 runs inside elements
 SETTINGS = {"order": 2, "maxh": 0.34, "elements": "hex", "outputs": "vtk"}
 

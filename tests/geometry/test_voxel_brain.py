@@ -6,6 +6,9 @@ import sys
 import ngsolve as ngs
 import numpy as np
 import pytest
+from conftest import VOXEL
+from conftest import voxel_labels as labels
+from conftest import write_nifti as write
 
 from geometries import cube
 from geometries.voxel_brain import from_nifti, mni152, voxel_mesh
@@ -15,24 +18,6 @@ from ngincompat.fem.transport import FisherKPP, diffusion_tensor
 from ngincompat.scenes import AtrophyScene
 
 nibabel = pytest.importorskip("nibabel")
-
-#: Voxel edge of the synthetic images (mm).
-VOXEL = 5.0
-
-
-def labels():
-    """A 6 x 5 x 4 block: a white core of 2 x 2 x 1, the rest gray; and one gray island."""
-    lab = np.zeros((10, 9, 8), dtype=np.int16)
-    lab[1:7, 1:6, 1:5] = 1
-    lab[3:5, 2:4, 2:3] = 2
-    lab[8, 7, 6] = 1                      # an island: not face-connected to the block
-    return lab
-
-
-def write(path, lab, affine=None):
-    affine = np.diag([VOXEL, VOXEL, VOXEL, 1.0]) if affine is None else affine
-    nibabel.save(nibabel.Nifti1Image(lab, affine), str(path))
-    return str(path)
 
 
 def volumes(mesh):

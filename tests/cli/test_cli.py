@@ -121,7 +121,7 @@ def test_the_version_is_written_once_in_pyproject_and_read_from_the_metadata():
 
     import ngincompat
     from ngincompat import config
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     declared = tomllib.loads((root / "pyproject.toml").read_text())["project"]["version"]
     assert config.VERSION == ngincompat.__version__ == metadata.version("ngincompat")
     assert config.VERSION == declared

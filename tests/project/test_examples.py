@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 #: The folding tests' coarse bilayer (``conftest.FOLDING_COARSE``) as the scripts' arguments.
 COARSE = ["length=0.5", "height=0.3", "maxh=0.15", "cortex_maxh=0.025"]

@@ -97,7 +97,7 @@ def test_a_case_builds_its_scene_or_names_the_bad_value():
 def test_example_sweep_files_are_valid(name):
     """The sweep files shipped in examples/ parse and expand to the documented case counts."""
     from pathlib import Path
-    path = Path(__file__).parent.parent / "examples" / "sweeps" / f"{name}.toml"
+    path = Path(__file__).resolve().parents[2] / "examples" / "sweeps" / f"{name}.toml"
     sweep = load_sweep(path)
     expected = {"cube_poisson": 10, "hemisphere_profiles": 12, "disc_fibers": 6}[name]
     assert len(sweep.cases()) == expected

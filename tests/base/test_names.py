@@ -7,7 +7,7 @@ import pytest
 
 from ngincompat import names
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_scene_classes_are_registered_under_the_names_in_their_order():

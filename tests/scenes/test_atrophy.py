@@ -212,7 +212,8 @@ def test_curvature_on_a_tetrahedral_voxel_brain(tmp_path):
     """The voxel brain split into tetrahedra: equal rates with a uniform c stay compatible
     (flat metric, no stress) through the staircase surface and interface; gray atrophying
     faster is not."""
-    from test_voxel_brain import labels, write
+    from conftest import voxel_labels as labels
+    from conftest import write_nifti as write
     path = str(write(tmp_path / "brain.nii.gz", labels()))
     settings = dict(SMALL, geometry=path, elements="tet", maxh=0.5, outputs="curvature")
     flat = AtrophyScene(seed="uniform", rate_gray=0.03, rate_white=0.03, **settings).run()
@@ -226,7 +227,8 @@ def test_curvature_on_a_tetrahedral_voxel_brain(tmp_path):
 
 
 def test_curvature_on_hexahedra_is_refused_before_computing(tmp_path):
-    from test_voxel_brain import labels, write
+    from conftest import voxel_labels as labels
+    from conftest import write_nifti as write
     path = tmp_path / "brain.nii.gz"
     write(path, labels())
     with pytest.raises(ParameterError, match="needs a tetrahedral mesh"):

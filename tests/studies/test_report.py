@@ -138,7 +138,7 @@ def test_report_loads_with_its_images_and_verdicts(report, tmp_path):
 def test_the_cubes_interactive_view_draws_offline(report, tmp_path):
     """The paper job's view of 3.1 (Fig. 1e, |b| on the deformed cube) opens on its own
     without the network and draws its colour map; the summary lists it."""
-    from test_webview import assert_offline_view, look
+    from workflow.test_webview import assert_offline_view, look
     page = (report / "view_cube.html").read_text(encoding="utf-8")
     assert "|b| on the planes normal to n2 [1/mm]" in page
     shot = report / "view_cube.png"

@@ -1,6 +1,6 @@
 """The skin-expansion scene (section 3.6) with the pressure model, on coarse meshes: the
 pressure is the volume's Lagrange multiplier, so these checks hold it to the volume and
-follow it through the deflation (the contact model, the default, is tests/test_contact.py's)."""
+follow it through the deflation (the contact model, the default, is tests/fem/test_contact.py's)."""
 
 import json
 import math
