@@ -15,9 +15,9 @@ condensation) from about 1e3 to more than 5e5 dofs, so that the solver can be ch
     CG (:class:`ngsolve.krylovspace.CGSolver`, relative tolerance 1e-8 in the preconditioned
     norm) on the same condensed system, preconditioned by NGSolve's element-level BDDC. The
     preconditioner is registered on the form and set up by AssembleLinearization itself
-    (tests/studies/test_scaling.py checks that it follows a new linearisation). BDDC takes its free dofs
-    from the space, which does not know the six rigid-body pins, so CG runs with the
-    preconditioner projected onto the free dofs, P C P.
+    (tests/studies/test_scaling.py checks that it follows a new linearisation). BDDC takes its
+    free dofs from the space, which does not know the six rigid-body pins, so CG runs with
+    the preconditioner projected onto the free dofs, P C P.
 ``pardiso``
     MKL Pardiso, only where NGSolve can load MKL. The pip NGSolve links OpenBLAS; without the
     ``mkl`` package its cases are skipped with NGSolve's reason.

@@ -17,7 +17,8 @@ equilibrium at the end; and the release of the supports, after which the remaini
 is the incompatibility's.
 
 Modules: :mod:`~ngincompat.scenes.folding.scene` (the parameters, presets and metrics),
-:mod:`~ngincompat.scenes.folding.case` (the stages and the measures),
+:mod:`~ngincompat.scenes.folding.case` (the stages),
+:mod:`~ngincompat.scenes.folding.measures` (the measures of the result),
 :mod:`~ngincompat.scenes.folding.numerics` (the solver settings) and
 :mod:`~ngincompat.scenes.folding.figures`. The model, the stages and the measures in full,
 with what was measured of them: ``docs/measurements/folding.md``.

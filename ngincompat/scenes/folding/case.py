@@ -6,26 +6,23 @@ from dataclasses import dataclass, field, replace
 import ngsolve as ngs
 import numpy as np
 
-from ngincompat import sampling
 from ngincompat.fem import buckling, postprocess
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import pin_reactions
 from ngincompat.fem.relaxation import RelaxationStage, SnappingMarch
 from ngincompat.fem.self_contact import SelfContact
-from ngincompat.fem.shape import circle_curvature, sulci
+from ngincompat.fem.shape import circle_curvature
 from ngincompat.fem.solver import NewtonSolver
 from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation
-from ngincompat.incompatibility.measure import Incompatibility
 from ngincompat.mechanics import fields, kinematics
-from ngincompat.mechanics.growth import FiberGrowth
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw
 from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import Progress
 from ngincompat.sampling import element_points
 from ngincompat.scenes.base import Scene
 from ngincompat.scenes.case import SceneCase
-from ngincompat.scenes.folding.figures import DEPTH_FIELDS, PANELS, figures
+from ngincompat.scenes.folding import measures
 from ngincompat.scenes.folding.numerics import (
     CONTACT_REACH,
     EIGENPAIRS,
@@ -38,7 +35,7 @@ from ngincompat.scenes.folding.numerics import (
     placing_onset,
 )
 from ngincompat.workflow.frames import Frames
-from ngincompat.workflow.pipeline import Solution, solve_stages, timed
+from ngincompat.workflow.pipeline import Solution, solve_stages
 from ngincompat.workflow.results import Results
 
 #: Elastic compressive stretch at which the surface of a neo-Hookean half-space creases in
@@ -420,128 +417,6 @@ class FoldingCase(SceneCase):
             self.noted["release_reaction_rel"] = float(reactions / self.reactions)
 
     def measure(self, solution: Solution, progress: Progress) -> Results:
-        results = self.interrupted(solution)
-        results.profiles = {branch: {k: np.array(v) for k, v in series.items()}
-                            for branch, series in self.series.items() if series["t"]}
-        if self.series["buckling"]["t"] and solution.converged:
-            _, u2 = self.top_profile(self.grown_u)    # of the final equilibrium
-            results.metrics["fold_amplitude"] = float(np.ptp(u2) / 2)
-            count, depth = sulci(u2)
-            results.metrics.update(sulci=count, sulcus_depth=depth)
-        stretches = self.series["perfect"]["stretch"] + self.series["buckling"]["stretch"]
-        if stretches:
-            results.metrics["top_stretch_min"] = min(stretches)
-        flds = {"u": self.grown_u, "theta": self.growth.theta,
-                **self._stresses(self.growth, self.grown_u, "", results.metrics)}
-        results.metrics["strain_energy"] = self.strain_energy(self.grown_u)
-        results.metrics.update(self._contact_metrics(solution))
-        if self.released and solution.converged:
-            flds["u_released"] = self.problem.u
-            flds.update(self._stresses(self.growth, self.problem.u, "_released",
-                                       results.metrics))
-            results.metrics["top_curvature_released"] = self.top_curvature(self.problem.u)
-            results.metrics["strain_energy_released"] = self.strain_energy(self.problem.u)
-        if self.mode is not None:
-            flds["buckling_mode"] = self.mode
-            x, w = self.top_profile(self.mode)
-            results.profiles["mode"] = {"X1": x, "u2": w}
-        with progress.phase("incompatibility"), timed(results.timings, "incompatibility"):
-            flds.update(self.incompatibility())
-            results.metrics.update(self.burgers_metrics(flds["|b|"]))
-            results.metrics["burgers_interface_mean"] = self.interface_mean(flds["|b|"])
-        mesh = self.mesh
-        results.metrics["theta_a_max"] = sampling.maximum(flds["theta_a"], mesh)
-        with progress.phase("sampling"), timed(results.timings, "sampling"):
-            results.profiles["section"] = self.section(flds)
-            results.profiles["depth"] = self.depth_profile(flds)
-        results.fields = flds
-        results.figures = figures(self.scene, results.profiles)
-        return results
-
-    def _contact_metrics(self, solution):
-        """``Je_min`` over the records of the growth and the final states (grown and, if
-        released, released), the final grown state's
-        ``self_contact_area`` (length of the top line in contact) and the largest
-        ``self_contact_penetration_max`` of the records and those states."""
-        final = self.contact.measures() if self.grown_contact is None else self.grown_contact
-        jacobians = [self.elastic_jacobian_min(self.growth, self.grown_u)]
-        penetrations = [final["self_contact_penetration_max"]]
-        for series in self.series.values():
-            jacobians += series["Je_min"]
-            penetrations += series["penetration"]
-        if self.released and solution.converged:
-            jacobians.append(self.elastic_jacobian_min(self.growth, self.problem.u))
-            penetrations.append(self.contact.measures()["self_contact_penetration_max"])
-        return {"Je_min": min(jacobians), "self_contact_area": final["self_contact_area"],
-                "self_contact_penetration_max": max(penetrations)}
-
-    def strain_energy(self, u):
-        """The strain energy per unit depth of the section at the displacement ``u`` and
-        the current growth, int Jg Psi(F Fg^-1) dA (eq. 36): the residual stress's energy
-        after the release, where the largest principal stress is a value at one point."""
-        density = self.growth.energy_density(kinematics.deformation_gradient(u))
-        return float(ngs.Integrate(density, self.mesh, order=2 * self.scene.order))
-
-    def interface_mean(self, cf):
-        """The mean of ``cf`` over the band of one cortex thickness centred on the interface
-        (reference X2 within cortex_thickness / 2 of it)."""
-        s = self.scene
-        interface = s.height - s.cortex_thickness
-        band = ngs.IfPos(s.cortex_thickness / 2 - ngs.sqrt((ngs.y - interface) ** 2), 1.0, 0.0)
-        return float(ngs.Integrate(band * cf, self.mesh, order=6)
-                     / (s.cortex_thickness * s.length))
-
-    def incompatibility(self):
-        """theta_a and the incompatibility of the current growth on the paper's plane normal
-        to e3 (projected path: :class:`~ngincompat.incompatibility.measure.Incompatibility`)."""
-        theta = self.growth.theta
-        measured = Incompatibility.projected(FiberGrowth(theta, self.f0).Fg, self.mesh,
-                                             self.scene.g_order, {"e3": (0, 0, 1)})
-        return {"theta_a": self.mesh.MaterialCF({"subcortex": theta, "cortex": 1.0}),
-                **measured.fields()}
-
-    def _stresses(self, growth, u, suffix, metrics):
-        """The Cauchy stress of the growth term ``growth`` at the displacement ``u`` and its
-        largest principal value (fields
-        ``sigma``, ``sigma_max`` + ``suffix``); into ``metrics`` that value's maximum over
-        the integration points and vertices (``max_principal_stress`` + ``suffix``) and the
-        reference depth below the top surface where it is reached (``peak_tension_depth``
-        + ``suffix``)."""
-        sigma = postprocess.stresses(growth.energy_density, u)["sigma"]
-        largest = postprocess.largest_principal_value(sigma)
-        points = element_points(self.mesh, 4)
-        values = np.asarray(largest(points)).ravel()
-        peak = int(np.nanargmax(values))
-        metrics[f"max_principal_stress{suffix}"] = float(values[peak])
-        metrics[f"peak_tension_depth{suffix}"] = float(
-            self.scene.height - np.asarray(ngs.y(points)).ravel()[peak])
-        return {f"sigma{suffix}": sigma, f"sigma_max{suffix}": largest}
-
-    def burgers_metrics(self, b_norm):
-        """The largest |b|, its depth below the top and its X1."""
-        value, where = sampling.argmax(b_norm, self.mesh)
-        return {"burgers_max": value, "burgers_max_depth": self.scene.height - where[1],
-                "burgers_max_X1": where[0]}
-
-    def section(self, flds, n=241, band=5):
-        """The fields of ``PANELS`` that ``flds`` has on the section, on a grid of n
-        columns over the length and rows refined in the top ``band`` cortical thicknesses
-        (40 rows there, 30 below); displacements as their (u1, u2)."""
-        s = self.scene
-        top = max(s.height - band * s.cortex_thickness, 0.0)
-        x1 = np.linspace(0.0, s.length, n)
-        x2 = np.unique(np.concatenate([np.linspace(0.0, top, 30),
-                                       np.linspace(top, s.height, 41)]))
-        keys = {k for pair in PANELS.values() for k in pair if all(p in flds for p in pair)}
-        sampled = postprocess.sample_plane(self.mesh, {k: flds[k] for k in keys},
-                                           (0.0, 0.0, 0.0), (1, 0, 0), (0, 1, 0), x1, x2)
-        return {"X1": x1, "X2": x2, **sampled}
-
-    def depth_profile(self, flds, n=401):
-        """``DEPTH_FIELDS`` along the vertical through the middle, from the top down."""
-        s = self.scene
-        depth, values = postprocess.sample_line(
-            self.mesh, {k: flds[k] for k in DEPTH_FIELDS if k in flds},
-            (s.length / 2, s.height), (s.length / 2, 0.0), n=n)
-        return {"depth": depth, **values}
-
+        """The measures of the grown and released states
+        (:func:`ngincompat.scenes.folding.measures.measure`)."""
+        return measures.measure(self, solution, progress)
