@@ -6,11 +6,12 @@ behind: a reader sees the old file or the new one, never a part of either.
 
 import contextlib
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 
 @contextlib.contextmanager
-def atomic_path(path):
+def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary path next to ``path``; on success rename it to ``path``.
 
     The temporary file is created empty with mode 0o666, so the kernel applies the umask (and

@@ -20,12 +20,13 @@ where an order needs more (:func:`ensure_heap`).
 
 import contextlib
 import os
+from collections.abc import Iterator, Mapping
 from importlib import metadata
 
 from ngincompat.errors import require
 
 
-def _version():
+def _version() -> str:
     """The package's version from its installed metadata (``pyproject.toml``'s, written by
     pip); "0+unknown" for a source tree on the path that was never installed."""
     try:
@@ -40,12 +41,12 @@ VERSION = _version()
 #: The local heap (bytes) the package keeps at least, unless :func:`configure` says otherwise.
 DEFAULT_HEAP = 200 * 1000 * 1000
 
-_configured = {"threads": None, "heap": None}
+_configured: dict[str, int | None] = {"threads": None, "heap": None}
 _heap_in_force = 0
 _depth = 0
 
 
-def configure(threads=None, heap=None):
+def configure(threads: int | None = None, heap: int | None = None) -> dict:
     """Set NGSolve's thread count and the package's local heap for everything that follows.
 
     Parameters
@@ -80,23 +81,23 @@ def configure(threads=None, heap=None):
 MAX_THREADS = 256
 
 
-def check_environment(environ=None):
+def check_environment(environ: Mapping[str, str] | None = None) -> None:
     """Raise ParameterError, naming the variable and its allowed values, if an environment
     variable NGSolve reads at import is unusable: ``NGS_NUM_THREADS`` must be an
     integer in [1, :data:`MAX_THREADS`] or unset (0 ran NGSolve's loops on no thread and
     computed garbage, and so did an empty value, which NGSolve reads as 0; a word or a
     number out of range broke NGSolve's import)."""
-    environ = os.environ if environ is None else environ
-    if "NGS_NUM_THREADS" not in environ:
+    variables = os.environ if environ is None else environ
+    if "NGS_NUM_THREADS" not in variables:
         return
-    value = environ["NGS_NUM_THREADS"]
+    value = variables["NGS_NUM_THREADS"]
     text = value.strip()
     require(text.isascii() and text.isdigit() and 1 <= int(text) <= MAX_THREADS,
             "NGS_NUM_THREADS", value,
             f"an integer in [1, {MAX_THREADS}] (NGSolve threads), or unset")
 
 
-def threads():
+def threads() -> int:
     """The NGSolve threads the package runs on: configured, else ``NGS_NUM_THREADS``, else 1."""
     if _configured["threads"] is not None:
         return _configured["threads"]
@@ -104,16 +105,16 @@ def threads():
     return int(os.environ.get("NGS_NUM_THREADS", "").strip() or 1)
 
 
-def settings():
+def settings() -> dict:
     """The settings in force, ``{"threads": ..., "heap": ...}``."""
     return {"threads": threads(), "heap": max(_heap_in_force, _floor())}
 
 
-def _floor():
+def _floor() -> int:
     return _configured["heap"] or DEFAULT_HEAP
 
 
-def ensure_heap(nbytes):
+def ensure_heap(nbytes: int) -> None:
     """Make NGSolve's local heap at least ``nbytes`` and at least the configured floor."""
     global _heap_in_force
     need = max(int(nbytes), _floor())
@@ -125,7 +126,7 @@ def ensure_heap(nbytes):
 
 
 @contextlib.contextmanager
-def task_manager():
+def task_manager() -> Iterator[None]:
     """NGSolve's task manager on :func:`threads` threads, with the heap of :func:`ensure_heap`;
     NGSolve's own thread count comes back after the outermost one."""
     global _depth
@@ -148,7 +149,7 @@ def task_manager():
 
 
 @contextlib.contextmanager
-def using(threads=None):
+def using(threads: int | None = None) -> Iterator[dict]:
     """:func:`configure` the threads for the block only; those configured before come back."""
     before = _configured["threads"]
     configure(threads=threads)

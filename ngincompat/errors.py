@@ -4,6 +4,8 @@ Every error a user can cause by their input is a :class:`ParameterError` whose m
 the parameter and the allowed range, so that the command line can print it as one line.
 """
 
+from typing import Any
+
 
 class NgincompatError(Exception):
     """Base class of every error raised on purpose by ngincompat."""
@@ -24,7 +26,7 @@ class ConvergenceError(NgincompatError):
     per-step record up to the failure and ``t_converged`` the last load that converged.
     """
 
-    def __init__(self, message, history=None, t_converged=None):
+    def __init__(self, message: object, history: Any = None, t_converged: Any = None) -> None:
         super().__init__(message)
         self.history = history
         self.t_converged = t_converged
@@ -38,7 +40,7 @@ class Interrupted(NgincompatError):
 
     ``history`` holds the per-step record up to the interruption."""
 
-    def __init__(self, message, history=None, t_converged=None):
+    def __init__(self, message: object, history: Any = None, t_converged: Any = None) -> None:
         super().__init__(message)
         self.history = history
         self.t_converged = t_converged
@@ -50,7 +52,7 @@ class InterruptedBeforeComputing(Interrupted):
     nothing written."""
 
 
-def require(condition, name, value, allowed):
+def require(condition: object, name: str, value: object, allowed: str) -> None:
     """Raise :class:`ParameterError` unless ``condition`` holds.
 
     Parameters
@@ -72,7 +74,7 @@ def require(condition, name, value, allowed):
 QUOTE = 70
 
 
-def shown(value):
+def shown(value: object) -> str:
     """``value`` as an error message quotes it: its repr, cut to about :data:`QUOTE`
     characters with the length of the whole (a 5,000-character value is not echoed)."""
     text = repr(value)

@@ -16,8 +16,16 @@ from __future__ import annotations
 
 import functools
 import os
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
+
+if TYPE_CHECKING:     # NGSolve is imported where a mesh is made
+    import ngsolve as ngs
+
+#: What :func:`on_root` returns.
+T = TypeVar("T")
 
 #: Environment variables by which MPI launchers (MPICH's Hydra, Open MPI, Slurm) announce
 #: the number of ranks of the job.
@@ -25,7 +33,7 @@ _SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "PMIX_SIZE")
 
 
 @functools.cache
-def world():
+def world() -> Any:
     """The MPI world communicator (mpi4py) of a run launched with more than one rank, else
     None.
 
@@ -52,12 +60,12 @@ def is_root() -> bool:
     return comm is None or comm.rank == 0
 
 
-def distributed(mesh) -> bool:
+def distributed(mesh: ngs.Mesh) -> bool:
     """Whether ``mesh`` (an ngsolve.Mesh) is one part of a distributed mesh."""
     return mesh.comm.size > 1
 
 
-def distribute(build):
+def distribute(build: Callable[[], ngs.Mesh]) -> ngs.Mesh:
     """The mesh of ``build()``, distributed over the ranks if this is an MPI run.
 
     Parameters
@@ -93,7 +101,7 @@ def distribute(build):
     return ngs.Mesh(ngmesh)
 
 
-def distribute_geometry(geometry, maxh, curve_order=1):
+def distribute_geometry(geometry: Any, maxh: float, curve_order: int = 1) -> ngs.Mesh:
     """The tetrahedral mesh of an OCC ``geometry`` (built on every rank) of size ``maxh``,
     curved to ``curve_order``, distributed over the ranks if this is an MPI run (as
     :func:`distribute`).
@@ -123,17 +131,17 @@ def distribute_geometry(geometry, maxh, curve_order=1):
     return mesh
 
 
-def total(mesh, value: float) -> float:
+def total(mesh: ngs.Mesh, value: float) -> float:
     """The sum over the ranks of a rank-local number (e.g. ``BilinearForm.Energy``)."""
     return mesh.comm.Sum(float(value)) if distributed(mesh) else float(value)
 
 
-def maximum(mesh, value: float) -> float:
+def maximum(mesh: ngs.Mesh, value: float) -> float:
     """The largest over the ranks of a rank-local number (-inf on a rank without elements)."""
     return mesh.comm.Max(float(value)) if distributed(mesh) else float(value)
 
 
-def first_found(mesh, values: np.ndarray) -> np.ndarray:
+def first_found(mesh: ngs.Mesh, values: np.ndarray) -> np.ndarray:
     """Point values that each rank found for its own elements (NaN where it found none),
     made the values of the lowest rank that found each point, on every rank."""
     if not distributed(mesh):
@@ -147,20 +155,20 @@ def first_found(mesh, values: np.ndarray) -> np.ndarray:
     return out
 
 
-def gather_rows(mesh, rows: np.ndarray) -> np.ndarray:
+def gather_rows(mesh: ngs.Mesh, rows: np.ndarray) -> np.ndarray:
     """The rows of every rank stacked (rank order), on every rank; ``rows`` in serial."""
     if not distributed(mesh):
         return rows
     return np.concatenate(mesh.comm.mpi4py.allgather(np.asarray(rows)), axis=0)
 
 
-def on_root(function, *args, **kwargs):
+def on_root(function: Callable[..., T], *args: Any, **kwargs: Any) -> T:
     """``function(*args, **kwargs)`` evaluated on rank 0, its result (or exception, raised on
     every rank) broadcast to all: for file-system checks that must agree across the ranks."""
     comm = world()
     if comm is None:
         return function(*args, **kwargs)
-    outcome = None
+    outcome: tuple[bool, Any] | None = None
     if comm.rank == 0:
         try:
             outcome = (True, function(*args, **kwargs))
@@ -172,7 +180,7 @@ def on_root(function, *args, **kwargs):
     return value
 
 
-def counts(mesh) -> tuple[int, int]:
+def counts(mesh: ngs.Mesh) -> tuple[int, int]:
     """Numbers of elements and vertices of the whole mesh (not only this rank's part)."""
     if not distributed(mesh):
         return mesh.ne, mesh.nv

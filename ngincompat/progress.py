@@ -23,6 +23,7 @@ import contextlib
 import sys
 import threading
 import time
+from collections.abc import Iterable, Iterator
 from typing import TextIO
 
 from tqdm.auto import tqdm
@@ -94,7 +95,7 @@ class Progress:
                 self._write(f"still computing ({quiet:.0f} s since: {self._last})")
 
     @contextlib.contextmanager
-    def case(self, name: str):
+    def case(self, name: str) -> Iterator[Progress]:
         """Everything reported inside belongs to the case ``name``."""
         outer, self.case_name = self.case_name, name
         outer_plan, self._plan = self._plan, []
@@ -122,7 +123,7 @@ class Progress:
         line: "finished in 4.4 s" only for a case that did."""
         self._outcome = status
 
-    def plan(self, stages) -> None:
+    def plan(self, stages: Iterable[str]) -> None:
         """The names of the current case's stages, in order, so that each is reported as
         "stage i of n" (a case may plan again when it learns that it skips some)."""
         self._plan = list(stages)
@@ -135,7 +136,7 @@ class Progress:
         return stage
 
     @contextlib.contextmanager
-    def phase(self, name: str):
+    def phase(self, name: str) -> Iterator[None]:
         """A stage without steps (meshing, projection, output): one line when it starts."""
         self.line(f"{name} ...")
         yield

@@ -1,12 +1,14 @@
 """Points at which fields are checked or maximised: integration points and vertices, and the
 largest value of a field over them (over all ranks of a distributed mesh)."""
 
+from typing import Any
+
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat import parallel
 
-_VERTICES = {
+_VERTICES: dict[Any, list[tuple[int, ...]]] = {
     ngs.ET.TET: [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)],
     ngs.ET.HEX: [(a, b, c) for a in (0, 1) for b in (0, 1) for c in (0, 1)],
     ngs.ET.PRISM: [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (0, 1, 1)],
@@ -16,7 +18,7 @@ _VERTICES = {
 }
 
 
-def element_points(mesh, order=4, vb=ngs.VOL):
+def element_points(mesh: ngs.Mesh, order: int = 4, vb: ngs.comp.VorB = ngs.VOL) -> Any:
     """The points of an integration rule of ``order`` plus the vertices, in every volume element
     (``vb`` = ``ngs.BND``: every boundary element).
 
@@ -31,7 +33,7 @@ def element_points(mesh, order=4, vb=ngs.VOL):
     return mesh.MapToAllElements(rules, vb)
 
 
-def element_boxes(mesh, order=4):
+def element_boxes(mesh: ngs.Mesh, order: int = 4) -> tuple[np.ndarray, np.ndarray]:
     """``(lo, hi)``, each (n, 3): a box around every volume element, the bounding box of the
     points of :func:`element_points`: the vertices and an integration rule of ``order``. It
     holds a straight-sided element exactly; of a curved one it misses the bulge of its faces
@@ -50,7 +52,8 @@ def element_boxes(mesh, order=4):
     return np.concatenate(lows), np.concatenate(highs)
 
 
-def argmax(cf, mesh, order=4):
+def argmax(cf: ngs.CoefficientFunction, mesh: ngs.Mesh,
+           order: int = 4) -> tuple[float, tuple[float, ...]]:
     """The largest value of a scalar CF over the integration points and vertices of a serial
     mesh (see :func:`maximum`) and the point (X1, X2, X3) where it is."""
     points = element_points(mesh, order)
@@ -60,7 +63,7 @@ def argmax(cf, mesh, order=4):
     return float(values[i]), tuple(float(c) for c in where)
 
 
-def maximum(cf, mesh, order=4):
+def maximum(cf: ngs.CoefficientFunction, mesh: ngs.Mesh, order: int = 4) -> float:
     """Largest value of a scalar CF over the integration points and vertices of the mesh
     (of all ranks of a distributed mesh).
 

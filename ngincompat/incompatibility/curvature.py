@@ -36,6 +36,7 @@ units 1/length^2.
 """
 
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import ngsolve as ngs
 from ngsolve.fem import Einsum
@@ -45,6 +46,7 @@ from ngincompat.incompatibility import regge
 from ngincompat.incompatibility.operators import gradient_exact, levi_civita
 from ngincompat.sampling import maximum
 
+CF: TypeAlias = ngs.CoefficientFunction
 _COORDS = (ngs.x, ngs.y, ngs.z)
 
 
@@ -82,7 +84,7 @@ class Curvature:
     einstein: ngs.CoefficientFunction
 
     @property
-    def riemann(self):
+    def riemann(self) -> CF:
         """R_ijkl = d_i Gamma_jkl - d_j Gamma_ikl + Gamma_ik^p Gamma_jlp - Gamma_jk^p Gamma_ilp,
         from the coordinate formula (the derivative part as 1/2 eps_ija eps_klb inc(g)^ab)."""
         eps = levi_civita()
@@ -91,16 +93,16 @@ class Curvature:
                 + Einsum("ikp,jlp->ijkl", chr2, chr1) - Einsum("jkp,ilp->ijkl", chr2, chr1))
 
     @property
-    def ricci(self):
+    def ricci(self) -> CF:
         """Ric = Ein + S/2 g."""
         return self.einstein + 0.5 * self.scalar * self.metric
 
-    def einstein_norm(self):
+    def einstein_norm(self) -> CF:
         """|Ein|_g = sqrt(Ein_ij g^ik g^jl Ein_kl), frame-invariant."""
         return einstein_norm(self.einstein, self.metric)
 
 
-def inc(g):
+def inc(g: CF) -> CF:
     """inc(g)^ab = eps_amn eps_bpq d_m d_p g_nq of an analytic symmetric 3x3 CF.
 
     Second derivatives by symbolic differentiation; for a row-wise curl this is
@@ -113,7 +115,7 @@ def inc(g):
     return Einsum("amn,bpq,mpnq->ab", eps, eps, d2g)
 
 
-def curvature_exact(g):
+def curvature_exact(g: CF) -> Curvature:
     """The curvature of an analytic metric g (3x3 CF of x, y, z) by ``CF.Diff``.
 
     Parameters
@@ -136,18 +138,18 @@ def curvature_exact(g):
                      einstein=(0.5 / det) * (g * total * g))
 
 
-def growth_metric(Fg):
+def growth_metric(Fg: CF) -> CF:
     """Cg = Fg^T Fg, the metric that growth gives the reference body."""
     return Fg.trans * Fg
 
 
-def einstein_norm(einstein, g):
+def einstein_norm(einstein: CF, g: CF) -> CF:
     """|Ein|_g = sqrt(Ein : g^-1 Ein g^-1), frame-invariant (1/length^2)."""
     g_inv = ngs.Inv(g)
     return ngs.sqrt(ngs.InnerProduct(g_inv * einstein * g_inv, einstein))
 
 
-def einstein_intermediate(einstein, Fg):
+def einstein_intermediate(einstein: CF, Fg: CF) -> CF:
     """Fg^-T Ein Fg^-1: the Einstein tensor of Cg in the intermediate configuration.
 
     The growth coframe Fg dX is Cg-orthonormal, so these are orthonormal components, in the
@@ -158,7 +160,7 @@ def einstein_intermediate(einstein, Fg):
     return Fg_inv.trans * einstein * Fg_inv
 
 
-def growth_curvature(Fg):
+def growth_curvature(Fg: CF) -> Curvature:
     """The exact curvature of the growth metric Cg = Fg^T Fg of an analytic Fg."""
     return curvature_exact(growth_metric(Fg))
 
@@ -168,7 +170,8 @@ def growth_curvature(Fg):
 ROUNDOFF = 1e-10
 
 
-def measure(einstein, scalar, g, mesh, G, mirror=1, order=6, reference=None):
+def measure(einstein: CF, scalar: CF, g: CF, mesh: ngs.Mesh, G: CF, mirror: float = 1,
+            order: int = 6, reference: CF | None = None) -> tuple[dict, dict]:
     """Fields and metrics of a curvature for a scene's results.
 
     Parameters
@@ -201,7 +204,7 @@ def measure(einstein, scalar, g, mesh, G, mirror=1, order=6, reference=None):
     """
     norm = einstein_norm(einstein, g)
 
-    def l2(cf, o):
+    def l2(cf: CF, o: int) -> float:
         return (mirror * max(float(ngs.Integrate(cf * cf, mesh, order=o)), 0.0)) ** 0.5
 
     value = l2(norm, order)
@@ -215,7 +218,8 @@ def measure(einstein, scalar, g, mesh, G, mirror=1, order=6, reference=None):
              "einstein_norm_L2": value, "einstein_norm_L2_error": error})
 
 
-def measure_growth(Fg, mesh, G, exact=True, mirror=1, regge_order=2):
+def measure_growth(Fg: CF, mesh: ngs.Mesh, G: CF, exact: bool = True, mirror: float = 1,
+                   regge_order: int = 2) -> tuple[dict, dict]:
     """Curvature fields and metrics (:func:`measure`) of the growth metric Cg = Fg^T Fg.
 
     ``exact``: Fg is analytic (a CF of x, y, z) and the exact path applies; otherwise the
@@ -228,7 +232,7 @@ def measure_growth(Fg, mesh, G, exact=True, mirror=1, regge_order=2):
         return measure(curv.einstein, curv.scalar, curv.metric, mesh, G, mirror=mirror)
     config.ensure_heap(10**8)
     g = growth_metric(Fg)
-    curv = regge.discrete_curvature(g, mesh, order=regge_order)
+    discrete = regge.discrete_curvature(g, mesh, order=regge_order)
     lower = regge.discrete_curvature(g, mesh, order=regge_order - 1).einstein
-    return measure(curv.einstein, curv.scalar, curv.gh, mesh, G, mirror=mirror,
+    return measure(discrete.einstein, discrete.scalar, discrete.gh, mesh, G, mirror=mirror,
                    reference=lower)

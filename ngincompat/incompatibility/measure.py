@@ -19,6 +19,7 @@ import ngsolve as ngs
 
 from ngincompat import sampling
 from ngincompat.incompatibility import operators as inc
+from ngincompat.incompatibility.operators import CF
 
 
 @dataclass(eq=False)
@@ -39,38 +40,38 @@ class Incompatibility:
         label -> unit normal n of the planes b is measured on.
     """
 
-    Fg: ngs.CoefficientFunction
-    dFg: ngs.CoefficientFunction
-    Fg_h: ngs.CoefficientFunction | None
+    Fg: CF
+    dFg: CF
+    Fg_h: CF | None
     planes: dict
 
     @classmethod
-    def exact(cls, Fg, planes):
+    def exact(cls, Fg: CF, planes: dict) -> "Incompatibility":
         """The exact path: the gradient of an analytic Fg by symbolic differentiation."""
         return cls(Fg, inc.gradient_exact(Fg), None, dict(planes))
 
     @classmethod
-    def projected(cls, Fg, mesh, order, planes):
+    def projected(cls, Fg: CF, mesh: ngs.Mesh, order: int, planes: dict) -> "Incompatibility":
         """The projected path: the gradient of the H1(``order``) interpolant of Fg on
         ``mesh`` (G itself takes Fg, eq. 10)."""
         Fg_h, dFg = inc.project_tensor(Fg, mesh, order)
         return cls(Fg, dFg, Fg_h, dict(planes))
 
     @property
-    def curl_Fg(self):
+    def curl_Fg(self) -> CF:
         """Curl Fg (eq. 7)."""
         return inc.curl(self.dFg)
 
     @property
-    def G(self):
+    def G(self) -> CF:
         """G = (1/Jg) Fg Curl Fg (eq. 10)."""
         return inc.incompatibility_tensor(self.Fg, self.curl_Fg)
 
-    def burgers(self, label):
+    def burgers(self, label: str) -> CF:
         """b = G^T n on the plane ``label`` (eq. 11)."""
         return inc.burgers_vector(self.G, ngs.CF(self.planes[label]))
 
-    def fields(self):
+    def fields(self) -> dict[str, CF]:
         """G, Curl Fg : Curl Fg, and b, |b| per plane and the largest |b| (the module's
         names)."""
         G = self.G
@@ -85,14 +86,14 @@ class Incompatibility:
             out["|b|"] = largest
         return out
 
-    def burgers_max(self, mesh):
+    def burgers_max(self, mesh: ngs.Mesh) -> float:
         """The largest |b| of the planes over the mesh (the largest of each plane's maximum,
         :func:`~ngincompat.sampling.maximum`: every rank of a distributed mesh); 0 without
         planes."""
         return max((sampling.maximum(ngs.Norm(self.burgers(label)), mesh)
                     for label in self.planes), default=0.0)
 
-    def norm_L2(self, mesh, order, scale=1.0):
+    def norm_L2(self, mesh: ngs.Mesh, order: int, scale: float = 1.0) -> float:
         """||G||_L2 over ``mesh`` (integration ``order``; ``scale`` times the integral of
         G : G, e.g. the mirror images of a symmetric part)."""
         G = self.G

@@ -18,17 +18,21 @@ which is what ``ngsolve.Grad`` gives for a matrix-valued GridFunction, and
     (Curl A)_ij = eps_irs dA_js / dX_r      (eq. 7).
 """
 
+from typing import TypeAlias
+
 import ngsolve as ngs
+
+CF: TypeAlias = ngs.CoefficientFunction
 
 _COORDS = (ngs.x, ngs.y, ngs.z)
 
 
-def levi_civita():
+def levi_civita() -> CF:
     """The permutation symbol eps_ijk as a 3x3x3 CoefficientFunction."""
     return ngs.fem.LeviCivitaSymbol(3)
 
 
-def gradient_exact(A):
+def gradient_exact(A: CF) -> CF:
     """Reference gradient of an analytic CoefficientFunction, ``dA[j, s, r] = dA_js/dX_r``.
 
     ``A`` may be a scalar, a 3-vector or a 3x3 matrix; the derivative index is always last.
@@ -43,17 +47,17 @@ def gradient_exact(A):
     return ngs.fem.Einsum("rjs->jsr", stacked)
 
 
-def curl(dA):
+def curl(dA: CF) -> CF:
     """Curl of a tensor from its gradient, eq. (7): ``(Curl A)_ij = eps_irs dA_js/dX_r``."""
     return ngs.fem.Einsum("irs,jsr->ij", levi_civita(), dA)
 
 
-def curl_exact(A):
+def curl_exact(A: CF) -> CF:
     """Curl A by symbolic differentiation of an analytic CoefficientFunction (eq. 7)."""
     return curl(gradient_exact(A))
 
 
-def project_tensor(A, mesh, order):
+def project_tensor(A: CF, mesh: ngs.Mesh, order: int) -> tuple[CF, CF]:
     """Interpolate a 3x3 field into H1(order), component by component.
 
     Returns
@@ -82,25 +86,25 @@ def project_tensor(A, mesh, order):
     return A_h, dA_h
 
 
-def _gradient(gf, dim):
+def _gradient(gf: ngs.GridFunction, dim: int) -> CF:
     """The reference gradient of a scalar GridFunction as a 3-vector (zero by X3 on a
     section, ``dim`` 2)."""
     grad = ngs.Grad(gf)
     return grad if dim == 3 else ngs.CF((grad[0], grad[1], 0))
 
 
-def curl_projected(A, mesh, order):
+def curl_projected(A: CF, mesh: ngs.Mesh, order: int) -> tuple[CF, CF]:
     """Curl A of the H1 interpolant of A (eq. 7); returns (Curl A_h, A_h)."""
     A_h, dA_h = project_tensor(A, mesh, order)
     return curl(dA_h), A_h
 
 
-def incompatibility_tensor(Fg, curl_Fg):
+def incompatibility_tensor(Fg: CF, curl_Fg: CF) -> CF:
     """G = (1/Jg) Fg Curl Fg, eq. (10)."""
     return (1.0 / ngs.Det(Fg)) * (Fg * curl_Fg)
 
 
-def inverse_elastic_gradient(Fg, dFg, F, dF):
+def inverse_elastic_gradient(Fg: CF, dFg: CF, F: CF, dF: CF) -> tuple[CF, CF]:
     """Fe^-1 = Fg F^-1 and its reference gradient from those of Fg and F (no projection).
 
     ``dFg[j, a, k] = d(Fg)_ja / dX_k``, ``dF[b, c, k] = d F_bc / dX_k`` (for F = I + Grad u the
@@ -117,7 +121,7 @@ def inverse_elastic_gradient(Fg, dFg, F, dF):
     return Fg * F_inv, dFe_inv
 
 
-def incompatibility_from_elastic(Fe_inv, dFe_inv, F):
+def incompatibility_from_elastic(Fe_inv: CF, dFe_inv: CF, F: CF) -> CF:
     """G from the elastic deformation alone, eq. (12): G = Je Fe^-1 curl Fe^-1.
 
     Parameters
@@ -134,7 +138,7 @@ def incompatibility_from_elastic(Fe_inv, dFe_inv, F):
     return (1.0 / ngs.Det(Fe_inv)) * (Fe_inv * curl(d_spatial))
 
 
-def incompatibility_projected(Fg, mesh, order):
+def incompatibility_projected(Fg: CF, mesh: ngs.Mesh, order: int) -> tuple[CF, CF, CF]:
     """G = (1/Jg) Fg Curl Fg (eq. 10) of a computed growth field by the projected path.
 
     Returns (G, Curl Fg_h, Fg_h), Fg_h the H1(order) interpolant that Curl is taken of."""
@@ -142,12 +146,12 @@ def incompatibility_projected(Fg, mesh, order):
     return incompatibility_tensor(Fg, curl_Fg), curl_Fg, Fg_h
 
 
-def burgers_vector(G, n):
+def burgers_vector(G: CF, n: CF) -> CF:
     """Local Burgers vector density on the plane with normal n, eq. (11): b = G^T n."""
     return G.trans * n
 
 
-def lattice_normals(Fg):
+def lattice_normals(Fg: CF) -> tuple[CF, CF, CF]:
     """The paper's planes in the intermediate configuration, n_i = Fg e_i / |Fg e_i|."""
     normals = []
     for i in range(3):
@@ -156,47 +160,47 @@ def lattice_normals(Fg):
     return tuple(normals)
 
 
-def curl_norm_squared(curl_Fg):
+def curl_norm_squared(curl_Fg: CF) -> CF:
     """The scalar invariant Curl Fg : Curl Fg (section 3.1)."""
     return ngs.InnerProduct(curl_Fg, curl_Fg)
 
 
-def grad_scalar(theta):
+def grad_scalar(theta: CF) -> CF:
     """Gradient of an analytic scalar CoefficientFunction as a 3-vector."""
     return ngs.CF(tuple(theta.Diff(c) for c in _COORDS))
 
 
-def _hodge(v):
+def _hodge(v: CF) -> CF:
     """Hodge star of v (eq. 15): the matrix of (v x e_i) (x) e_i, column i being v x e_i."""
     return ngs.CF((0, -v[2], v[1],
                    v[2], 0, -v[0],
                    -v[1], v[0], 0), dims=(3, 3))
 
 
-def curl_isotropic_closed_form(theta, grad_theta):
+def curl_isotropic_closed_form(theta: CF, grad_theta: CF) -> CF:
     """Curl Fg for isotropic growth, eq. (15): (1 / (3 theta^(2/3))) (grad theta x e_i) (x) e_i."""
     return (1.0 / (3.0 * theta ** (2.0 / 3.0))) * _hodge(grad_theta)
 
 
-def G_isotropic_closed_form(theta, grad_theta):
+def G_isotropic_closed_form(theta: CF, grad_theta: CF) -> CF:
     """G for isotropic growth, eq. (16): the skew matrix of grad theta over 3 theta^(4/3)."""
     return (1.0 / (3.0 * theta ** (4.0 / 3.0))) * _hodge(grad_theta)
 
 
-def curl_area_closed_form(theta, grad_theta, N0):
+def curl_area_closed_form(theta: CF, grad_theta: CF, N0: CF) -> CF:
     """Curl Fg for area growth with constant N0, eq. (19)."""
     c = 1.0 / (2.0 * ngs.sqrt(theta))
     return c * _hodge(grad_theta) - c * ngs.OuterProduct(ngs.Cross(grad_theta, N0), N0)
 
 
-def G_area_closed_form(theta, grad_theta, N0):
+def G_area_closed_form(theta: CF, grad_theta: CF, N0: CF) -> CF:
     """G for area growth, eq. (20): (theta^-1/2 I + (theta^-1 - theta^-1/2) N0 N0) Curl Fg."""
     s = ngs.sqrt(theta)
     pre = (1.0 / s) * ngs.Id(3) + (1.0 / theta - 1.0 / s) * ngs.OuterProduct(N0, N0)
     return pre * curl_area_closed_form(theta, grad_theta, N0)
 
 
-def burgers_area_closed_form(theta, grad_theta, N0):
+def burgers_area_closed_form(theta: CF, grad_theta: CF, N0: CF) -> CF:
     """b on the plane N0 for area growth, eq. (21)-(22): |grad theta| / (2 theta^(3/2)) s.
 
     With s the in-plane unit vector orthogonal to the in-plane growth gradient; written as
@@ -205,18 +209,18 @@ def burgers_area_closed_form(theta, grad_theta, N0):
     return (1.0 / (2.0 * theta ** 1.5)) * ngs.Cross(N0, grad_theta)
 
 
-def curl_fiber_closed_form(theta, grad_theta, f0):
+def curl_fiber_closed_form(theta: CF, grad_theta: CF, f0: CF) -> CF:
     """Curl Fg for fiber growth with constant f0, eq. (24): (grad theta x f0) (x) f0."""
     return ngs.OuterProduct(ngs.Cross(grad_theta, f0), f0)
 
 
-def G_fiber_closed_form(theta, grad_theta, f0):
+def G_fiber_closed_form(theta: CF, grad_theta: CF, f0: CF) -> CF:
     """G for fiber growth, eq. (25): (theta^-1 I + (1 - theta^-1) f0 f0) Curl Fg."""
     pre = (1.0 / theta) * ngs.Id(3) + (1.0 - 1.0 / theta) * ngs.OuterProduct(f0, f0)
     return pre * curl_fiber_closed_form(theta, grad_theta, f0)
 
 
-def burgers_fiber_magnitude(theta, grad_theta, f0):
+def burgers_fiber_magnitude(theta: CF, grad_theta: CF, f0: CF) -> CF:
     """|b| on the plane m orthogonal to f0 and grad theta, eq. (27).
 
     |b| = |grad theta| sin(beta) / theta, beta the angle between grad theta and f0; b points
@@ -225,7 +229,7 @@ def burgers_fiber_magnitude(theta, grad_theta, f0):
     return ngs.Norm(ngs.Cross(grad_theta, f0)) / theta
 
 
-def relative_l2_error(A, A_ref, mesh, order=10):
+def relative_l2_error(A: CF, A_ref: CF, mesh: ngs.Mesh, order: int = 10) -> float:
     """||A - A_ref||_L2 / ||A_ref||_L2 over the mesh (absolute error if A_ref vanishes)."""
     diff = ngs.Integrate(ngs.InnerProduct(A - A_ref, A - A_ref), mesh, order=order)
     ref = ngs.Integrate(ngs.InnerProduct(A_ref, A_ref), mesh, order=order)

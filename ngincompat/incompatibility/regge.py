@@ -33,14 +33,17 @@ scalar curvature.
 """
 
 from dataclasses import dataclass
+from typing import TypeAlias
 
 import ngsolve as ngs
 
 #: Component pairs (i, j), i <= j, of a symmetric 3x3 tensor.
+CF: TypeAlias = ngs.CoefficientFunction
 _PAIRS = tuple((i, j) for i in range(3) for j in range(i, 3))
 
 
-def regge_interpolant(g, mesh, order, bonus_intorder=4):
+def regge_interpolant(g: CF, mesh: ngs.Mesh, order: int,
+                      bonus_intorder: int = 4) -> ngs.GridFunction:
     """The canonical Regge interpolant of a metric g, degree ``order`` (tt-moments on edges
     and facets, inner moments), as a GridFunction of ``HCurlCurl``."""
     gh = ngs.GridFunction(ngs.HCurlCurl(mesh, order=order))
@@ -48,7 +51,7 @@ def regge_interpolant(g, mesh, order, bonus_intorder=4):
     return gh
 
 
-def _interior_indicators(mesh):
+def _interior_indicators(mesh: ngs.Mesh) -> tuple[CF, CF]:
     """1 on interior facets and interior edges, 0 on the body's boundary.
 
     Facets: a lowest-order FacetFESpace function, one value per facet. Edges: a quadratic H1
@@ -82,7 +85,7 @@ class DistributionalEinstein:
     edge: ngs.CoefficientFunction
 
     @classmethod
-    def of(cls, gh):
+    def of(cls, gh: ngs.GridFunction) -> "DistributionalEinstein":
         mesh = gh.space.mesh
         g_inv = ngs.Inv(gh)
         # element term: sqrt(det g) g^-1 Ein g^-1
@@ -104,7 +107,7 @@ class DistributionalEinstein:
         in_face = ngs.specialcf.EdgeFaceTangentialVectors(3)
         g_tt = ngs.InnerProduct(gh * t, t)
 
-        def conormal(w):
+        def conormal(w: CF) -> CF:
             w = w - ngs.InnerProduct(gh * w, t) / g_tt * t
             return w / ngs.sqrt(ngs.InnerProduct(gh * w, w))
 
@@ -115,7 +118,7 @@ class DistributionalEinstein:
         edge = -interior_edge * ngs.sqrt(g_tt) * defect * ngs.OuterProduct(t_g, t_g)
         return cls(gh=gh, volume=volume, facet=facet, edge=edge)
 
-    def apply(self, phi, order=None):
+    def apply(self, phi: CF, order: int | None = None) -> float:
         """G~(phi) for a symmetric 3x3 test field phi (an integral)."""
         mesh = self.gh.space.mesh
         opts = {} if order is None else {"bonus_intorder": order}
@@ -125,7 +128,7 @@ class DistributionalEinstein:
                 + ngs.Integrate(ngs.InnerProduct(self.edge, phi)
                                 * ngs.dx(element_vb=ngs.BBND, **opts), mesh))
 
-    def lift(self, order):
+    def lift(self, order: int) -> CF:
         """E_h in Lagrange elements of degree ``order``: (E_h, v) = G~(v) componentwise.
 
         Returns the covariant Einstein tensor g_h E_h g_h / sqrt(det g_h) as a 3x3 CF.
@@ -160,7 +163,8 @@ class DiscreteCurvature:
     scalar: ngs.CoefficientFunction
 
 
-def discrete_curvature(g, mesh, order=2, lift_order=None):
+def discrete_curvature(g: CF, mesh: ngs.Mesh, order: int = 2,
+                       lift_order: int | None = None) -> DiscreteCurvature:
     """The curvature of the Regge interpolant of degree ``order`` of a metric g.
 
     Parameters
