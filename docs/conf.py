@@ -107,7 +107,7 @@ nitpicky = True
 # reference to an outside name cannot resolve: the builtins, the standard library, and the
 # packages ngincompat builds on are named here. Every reference into ngincompat and
 # geometries must resolve.
-_OUTSIDE = ("ngsolve", "netgen", "numpy", "np", "scipy", "matplotlib", "mpi4py", "dask",
+_OUTSIDE = ("ngsolve", "ngs", "netgen", "numpy", "np", "scipy", "matplotlib", "mpi4py", "dask",
             "pyarrow", "meshio", "basix", "nilearn", "nibabel", "tqdm", "pathlib",
             "typing", "collections", "dataclasses", "argparse", "enum", "abc", "io",
             "fractions", "numbers", "concurrent", "subprocess", "os", "types", "datetime",
@@ -121,7 +121,7 @@ _BUILTINS = ("str", "int", "float", "bool", "complex", "dict", "list", "tuple", 
              "iterable", "sequence", "mapping", "optional", "array_like", "array",
              "function", "path", "Path", "ndarray", "ClassVar", "Literal", "Any",
              "Callable", "Iterable", "Iterator", "Sequence", "Mapping", "Collection",
-             "Generator", "CF", "collection", "open", "eval", "print", "len", "range", "zip")
+             "Generator", "CF", "CoefficientFunction", "collection", "open", "eval", "print", "len", "range", "zip")
 nitpick_ignore_regex = [
     # a type in words ("3x3 CoefficientFunction", '{"hex", "tet"}'), not a Python name
     ("py:.*", r"(?![A-Za-z_]\w*(\.[A-Za-z_]\w*)*$).*"),

@@ -1,6 +1,6 @@
 """A tissue expander as a rigid dome the skin rests on, in frictionless contact (section 3.6).
 
-The expander over a footprint (:data:`geometries.FOOTPRINTS`, sized as in
+The expander over a footprint (:data:`ngincompat.names.FOOTPRINTS`, sized as in
 :func:`geometries.skin_patch`) is the surface x3 = H phi(x1, x2) of height H, with phi a dome
 that is 1 at its top and vanishes on the footprint's edge:
 
