@@ -121,7 +121,8 @@ _BUILTINS = ("str", "int", "float", "bool", "complex", "dict", "list", "tuple", 
              "iterable", "sequence", "mapping", "optional", "array_like", "array",
              "function", "path", "Path", "ndarray", "ClassVar", "Literal", "Any",
              "Callable", "Iterable", "Iterator", "Sequence", "Mapping", "Collection",
-             "Generator", "CF", "CoefficientFunction", "collection", "open", "eval", "print", "len", "range", "zip")
+             "Generator", "CF", "CoefficientFunction", "collection", "open", "eval", "print",
+             "len", "range", "zip")
 nitpick_ignore_regex = [
     # a type in words ("3x3 CoefficientFunction", '{"hex", "tet"}'), not a Python name
     ("py:.*", r"(?![A-Za-z_]\w*(\.[A-Za-z_]\w*)*$).*"),
