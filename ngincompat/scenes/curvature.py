@@ -5,7 +5,7 @@ The curvature itself is measured by :func:`ngincompat.incompatibility.curvature.
 reader sees.
 """
 
-from ngincompat.workflow.results import Figure
+from ngincompat.workflow.results import ProfileFigure
 
 #: The quantities of the curvature metrics
 #: (:func:`ngincompat.incompatibility.curvature.measure_growth`) of every scene that reports
@@ -36,9 +36,10 @@ def figure(scene, coord, burgers):
     along a line with coordinate ``coord``, beside the Burgers vectors ``burgers`` (legend
     label -> profile key) on the right axis."""
     L = scene.units["length"]
-    return Figure("curvature.png", coord, f"{coord} [{L}]", {"|Ein(Cg)|_g": "einstein_norm_g"},
-                  f"curvature [1/{L}$^2$]", f"{scene.title()}: curvature of the growth metric",
-                  right=burgers, right_label=f"|b| [1/{L}]", floor=FIGURE_FLOOR)
+    return ProfileFigure("curvature.png", coord, f"{coord} [{L}]",
+                         {"|Ein(Cg)|_g": "einstein_norm_g"}, f"curvature [1/{L}$^2$]",
+                         f"{scene.title()}: curvature of the growth metric",
+                         right=burgers, right_label=f"|b| [1/{L}]", floor=FIGURE_FLOOR)
 
 
 def report(scene, results, coord, burgers):

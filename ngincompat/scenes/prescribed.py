@@ -33,7 +33,7 @@ from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.material import Elastic
 from ngincompat.workflow.pipeline import solve_stages, timed
-from ngincompat.workflow.results import Figure
+from ngincompat.workflow.results import ProfileFigure
 
 #: Contraction a reused tangent must achieve per Newton iteration. A reused iteration costs a
 #: residual and two triangular solves, about a thirtieth of assembling and factorising a fresh
@@ -294,20 +294,20 @@ def _figures(scene, coord, case, mechanics):
     mu = case.material.mu
     if mechanics:
         # floors from the stress scale mu: 1e-3 mu for stresses, 1e-6 mu for energy densities
-        figures = [Figure("profile.png", coord, xlabel, {r"$\Psi$": "Psi"},
-                          rf"$\Psi$ [{stress}]", f"{title}: energy and incompatibility",
-                          right=curl, right_label=curl_label, floor=1e-6 * mu)]
+        figures = [ProfileFigure("profile.png", coord, xlabel, {r"$\Psi$": "Psi"},
+                                 rf"$\Psi$ [{stress}]", f"{title}: energy and incompatibility",
+                                 right=curl, right_label=curl_label, floor=1e-6 * mu)]
     else:
-        figures = [Figure("profile.png", coord, xlabel, curl, curl_label,
-                          f"{title}: incompatibility")]
+        figures = [ProfileFigure("profile.png", coord, xlabel, curl, curl_label,
+                                 f"{title}: incompatibility")]
     if case.planes:
-        figures.append(Figure("burgers.png", coord, xlabel,
-                              {f"|b| on {label}": f"|b_{label}|" for label in case.planes},
-                              f"|b| [1/{L}]", f"{title}: Burgers vectors"))
+        figures.append(ProfileFigure("burgers.png", coord, xlabel,
+                                     {f"|b| on {label}": f"|b_{label}|" for label in case.planes},
+                                     f"|b| [1/{L}]", f"{title}: Burgers vectors"))
     if case.components and mechanics:
-        figures.append(Figure("stress.png", coord, xlabel, {k: k for k in case.components},
-                              f"stress [{stress}]", f"{title}: residual stress",
-                              floor=1e-3 * mu))
+        figures.append(ProfileFigure("stress.png", coord, xlabel, {k: k for k in case.components},
+                                     f"stress [{stress}]", f"{title}: residual stress",
+                                     floor=1e-3 * mu))
     return figures
 
 

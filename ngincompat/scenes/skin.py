@@ -97,7 +97,7 @@ from ngincompat.scenes.material import MU, Elastic
 from ngincompat.scenes.trust import Indicator
 from ngincompat.workflow.frames import Frames
 from ngincompat.workflow.pipeline import Solution, solve_stages, timed
-from ngincompat.workflow.results import Figure, Results
+from ngincompat.workflow.results import MapsFigure, ProfileFigure, Results
 
 CHECKPOINT = "checkpoint.npz"
 #: How the expander pushes the skin: a rigid dome in contact (the default), or a uniform
@@ -568,15 +568,15 @@ def _figures(scene, grid):
     maps = {label.format(L=L, stress=stress): f"mid_{key}" for label, key in MAPS.items()
             if f"mid_{key}" in grid}
     return [
-        Figure("fields.png", "mid_u", f"[{L}]", maps, "",
-               f"{title}: mid-thickness (Fig. 6 a-c)", profile="map", kind="maps"),
-        Figure("profile.png", "X1", f"X1 [{L}]", {"area growth theta": "theta"},
-               "area growth theta [-]", f"{title}: bottom face",
-               right={"|b| on e3": "|b|"}, right_label=f"|b| on e3 [1/{L}]"),
-        Figure("stress.png", "X1", f"X1 [{L}]",
-               {"clamped": "sigma_max_clamped", "released": "sigma_max_released"},
-               f"max principal Cauchy stress [{stress}]",
-               f"{title}: residual stress after deflation", floor=1e-3 * scene.mu),
+        MapsFigure("fields.png", "mid_u", f"[{L}]", maps, "",
+                   f"{title}: mid-thickness (Fig. 6 a-c)", profile="map"),
+        ProfileFigure("profile.png", "X1", f"X1 [{L}]", {"area growth theta": "theta"},
+                      "area growth theta [-]", f"{title}: bottom face",
+                      right={"|b| on e3": "|b|"}, right_label=f"|b| on e3 [1/{L}]"),
+        ProfileFigure("stress.png", "X1", f"X1 [{L}]",
+                      {"clamped": "sigma_max_clamped", "released": "sigma_max_released"},
+                      f"max principal Cauchy stress [{stress}]",
+                      f"{title}: residual stress after deflation", floor=1e-3 * scene.mu),
     ]
 
 

@@ -350,9 +350,7 @@ def _write_outputs(results: Results, out: Path, outputs: set[str], files: list[s
         return False
     if "figures" in outputs and not results.non_finite():
         for figure in results.figures:
-            if all(k in results.profiles.get(figure.profile, {})
-                   for k in (figure.x, *figure.curves.values(), *figure.right.values(),
-                             *figure.deform.values(), *([figure.y] if figure.y else []))):
+            if all(k in results.profiles.get(figure.profile, {}) for k in figure.keys()):
                 plots.draw(results, figure, out / figure.file)
                 files.append(figure.file)
     return True

@@ -13,6 +13,7 @@ the discretisation error of a stress-free body is drawn flat, not magnified into
 oscillation.
 """
 
+import functools
 from itertools import cycle
 
 import numpy as np
@@ -20,6 +21,12 @@ from matplotlib.figure import Figure
 
 from ngincompat.atomic import atomic_path
 from ngincompat.workflow import surface
+from ngincompat.workflow.results import (
+    DeformedFigure,
+    MapsFigure,
+    ProfileFigure,
+    SurfaceFigure,
+)
 from ngincompat.workflow.style import (
     MAP_CLIP,
     RELATIVE_FLOOR,
@@ -128,29 +135,50 @@ def draw(results, spec, path):
 
 
 def figure(results, spec):
-    """The matplotlib Figure of ``spec`` drawn from the profiles of ``results``."""
-    p = results.profiles[spec.profile]
-    if spec.kind == "maps":
-        return maps_figure(p, spec.curves, spec.xlabel, spec.title,
-                           {label: p[key] for label, key in spec.arrows.items()})
-    if spec.kind == "surface":
-        panels = [surface.Panel(label, p[key], signed=None, clip=MAP_CLIP,
-                                u=p[spec.deform[label]] if label in spec.deform else None)
-                  for label, key in spec.curves.items()]
-        return surface.triangulated_figure(p["points"], p["triangles"], panels, spec.title,
-                                           spec.xlabel, view=spec.view)
-    if spec.kind == "deformed":
-        panels = {label: (key, spec.deform[label]) for label, key in spec.curves.items()}
-        return deformed_figure({"": p}, panels, (spec.x, spec.y), spec.xlabel, spec.ylabel,
-                               spec.title, floor=spec.floor)
+    """The matplotlib Figure of ``spec`` drawn from the profiles of ``results``: by the
+    drawing registered for its kind (:func:`drawn`)."""
+    return drawn(spec, results.profiles[spec.profile], results.metrics)
+
+
+@functools.singledispatch
+def drawn(spec, profile, metrics):
+    """The matplotlib Figure of ``spec`` from its ``profile`` (and the run's ``metrics``),
+    one drawing per kind of :class:`~ngincompat.workflow.results.Figure`."""
+    raise TypeError(f"no drawing for a figure of kind {type(spec).__name__}")
+
+
+@drawn.register
+def _(spec: ProfileFigure, p, metrics):
     return profile_figure(p[spec.x], {label: p[k] for label, k in spec.curves.items()},
                           spec.xlabel, spec.ylabel, spec.title,
                           right={label: p[k] for label, k in spec.right.items()},
                           right_label=spec.right_label, floor=spec.floor,
                           right_floor=spec.right_floor,
-                          vlines={label.format(value=results.metrics[k]): results.metrics[k]
+                          vlines={label.format(value=metrics[k]): metrics[k]
                                   for label, k in spec.marks.items()
-                                  if np.isfinite(results.metrics.get(k, np.nan))})
+                                  if np.isfinite(metrics.get(k, np.nan))})
+
+
+@drawn.register
+def _(spec: MapsFigure, p, metrics):
+    return maps_figure(p, spec.curves, spec.xlabel, spec.title,
+                       {label: p[key] for label, key in spec.arrows.items()})
+
+
+@drawn.register
+def _(spec: DeformedFigure, p, metrics):
+    panels = {label: (key, spec.deform[label]) for label, key in spec.curves.items()}
+    return deformed_figure({"": p}, panels, (spec.x, spec.y), spec.xlabel, spec.ylabel,
+                           spec.title, floor=spec.floor)
+
+
+@drawn.register
+def _(spec: SurfaceFigure, p, metrics):
+    panels = [surface.Panel(label, p[key], signed=None, clip=MAP_CLIP,
+                            u=p[spec.deform[label]] if label in spec.deform else None)
+              for label, key in spec.curves.items()]
+    return surface.triangulated_figure(p["points"], p["triangles"], panels, spec.title,
+                                       spec.xlabel, view=spec.view)
 
 
 def maps_figure(profile, maps, label, title=None, arrows=None):

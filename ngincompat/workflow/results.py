@@ -12,8 +12,8 @@ writes it to a folder, :func:`ngincompat.workflow.output.read` reads it back.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
-from typing import Any
+from dataclasses import asdict, dataclass, field, fields
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -37,59 +37,34 @@ class MeshInfo:
 
 @dataclass
 class Figure:
-    """A profile figure, drawn by :func:`ngincompat.workflow.plots.draw` from a :class:`Results`.
+    """A figure drawn from one profile of a :class:`Results`, by
+    :func:`ngincompat.workflow.plots.draw`; its kind is its class (:data:`FIGURES`):
+    :class:`ProfileFigure`, :class:`MapsFigure`, :class:`DeformedFigure`,
+    :class:`SurfaceFigure`.
 
     Attributes
     ----------
     file : str
         PNG file name.
     x : str
-        Key of the abscissa in the profile.
+        Key of the abscissa in the profile (of a map, its first axis).
     xlabel, ylabel : str
         Axis labels, with units.
     curves : dict
-        Legend label -> profile key, on the left axis.
+        Legend or panel label -> profile key.
     title : str
         Title; names the scene and its variant.
-    right : dict
-        Legend label -> profile key, on a second (right) axis.
-    right_label : str
-        Label of the right axis, with units.
-    floor, right_floor : float
-        Smallest range of the left and right axis (besides 1e-4 of the largest value, which
-        :mod:`ngincompat.workflow.plots` always keeps): curves that vary by less (round-off around a
-        constant, discretisation error of a stress-free body) are shown flat, not magnified
-        into noise.
+    floor : float
+        Smallest range of the values shown (besides 1e-4 of the largest value, which
+        :mod:`ngincompat.workflow.plots` always keeps): values that vary by less (round-off
+        around a constant, discretisation error of a stress-free body) are shown flat, not
+        magnified into noise.
     profile : str
         Which profile of the results.
-    kind : str
-        "profile": curves against ``x``; "maps": colour maps, one panel per curve, of 2-D
-        arrays keyed "<plane>_<field>" whose axes are the profile's "<plane>_u" and
-        "<plane>_v" (one row per plane, one column per field; ``x`` names the first axis);
-        "deformed": colour maps of 2-D arrays (one panel per curve) sampled on a reference
-        grid whose axes are the profile's ``x`` (columns) and ``y`` (rows), each drawn on the
-        grid moved by the displacement that ``deform`` names for its panel (see
-        :func:`ngincompat.workflow.plots.deformed_figure`); "surface": the surface of
-        the profile's "points" and "triangles" coloured by each curve's values at the
-        points, moved by the displacement ``deform`` names for the panel (if any), seen
-        from ``view``, with ``xlabel`` the length unit of its axes
-        (:func:`ngincompat.workflow.surface.triangulated_figure`).
-    y : str
-        "deformed": key of the grid's second axis in the profile.
-    deform : dict
-        "deformed": panel label -> profile key of the displacement, an array of the grid's
-        shape with 3 components; "surface": of the displacements at the points.
-    view : tuple
-        "surface": elevation and azimuth of the camera [degrees].
-    arrows : dict
-        "maps": panel label -> profile key of an array of the grid's shape with 2
-        components along the plane's axes, drawn as arrows over the panel's map (the paper's
-        Burgers vectors in their plane).
-    marks : dict
-        "profile": legend label (``{value}`` stands for the metric's value) -> metric key; a
-        dashed vertical line at the metric's value (e.g. the onset of folding on the
-        eigenvalue's curve), left out where it is not finite.
     """
+
+    #: The kind's name in results.json.
+    kind: ClassVar[str] = ""
 
     file: str
     x: str
@@ -97,17 +72,124 @@ class Figure:
     curves: dict[str, str]
     ylabel: str
     title: str
+    floor: float = 0.0
+    profile: str = "line"
+
+    def keys(self) -> tuple[str, ...]:
+        """The keys of the profile that the figure draws (it is drawn where all are)."""
+        return (self.x, *self.curves.values())
+
+    def to_dict(self) -> dict[str, Any]:
+        """The figure as JSON-ready data, its kind named."""
+        return {"kind": self.kind, **asdict(self)}
+
+    @staticmethod
+    def from_dict(data: dict[str, Any]) -> Figure:
+        """The figure that :meth:`to_dict` wrote (keys another kind has are left out)."""
+        cls = FIGURES[data.get("kind", "profile")]
+        names = {f.name for f in fields(cls)}
+        return cls(**{k: v for k, v in data.items() if k in names})
+
+
+@dataclass
+class ProfileFigure(Figure):
+    """Curves against ``x``, on a left and possibly a right axis.
+
+    Attributes
+    ----------
+    right : dict
+        Legend label -> profile key, on a second (right) axis.
+    right_label : str
+        Label of the right axis, with units.
+    right_floor : float
+        Smallest range of the right axis (as ``floor``).
+    marks : dict
+        Legend label (``{value}`` stands for the metric's value) -> metric key; a dashed
+        vertical line at the metric's value (e.g. the onset of folding on the eigenvalue's
+        curve), left out where it is not finite.
+    """
+
+    kind: ClassVar[str] = "profile"
+
     right: dict[str, str] = field(default_factory=dict)
     right_label: str = ""
-    floor: float = 0.0
     right_floor: float = 0.0
-    profile: str = "line"
-    kind: str = "profile"
+    marks: dict[str, str] = field(default_factory=dict)
+
+    def keys(self) -> tuple[str, ...]:
+        return (*super().keys(), *self.right.values())
+
+
+@dataclass
+class MapsFigure(Figure):
+    """Colour maps, one panel per curve, of 2-D arrays keyed "<plane>_<field>" whose axes are
+    the profile's "<plane>_u" and "<plane>_v" (one row per plane, one column per field;
+    ``x`` names the first axis).
+
+    Attributes
+    ----------
+    arrows : dict
+        Panel label -> profile key of an array of the grid's shape with 2 components along
+        the plane's axes, drawn as arrows over the panel's map (the paper's Burgers vectors
+        in their plane).
+    """
+
+    kind: ClassVar[str] = "maps"
+
+    arrows: dict[str, str] = field(default_factory=dict)
+
+
+@dataclass
+class DeformedFigure(Figure):
+    """Colour maps of 2-D arrays (one panel per curve) sampled on a reference grid whose axes
+    are the profile's ``x`` (columns) and ``y`` (rows), each drawn on the grid moved by a
+    displacement (:func:`ngincompat.workflow.plots.deformed_figure`).
+
+    Attributes
+    ----------
+    y : str
+        Key of the grid's second axis in the profile.
+    deform : dict
+        Panel label -> profile key of the displacement, an array of the grid's shape with
+        3 components.
+    """
+
+    kind: ClassVar[str] = "deformed"
+
     y: str = ""
     deform: dict[str, str] = field(default_factory=dict)
+
+    def keys(self) -> tuple[str, ...]:
+        return (*super().keys(), *self.deform.values(), *([self.y] if self.y else []))
+
+
+@dataclass
+class SurfaceFigure(Figure):
+    """The surface of the profile's "points" and "triangles" coloured by each curve's values
+    at the points, seen from ``view``, with ``xlabel`` the length unit of its axes
+    (:func:`ngincompat.workflow.surface.triangulated_figure`).
+
+    Attributes
+    ----------
+    deform : dict
+        Panel label -> profile key of the displacements at the points, by which the panel's
+        surface is moved (if any).
+    view : tuple
+        Elevation and azimuth of the camera [degrees].
+    """
+
+    kind: ClassVar[str] = "surface"
+
+    deform: dict[str, str] = field(default_factory=dict)
     view: tuple[float, float] = (10.0, 90.0)
-    marks: dict[str, str] = field(default_factory=dict)
-    arrows: dict[str, str] = field(default_factory=dict)
+
+    def keys(self) -> tuple[str, ...]:
+        return (*super().keys(), *self.deform.values())
+
+
+#: The kinds of figure by their name in results.json.
+FIGURES: dict[str, type[Figure]] = {cls.kind: cls for cls in (
+    ProfileFigure, MapsFigure, DeformedFigure, SurfaceFigure)}
 
 
 @dataclass(eq=False)
@@ -242,7 +324,7 @@ class Results:
             "solver": {stage: h.as_dict() for stage, h in self.solver.items()},
             "timings": self.timings, "metrics": self.metrics,
             "metric_units": self.metric_units, "profiles": self.profiles,
-            "figures": [asdict(f) for f in self.figures], "verdicts": self.verdicts,
+            "figures": [f.to_dict() for f in self.figures], "verdicts": self.verdicts,
             "warnings": self.warnings,
             "versions": self.versions,
             "argv": self.argv, "provenance": self.provenance, "files": self.files,
@@ -264,7 +346,7 @@ class Results:
             metric_units=dict(data.get("metric_units", {})),
             profiles={name: {k: np.asarray(v, dtype=float) for k, v in p.items()}
                       for name, p in data.get("profiles", {}).items()},
-            figures=[Figure(**f) for f in data.get("figures", [])],
+            figures=[Figure.from_dict(f) for f in data.get("figures", [])],
             verdicts=list(data.get("verdicts", [])),
             warnings=list(data.get("warnings", [])),
             versions=dict(data.get("versions", {})), argv=list(data.get("argv", [])),

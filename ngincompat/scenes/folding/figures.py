@@ -3,7 +3,7 @@ the middle, the perfect branch's eigenvalue, the folds' growth and the buckling 
 
 
 
-from ngincompat.workflow.results import Figure
+from ngincompat.workflow.results import DeformedFigure, ProfileFigure
 
 #: The panels of Fig. 7 a-c: label -> (field, the displacement it is drawn deformed by);
 #: "{L}" and "{stress}" stand for the units. A panel is drawn when the run has its fields.
@@ -28,10 +28,11 @@ def fields_figure(scene, section):
     L = scene.units["length"]
     present = {label: keys for label, keys in panels(scene).items()
                if all(k in section for k in keys)}
-    return Figure("fields.png", "X1", f"X1 [{L}]", {k: f for k, (f, _) in present.items()},
-                  f"X2 [{L}]", f"{scene.title()}: deformed state", profile="section",
-                  kind="deformed", y="X2", deform={k: d for k, (_, d) in present.items()},
-                  floor=1e-3 * scene.mu_white)
+    return DeformedFigure("fields.png", "X1", f"X1 [{L}]",
+                          {k: f for k, (f, _) in present.items()}, f"X2 [{L}]",
+                          f"{scene.title()}: deformed state", profile="section", y="X2",
+                          deform={k: d for k, (_, d) in present.items()},
+                          floor=1e-3 * scene.mu_white)
 
 
 def figures(scene, profiles):
@@ -43,25 +44,25 @@ def figures(scene, profiles):
                 if k in profiles["depth"]}
     return [
         fields_figure(scene, profiles["section"]),
-        Figure("depth.png", "depth", f"depth below the top [{L}]",
-               {"|b| on the plane normal to e3": "|b|"}, f"|b| [1/{L}]",
-               f"{title}: through the middle", right={"axon growth theta_a": "theta_a"},
-               right_label="theta_a [-]", profile="depth"),
-        Figure("stress_depth.png", "depth", f"depth below the top [{L}]",
-               stresses, f"max principal Cauchy stress [{stress}]",
-               f"{title}: through the middle", profile="depth",
-               floor=1e-3 * scene.mu_white),
-        Figure("eigenvalue.png", "theta_c", "cortex growth theta_c [-]",
-               {"smallest eigenvalue": "eigenvalue"},
-               f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
-               f"{title}: perfect branch", profile="perfect",
-               marks={"onset (the eigenvalue crosses zero): theta_c = {value:.4g}":
+        ProfileFigure("depth.png", "depth", f"depth below the top [{L}]",
+                      {"|b| on the plane normal to e3": "|b|"}, f"|b| [1/{L}]",
+                      f"{title}: through the middle", right={"axon growth theta_a": "theta_a"},
+                      right_label="theta_a [-]", profile="depth"),
+        ProfileFigure("stress_depth.png", "depth", f"depth below the top [{L}]",
+                      stresses, f"max principal Cauchy stress [{stress}]",
+                      f"{title}: through the middle", profile="depth",
+                      floor=1e-3 * scene.mu_white),
+        ProfileFigure("eigenvalue.png", "theta_c", "cortex growth theta_c [-]",
+                      {"smallest eigenvalue": "eigenvalue"},
+                      f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
+                      f"{title}: perfect branch", profile="perfect",
+                      marks={"onset (the eigenvalue crosses zero): theta_c = {value:.4g}":
                       "onset_growth"}),
-        Figure("folds.png", "theta_c", "cortex growth theta_c [-]",
-               {"fold amplitude": "amplitude"}, f"fold amplitude [{L}]",
-               f"{title}: after the onset", right={"smallest eigenvalue": "eigenvalue"},
-               right_label=f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
-               profile="buckling"),
-        Figure("mode.png", "X1", f"X1 [{L}]", {"u2 on top": "u2"}, "buckling mode u2 [-]",
-               f"{title}: first buckling mode", profile="mode"),
+        ProfileFigure("folds.png", "theta_c", "cortex growth theta_c [-]",
+                      {"fold amplitude": "amplitude"}, f"fold amplitude [{L}]",
+                      f"{title}: after the onset", right={"smallest eigenvalue": "eigenvalue"},
+                      right_label=f"smallest tangent eigenvalue [{scene.units['stress']}/{L}^2]",
+                      profile="buckling"),
+        ProfileFigure("mode.png", "X1", f"X1 [{L}]", {"u2 on top": "u2"}, "buckling mode u2 [-]",
+                      f"{title}: first buckling mode", profile="mode"),
     ]
