@@ -18,7 +18,7 @@ regularisation::
 
     growth = GrowthEnergy("fiber", fields.constant("e1"), law, material)
     viscous = ViscousRegularisation()
-    problem = CoupledProblem(mesh, [growth, viscous, RigidPins()], order=2)
+    problem = CoupledProblem(mesh, [growth, viscous], order=2)     # pinned: no Dirichlet
     viscous.viscosity.Set(1.0)
     solve_coupled(problem, t_end=1.0, dt=0.25)      # growth.theta: the grown field
 """
@@ -45,8 +45,10 @@ class CoupledProblem:
     order : int
         Polynomial order of the displacement, >= 1.
     dirichlet, symmetry : as for :class:`~ngincompat.fem.problem.GrowthMechanics`
-        A body with neither Dirichlet boundaries nor a term that holds it needs
-        :class:`~ngincompat.fem.terms.RigidPins` among its terms. The symmetry planes are
+        Without Dirichlet boundaries the body is pinned against the rigid-body motions its
+        supports leave free (:func:`~ngincompat.fem.problem.rigid_pins`), now and after
+        every change of the supports, as a
+        :class:`~ngincompat.fem.problem.GrowthMechanics` is. The symmetry planes are
         supports that :meth:`support` can change (e.g. remove) later: their dofs are held
         (:attr:`pinned`), not Dirichlet dofs of the space, so the problem's form and its
         compiled residual serve every set of supports.
@@ -70,7 +72,7 @@ class CoupledProblem:
         The symmetry planes that hold the body now (:meth:`support`).
     pinned : tuple of int
         Dofs held fixed besides the Dirichlet ones: the normal components on the symmetry
-        planes, then the rigid pins (:meth:`pin_rigid_motions`), if any.
+        planes, then the rigid pins, if any (no Dirichlet boundaries).
     """
 
     has_energy = False
@@ -95,7 +97,7 @@ class CoupledProblem:
         self.u = self.state.components[0]
         self.symmetry: dict[str, str] = {}
         self.pinned: tuple[int, ...] = ()
-        self._rigid = False
+        self._rigid = not dirichlet
         self._frozen = None
         self.support(symmetry or {})
         self.realcompile = (self.fes.ndof >= REALCOMPILE_NDOF if realcompile is None
@@ -121,7 +123,7 @@ class CoupledProblem:
         normal component held at its current value, as for
         :func:`~ngincompat.fem.problem.displacement_space`) instead of those before, and
         re-pin the rigid motions they leave free if the problem pins them
-        (:meth:`pin_rigid_motions`); ``{}`` removes every support."""
+        (without Dirichlet boundaries); ``{}`` removes every support."""
         symmetry = dict(symmetry)
         held = np.array(displacement_space(self.mesh, self.order, self.dirichlet,
                                            symmetry).FreeDofs(), dtype=bool)
@@ -140,13 +142,6 @@ class CoupledProblem:
                 bits.Clear(dof)
         self.freedofs = self.fes.FreeDofs(coupling=self.condense)
         self._frozen = None         # made anew with these supports
-
-    def pin_rigid_motions(self):
-        """Pin the rigid-body motions that the Dirichlet boundaries and the supports leave
-        free (:func:`~ngincompat.fem.problem.rigid_pins`), now and after every change of the
-        supports."""
-        self._rigid = True
-        self.support(self.symmetry)
 
     def energy(self):
         """The energy of the current step at the current state, the sum of the terms'

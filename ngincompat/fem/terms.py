@@ -15,7 +15,6 @@ Phi in u.
 :class:`ViscousRegularisation`  eta / (2 dt) int |u - u_n|^2 dV
 :class:`DeadTraction`           -s int t . u dA on some boundaries
 :class:`VolumeConstraint`       p (V(u) - V*): the volume under a boundary held by a pressure
-:class:`RigidPins`              no energy: pins the rigid-body motions of a free body
 ==============================  =============================================================
 
 and :class:`~ngincompat.fem.contact.ExpanderContact`, the penalty contact with an expander
@@ -389,17 +388,3 @@ class VolumeConstraint(VolumeHolder):
 
     def measures(self):
         return {"pressure": self.pressure()}
-
-
-class RigidPins(Term):
-    """No energy: the rigid-body motions of a body without Dirichlet boundaries (those that
-    its symmetry planes leave free) removed by pinning displacement components at vertices,
-    a statically determinate support (:func:`~ngincompat.fem.problem.rigid_pins`)."""
-
-    def attach(self, problem, unknowns):
-        problem.pin_rigid_motions()
-        return None
-
-    def energy(self):
-        return 0.0
-

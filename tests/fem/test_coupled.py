@@ -18,7 +18,7 @@ from ngincompat.fem.problem import find_compiler
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.stepping import solve_coupled
-from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation, VolumeConstraint
+from ngincompat.fem.terms import GrowthEnergy, ViscousRegularisation, VolumeConstraint
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.mechanics.laws import ConstantRateLaw, HillLaw, StrainDrivenLaw, euler_residual
@@ -38,7 +38,7 @@ def test_changed_supports_hold_the_dofs_of_a_problem_built_with_them():
     def made(symmetry):
         growth = GrowthEnergy("fiber", fields.constant("e1"), ConstantRateLaw(0.0),
                               NeoHookean(1.0, 100.0))
-        return CoupledProblem(mesh, [growth, RigidPins()], order=2, symmetry=symmetry)
+        return CoupledProblem(mesh, [growth], order=2, symmetry=symmetry)
 
     rollers = {"left": "x", "right": "x", "bottom": "y"}
     problem = made(rollers)
@@ -56,7 +56,7 @@ def _stretched_bar(law, kind="fiber", stretch=1.2, realcompile=None):
     """Unit cube held at a fiber stretch ``stretch`` along e1, free laterally; the problem
     and its growth term."""
     growth = GrowthEnergy(kind, fields.constant("e1"), law, NeoHookean.from_nu(1.0, 0.3))
-    problem = CoupledProblem(cube(maxh=0.5), [growth, RigidPins()], order=2,
+    problem = CoupledProblem(cube(maxh=0.5), [growth], order=2,
                              symmetry={"left": "x", "right": "x"}, realcompile=realcompile)
     problem.u.Set(ngs.CF(((stretch - 1) * ngs.x, 0, 0)))
     return problem, growth
@@ -162,7 +162,7 @@ def test_the_growth_term_names_the_registered_kinds():
                                              "area, fiber"):
         GrowthEnergy("volume", None, LAW, material)
     with pytest.raises(ParameterError, match=r"area growth needs a direction \(N0\)"):
-        CoupledProblem(mesh, [GrowthEnergy("area", None, LAW, material), RigidPins()])
+        CoupledProblem(mesh, [GrowthEnergy("area", None, LAW, material)])
     assert GrowthEnergy(IsotropicGrowth, None, LAW, material).kind == "isotropic"
 
 
@@ -265,7 +265,7 @@ def test_viscous_regularisation_lags_and_a_frozen_step_removes_it():
         viscous = ViscousRegularisation()
         problem = CoupledProblem(cube(maxh=0.5), [
             GrowthEnergy("fiber", fields.constant("e1"), ConstantRateLaw(0.2),
-                         NeoHookean.from_nu(1.0, 0.3)), viscous, RigidPins()],
+                         NeoHookean.from_nu(1.0, 0.3)), viscous],
             order=2, symmetry={"left": "x"})
         viscous.viscosity.Set(viscosity)
         CoupledStage("growth", problem, t_end=1.0, dt=1.0).run(SILENT)
@@ -288,7 +288,7 @@ def test_stress_form_equals_the_symbolic_derivative_in_u():
     the form dW/du . v differentiated symbolically in u (built here independently), growth
     unknowns included, to round-off."""
     term = GrowthEnergy("area", fields.constant("e3"), LAW, NeoHookean.from_nu(1.0, 0.3))
-    problem = CoupledProblem(cube(maxh=0.5), [term, RigidPins()], order=3)
+    problem = CoupledProblem(cube(maxh=0.5), [term], order=3)
     problem.dt.Set(0.1)
     (u, theta), (v, eta) = (list(t)[:2] for t in problem.fes.TnT())
     F = kinematics.deformation_gradient(u)

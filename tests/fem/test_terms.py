@@ -12,7 +12,6 @@ from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.terms import (
     DeadTraction,
     GrowthEnergy,
-    RigidPins,
     Term,
     ViscousRegularisation,
     VolumeConstraint,
@@ -35,7 +34,7 @@ def test_the_energy_is_the_potential_of_the_frozen_residual(loaded):
     if loaded:
         growth = GrowthEnergy("fiber", fields.constant("e1"), LAW, NeoHookean.from_nu(1.0, 0.3))
         viscous, traction = ViscousRegularisation(), DeadTraction("right|top")
-        problem = CoupledProblem(cube(maxh=0.5), [growth, viscous, traction, RigidPins()],
+        problem = CoupledProblem(cube(maxh=0.5), [growth, viscous, traction],
                                  order=2, symmetry={"left": "x"})
         traction.field.Set(ngs.CF((0.3 + ngs.y, 0.2 * ngs.z, -0.1)))
         traction.scale.Set(0.7)
@@ -45,7 +44,7 @@ def test_the_energy_is_the_potential_of_the_frozen_residual(loaded):
         problem.dt.Set(0.25)
     else:
         growth = GrowthEnergy("fiber", fields.constant("e1"), LAW, NeoHookean.from_nu(1.0, 0.3))
-        problem = CoupledProblem(cube(maxh=0.5), [growth, RigidPins()], order=2,
+        problem = CoupledProblem(cube(maxh=0.5), [growth], order=2,
                                  symmetry={"left": "x", "right": "x"})
         problem.dt.Set(0.0)
     growth.theta.Set(1.0 + 0.1 * ngs.x)
@@ -108,7 +107,7 @@ def _alone(name):
     bend = ngs.CF((0.05 * ngs.y * ngs.z, 0.02 * ngs.x, 0.1 * ngs.x * ngs.y))
     if name == "growth":
         term = GrowthEnergy("fiber", fields.constant("e1"), LAW, NeoHookean.from_nu(1.0, 0.3))
-        problem = CoupledProblem(cube(maxh=0.5), [term, RigidPins()], order=2,
+        problem = CoupledProblem(cube(maxh=0.5), [term], order=2,
                                  symmetry={"left": "x"})
         term.theta.Set(1.0 + 0.1 * ngs.x)
         term.theta_old.vec.data = term.theta.vec
@@ -222,7 +221,7 @@ def test_a_new_term_adds_its_energy_and_residual_and_nothing_else():
         growth = GrowthEnergy("fiber", fields.constant("e1"), LAW,
                               NeoHookean.from_nu(1.0, 0.3))
         viscous = ViscousRegularisation()
-        problem = CoupledProblem(cube(maxh=0.5), [growth, viscous, *extra, RigidPins()],
+        problem = CoupledProblem(cube(maxh=0.5), [growth, viscous, *extra],
                                  order=2, symmetry={"left": "x"})
         viscous.u_old.Set(ngs.CF((0.02 * ngs.y, 0.01, 0)))
         viscous.viscosity.Set(5.0)

@@ -13,7 +13,7 @@ from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.fem.stepping import solve_coupled, solve_growth
-from ngincompat.fem.terms import GrowthEnergy, RigidPins
+from ngincompat.fem.terms import GrowthEnergy
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields
 from ngincompat.mechanics import growth as growth_module
@@ -243,7 +243,7 @@ def test_a_new_kind_works_in_coupled_growth_by_name(restore_kinds):
     for kind, direction in (("axial-e1", None), (FiberGrowth, fields.constant("e1"))):
         growth = GrowthEnergy(kind, direction, StrainDrivenLaw(tau=1.0, theta_max=1.5),
                               NeoHookean.from_nu(1.0, 0.3))
-        problem = CoupledProblem(cube(maxh=1.0), [growth, RigidPins()], order=2,
+        problem = CoupledProblem(cube(maxh=1.0), [growth], order=2,
                                  symmetry={"left": "x", "right": "x"})
         problem.u.Set(ngs.CF((0.2 * ngs.x, 0, 0)))
         assert solve_coupled(problem, t_end=1.0, dt=0.5).converged

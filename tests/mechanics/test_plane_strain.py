@@ -14,7 +14,7 @@ from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import displacement_space, rigid_pins
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stepping import solve_coupled
-from ngincompat.fem.terms import GrowthEnergy, RigidPins
+from ngincompat.fem.terms import GrowthEnergy
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw
 from ngincompat.mechanics.materials import NeoHookean, Regional
@@ -50,7 +50,7 @@ def grown(mesh, symmetry):
                                  "subcortex": fields.constant("e2")}, "f0")
     law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(0.1), "subcortex": ConstantRateLaw(0)})
     growth = GrowthEnergy("fiber", f0, law, material)
-    problem = CoupledProblem(mesh, [growth, RigidPins()], order=2, symmetry=symmetry)
+    problem = CoupledProblem(mesh, [growth], order=2, symmetry=symmetry)
     assert solve_coupled(problem, t_end=1.0, dt=0.5,
                          options=NewtonOptions(rtol=1e-8, line_search=False)).converged
     return problem, growth

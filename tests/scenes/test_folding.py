@@ -19,7 +19,7 @@ from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.shape import circle_curvature, sulci
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stepping import solve_coupled
-from ngincompat.fem.terms import GrowthEnergy, RigidPins
+from ngincompat.fem.terms import GrowthEnergy
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw, StrainDrivenLaw, euler_residual
 from ngincompat.mechanics.materials import NeoHookean, Regional
@@ -125,7 +125,7 @@ def coupled_block(mesh, order=2):
     law = StrainDrivenLaw(tau=10.0, theta_max=3.0, gamma=0.0, theta_crit=1.0)
     growth = GrowthEnergy("fiber", fields.constant("e1"), law, NeoHookean(1.0, 100.0),
                           growth_order=order - 1)
-    problem = CoupledProblem(mesh, [growth, RigidPins()], order=order)
+    problem = CoupledProblem(mesh, [growth], order=order)
     x, z = ngs.x, (ngs.x, ngs.y, ngs.z)[mesh.dim - 1]    # z: the vertical
     along, down = 0.2 * x + 0.1 * x * x + 0.02 * x * z, -0.03 * x * x
     problem.u.Set(ngs.CF((along, 0.0, down) if mesh.dim == 3 else (along, down)))

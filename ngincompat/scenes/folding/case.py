@@ -14,7 +14,7 @@ from ngincompat.fem.self_contact import SelfContact
 from ngincompat.fem.shape import circle_curvature
 from ngincompat.fem.solver import NewtonSolver
 from ngincompat.fem.stages import CoupledStage
-from ngincompat.fem.terms import GrowthEnergy, RigidPins, ViscousRegularisation
+from ngincompat.fem.terms import GrowthEnergy, ViscousRegularisation
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw
 from ngincompat.mechanics.materials import NeoHookean, Regional
@@ -108,7 +108,7 @@ class FoldingCase(SceneCase):
         contact = SelfContact("top", scene.contact_penalty, scene.contact_width,
                               reach=CONTACT_REACH * scene.cortex_thickness,
                               mirrors=[ends[end] for end in ends if GROWING.get(end) == "x"])
-        problem = CoupledProblem(self.mesh, [growth, viscous, contact, RigidPins()],
+        problem = CoupledProblem(self.mesh, [growth, viscous, contact],
                                  order=scene.order, symmetry=GROWING,
                                  realcompile=True if self.marches() else None)
         return problem, growth, viscous, contact
