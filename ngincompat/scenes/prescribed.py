@@ -225,10 +225,10 @@ def _measure(case, solution, progress):
     timings = results.timings
     with config.task_manager():
         with progress.phase("incompatibility"), timed(timings, "incompatibility"):
-            fields, metrics = _incompatibility(scene, case, problem)
+            measured, fields, metrics = _incompatibility(scene, case, problem)
         if "curvature" in scene.output_set():
             with progress.phase("curvature"), timed(timings, "curvature"):
-                metrics.update(_curvature(case, fields))
+                metrics.update(_curvature(case, measured, fields))
         with progress.phase("stresses and profiles"), timed(timings, "postprocess"):
             fields["theta"] = growth.theta
             if problem is not None:
@@ -251,13 +251,12 @@ def _measure(case, solution, progress):
     return results
 
 
-def _curvature(case, fields):
+def _curvature(case, measured, fields):
     """The curvature of Cg: exact path for analytic growth; for growth given as data, the
-    Regge path of degree 2 on the continuous interpolant of Fg that G is computed from.
-    Adds S and |Ein|_g to the fields, returns the metrics."""
-    Fg = case.growth.Fg
-    if not case.analytic:
-        Fg = inc.project_tensor(Fg, case.mesh, case.scene.g_order)[0]
+    Regge path of degree 2 on the continuous interpolant of Fg that G is computed from
+    (``measured.Fg_h``, the incompatibility's). Adds S and |Ein|_g to the fields, returns
+    the metrics."""
+    Fg = measured.Fg if case.analytic else measured.Fg_h
     extra, metrics = cv.measure_growth(Fg, case.mesh, fields["G"], exact=case.analytic,
                                        mirror=case.mirror)
     fields.update(extra)
@@ -312,8 +311,10 @@ def _figures(scene, coord, case, mechanics):
 
 
 def _incompatibility(scene, case, problem):
-    """G and its checks: the closed form where there is one, and G from the elastic
-    deformation (eq. 12) of the solved body.
+    """The measured incompatibility
+    (:class:`~ngincompat.incompatibility.measure.Incompatibility`), its fields, and G's
+    checks: the closed form where there is one, and G from the elastic deformation (eq. 12)
+    of the solved body.
 
     The reference gradient of Fg is exact for analytic growth (symbolic differentiation, so G
     costs an evaluation where it is needed) and that of its H1 interpolant of ``g_order`` for
@@ -341,7 +342,7 @@ def _incompatibility(scene, case, problem):
         # at a ninth of the cost
         metrics["G_elastic_vs_growth_L2_rel"] = inc.relative_l2_error(G_e.Compile(), G, mesh,
                                                                       order=6)
-    return fields, metrics
+    return measured, fields, metrics
 
 
 def _axis(start, end):
