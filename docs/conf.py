@@ -8,8 +8,9 @@ The site builds offline with warnings as errors (``-W``) and every cross-referen
   coarse settings (``NGINCOMPAT_COARSE=1``, as the notebooks' test tier runs them);
 - the API reference is generated from the docstrings: one page per public module
   (``_ext/api_pages.py``: autodoc, with autosummary tables; numpy-style sections read by
-  napoleon, ``_ext/numpy_sections.py``); the parameters of every scene are generated from
-  the scenes' own declarations (``_ext/scene_parameters.py``), and the rules that judge the
+  napoleon, ``_ext/numpy_sections.py``); the parameters and the metrics of every scene are
+  generated from the scenes' own declarations (``_ext/scene_parameters.py``,
+  ``_ext/scene_metrics.py``), and the rules that judge the
   paper's findings from the code that applies them (``_ext/finding_rules.py``);
 - math is typeset by the MathJax 3 copy that the ``sphinx-mathjax-offline`` package ships,
   copied into the site, so no page loads anything from the network.
@@ -46,6 +47,7 @@ extensions = [
     "sphinx.ext.viewcode",
     "api_pages",
     "scene_parameters",
+    "scene_metrics",
     "finding_rules",
     "short_references",
     "numpy_sections",

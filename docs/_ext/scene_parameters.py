@@ -42,10 +42,12 @@ def rows(cls):
                parameter.allowed(), parameter.help)
 
 
-def table(cls):
-    """The parameters of ``cls`` as a docutils table."""
-    group = nodes.tgroup(cols=len(COLUMNS))
-    group += [nodes.colspec(colwidth=w) for w in WIDTHS]
+def grid(columns, widths, rows, literal, name):
+    """A docutils table with the header ``columns`` (relative ``widths``) and the string
+    ``rows``, the cells of the columns indexed in ``literal`` set as code; ``name`` its
+    class (for the stylesheet)."""
+    group = nodes.tgroup(cols=len(columns))
+    group += [nodes.colspec(colwidth=w) for w in widths]
 
     def row(cells, literal=()):
         line = nodes.row()
@@ -57,41 +59,64 @@ def table(cls):
         return line
 
     head = nodes.thead()
-    head += row(COLUMNS)
+    head += row(columns)
     body = nodes.tbody()
-    body += [row(cells, literal=(0, 1, 2, 3)) for cells in rows(cls)]
+    body += [row(cells, literal=literal) for cells in rows]
     group += [head, body]
-    return nodes.table("", group, classes=["scene-parameters"])
+    return nodes.table("", group, classes=[name])
 
 
-def section(directive, cls):
-    """The section of one scene: title, summary, units, presets and the table."""
-    ident = f"parameters-{cls.name}"
-    node = nodes.section(ids=[ident], names=[ident])
-    node += nodes.title(text=f"{cls.name} ({cls.__name__})")
-    node += nodes.paragraph(text=cls.summary)
-    units = ", ".join(f"{quantity} in {symbol}" for quantity, symbol in cls.units.items())
-    node += nodes.paragraph(text=f"Units: {units}. Presets: {', '.join(cls.preset_names())} "
-                                 "(the preview and paper columns show what each sets; the "
-                                 "rest keep their defaults).")
-    node += table(cls)
-    domain = directive.env.get_domain("std")
-    domain.note_hyperlink_target(ident, directive.env.docname, ident,
-                                 f"parameters of the {cls.name} scene")
-    return node
+def table(cls):
+    """The parameters of ``cls`` as a docutils table."""
+    return grid(COLUMNS, WIDTHS, rows(cls), (0, 1, 2, 3), "scene-parameters")
 
 
-class SceneParameters(SphinxDirective):
-    """``.. scene-parameters::`` (``:scenes:`` a space-separated list; all by default)."""
+def units_text(cls):
+    """The scene's units in a phrase: "length in mm, stress in MPa, ..."."""
+    return ", ".join(f"{quantity} in {symbol}" for quantity, symbol in cls.units.items())
+
+
+class SceneTables(SphinxDirective):
+    """A section per scene (``:scenes:`` a space-separated list; all by default), each
+    labelled ``<kind>-<scene>``, titled with the scene's name and class, holding the
+    paragraphs and the table of :meth:`body`."""
 
     option_spec = {"scenes": directives.unchanged}
+    kind = ""
+
+    def body(self, cls):
+        """The nodes of the scene class ``cls``'s section below its title."""
+        raise NotImplementedError
+
+    def section(self, cls):
+        ident = f"{self.kind}-{cls.name}"
+        node = nodes.section(ids=[ident], names=[ident])
+        node += nodes.title(text=f"{cls.name} ({cls.__name__})")
+        node += self.body(cls)
+        self.env.get_domain("std").note_hyperlink_target(
+            ident, self.env.docname, ident, f"{self.kind} of the {cls.name} scene")
+        return node
 
     def run(self):
         names = self.options.get("scenes", "").split() or list(SCENES)
         unknown = sorted(set(names) - set(SCENES))
         if unknown:
             raise self.error(f"unknown scenes {unknown}: allowed {', '.join(SCENES)}")
-        return [section(self, SCENES[name]) for name in names]
+        return [self.section(SCENES[name]) for name in names]
+
+
+class SceneParameters(SceneTables):
+    """``.. scene-parameters::``: per scene its summary, units, presets and parameters."""
+
+    kind = "parameters"
+
+    def body(self, cls):
+        return [nodes.paragraph(text=cls.summary),
+                nodes.paragraph(text=f"Units: {units_text(cls)}. Presets: "
+                                     f"{', '.join(cls.preset_names())} (the preview and paper "
+                                     "columns show what each sets; the rest keep their "
+                                     "defaults)."),
+                table(cls)]
 
 
 def setup(app):

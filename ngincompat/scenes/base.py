@@ -12,6 +12,7 @@ the :class:`~ngincompat.workflow.results.Results`, writing files only when ``out
 """
 
 import sys
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -28,6 +29,7 @@ from ngincompat.parameters import (
 )
 from ngincompat.progress import SILENT, Progress
 from ngincompat.scenes import trust
+from ngincompat.scenes.metrics import Metric, registry
 from ngincompat.workflow import io, pipeline
 from ngincompat.workflow.results import MeshInfo, Results
 
@@ -84,13 +86,10 @@ class Scene:
     name: ClassVar[str] = ""
     summary: ClassVar[str] = ""
     units: ClassVar[dict] = {"length": "mm", "stress": "MPa", "energy": "N mm"}
-    #: Every metric the scene can report (a run reports those its settings produce); sweeps
-    #: check the metrics they ask for against it before running anything.
-    metrics: ClassVar[tuple[str, ...]] = ()
-    #: The quantity each dimensional metric of the scene measures, spelled in the scene's
-    #: units by :meth:`unit_of`; every other metric is a ratio (relative errors, growth
-    #: multipliers). Each scene lists its own.
-    metric_quantities: ClassVar[dict[str, str]] = {}
+    #: Every metric the scene can report (a run reports those its settings produce), each
+    #: with its quantity and meaning (:mod:`ngincompat.scenes.metrics`); sweeps check the
+    #: metrics they ask for against it before running anything.
+    metrics: ClassVar[Mapping[str, Metric]] = registry()
     #: Parameters that name the scene's variant in titles and labels (profile, fibers, ...).
     variant: ClassVar[tuple[str, ...]] = ()
     #: Accuracy indicators over the scene's metrics, each with its threshold
@@ -281,9 +280,15 @@ class Scene:
 
     @classmethod
     def metric_unit(cls, metric):
-        """The unit of ``metric`` in the scene's units ("-" for a ratio), from the quantity
-        it measures (:attr:`metric_quantities`)."""
-        quantity = cls.metric_quantities.get(metric)
+        """The unit of ``metric`` in the scene's units ("-" for a ratio or a count), from
+        the quantity it measures (:attr:`metrics`).
+
+        Raises
+        ------
+        KeyError
+            A metric the scene does not declare.
+        """
+        quantity = cls.metrics[metric].quantity
         return cls.unit_of(quantity) if quantity else "-"
 
     @classmethod

@@ -7,14 +7,6 @@ reader sees.
 
 from ngincompat.workflow.results import ProfileFigure
 
-#: The quantities of the curvature metrics
-#: (:func:`ngincompat.incompatibility.curvature.measure_growth`) of every scene that reports
-#: them (``outputs = curvature``).
-CURVATURE_QUANTITIES = {"scalar_curvature_min": "1/length^2",
-                        "scalar_curvature_max": "1/length^2",
-                        "einstein_norm_L2": "length^(-1/2)",
-                        "einstein_norm_L2_error": "length^(-1/2)"}
-
 #: Smallest range of the curvature axis of :func:`figure` [1/length^2]: the round-off of a
 #: flat metric is drawn flat.
 FIGURE_FLOOR = 1e-8

@@ -14,6 +14,7 @@ from ngincompat.mechanics.growth import FiberGrowth
 from ngincompat.mechanics.kinematics import deformation_gradient, elastic_part
 from ngincompat.scenes import prescribed
 from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, param
+from ngincompat.scenes.metrics import Metric, registry
 
 
 @dataclass(frozen=True)
@@ -32,11 +33,15 @@ class CylinderScene(prescribed.PrescribedScene):
     summary = "section 3.4: fiber growth of a cylinder, relieved by a stress-free rotation"
     # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.5, order=2, g_order=3), "paper": dict(order=4)}
-    metrics = prescribed.PrescribedScene.metrics + (
-        "b_eq27_error", "Fe_rotation_deviation", "rotation_rate", "rotation_rate_expected",)
-
-    metric_quantities = {**prescribed.PrescribedScene.metric_quantities,
-                         "rotation_rate": "1/length", "rotation_rate_expected": "1/length"}
+    metrics = registry(
+        prescribed.PrescribedScene.metrics,
+        b_eq27_error=Metric("the largest deviation of |b| on the cross-sections from its "
+                            "closed form, eq. (27), relative to that form's largest value"),
+        Fe_rotation_deviation=Metric("the largest |Fe^T Fe - I| over the body: zero when the "
+                                     "elastic part is a rotation, as eq. (54) says"),
+        rotation_rate=Metric("the rate at which the elastic rotation about e3 turns along the "
+                             "axis, fitted over the axis", "1/length"),
+        rotation_rate_expected=Metric("that rate by eq. (54): -a", "1/length"))
 
     order: int = ORDER(3)
     maxh: float = MAXH(0.25)

@@ -16,6 +16,7 @@ from ngincompat.mechanics.materials import make_material
 from ngincompat.scenes import prescribed
 from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, param
 from ngincompat.scenes.material import K1, K2, MU, Fibers
+from ngincompat.scenes.metrics import Metric, registry
 
 FIBERS = {"radial": "radial_xy", "circumferential": "circumferential"}
 
@@ -41,8 +42,17 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
     # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(maxh=0.4, order=2, g_order=3), "paper": dict(order=4)}
     variant = ("fibers", "material")
-    metrics = prescribed.PrescribedScene.metrics + (
-        "b_eq22_error", "b_out_of_plane", "b_along_grad_theta", "sigma_r_rim_rel",)
+    metrics = registry(
+        prescribed.PrescribedScene.metrics,
+        b_eq22_error=Metric("the largest deviation of b on the planes normal to e3 from its "
+                            "closed form, eq. (22), relative to that form's largest |b| (away "
+                            "from the axis, where theta has a cone)"),
+        b_out_of_plane=Metric("the largest component of b along the disc's normal, relative "
+                              "to the largest |b|: zero by eq. (22)"),
+        b_along_grad_theta=Metric("the largest component of b along grad theta (radial), "
+                                  "relative to the largest |b|: zero by eq. (22)"),
+        sigma_r_rim_rel=Metric("the radial Cauchy stress at the free rim relative to its "
+                               "largest value along the radius: zero at a traction-free rim"))
 
     order: int = ORDER(3)
     maxh: float = MAXH(0.2)

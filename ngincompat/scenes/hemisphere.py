@@ -14,6 +14,7 @@ from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.references.radial import solve_radial
 from ngincompat.scenes import prescribed
 from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, STEPS, param
+from ngincompat.scenes.metrics import Metric, registry
 
 #: The growth profiles f(R / R0) of Fig. 2f: f(0) = 0, f(1) = 1, as (CF builder, numpy).
 PROFILES = {
@@ -47,9 +48,21 @@ class HemisphereScene(prescribed.PrescribedScene):
     presets = {"preview": dict(maxh=0.5, centre_maxh=0.25, order=2, g_order=3),
                "paper": dict(maxh=0.4)}
     variant = ("profile", "flat_face", "model")
-    metrics = prescribed.PrescribedScene.metrics + (
-        "b_radial_rel", "b_meridional_off_circumferential", "b_circumferential_off_meridional",
-        "radial_sigma_rr_error", "radial_sigma_thetatheta_error", "radial_sigma_phiphi_error",)
+    metrics = registry(
+        prescribed.PrescribedScene.metrics,
+        b_radial_rel=Metric("the largest |b| on the radial planes relative to the largest on "
+                            "the meridional plane: zero in section 3.2"),
+        b_meridional_off_circumferential=Metric(
+            "the largest part of b on the meridional plane off the circumferential direction, "
+            "relative to the largest |b| there: zero in section 3.2"),
+        b_circumferential_off_meridional=Metric(
+            "the largest part of b on the circumferential plane off the meridional direction, "
+            "relative to the largest meridional |b|: zero in section 3.2"),
+        **{f"radial_sigma_{c}_error": Metric(
+            f"the largest deviation of the Cauchy stress sigma_{c} along a ray from the 1-D "
+            "radial solution (ngincompat.references.radial), relative to that solution's "
+            "largest stress (symmetric flat face only)")
+           for c in ("rr", "thetatheta", "phiphi")})
 
     order: int = ORDER(5)
     maxh: float = MAXH(0.5)

@@ -30,8 +30,8 @@ from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.scenes import curvature as curvature_report
 from ngincompat.scenes.base import Scene, param
 from ngincompat.scenes.case import SceneCase
-from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.material import Elastic
+from ngincompat.scenes.metrics import CURVATURE, INCOMPATIBILITY, MECHANICS, Metric, registry
 from ngincompat.workflow.pipeline import solve_stages, timed
 from ngincompat.workflow.results import ProfileFigure
 
@@ -123,7 +123,8 @@ class PrescribedCase(SceneCase):
 
 
 #: Poisson's ratio from which the displacement formulation is flagged as locking, at order
-#: 4 and above, and below.
+#: 4 and above, and below (``docs/measurements/stability.md``, "Where the locking warning
+#: starts").
 LOCKING_NU, LOW_ORDER_LOCKING_NU = 0.499, 0.49
 
 
@@ -151,12 +152,15 @@ class PrescribedScene(Elastic, Scene):
                             choices=QUADRATURES)
 
     #: Metrics of every prescribed-growth scene; subclasses add their verification metrics.
-    metrics = ("strain_energy", "max_principal_stress", "burgers_max", "G_error_L2_rel",
-               "G_norm_L2", "G_elastic_vs_growth_L2_rel", "scalar_curvature_min",
-               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error")
-    metric_quantities = {"strain_energy": "energy", "max_principal_stress": "stress",
-                         "burgers_max": "1/length", "G_norm_L2": "length^(1/2)",
-                         **CURVATURE_QUANTITIES}
+    metrics = registry(
+        MECHANICS, INCOMPATIBILITY, CURVATURE,
+        G_error_L2_rel=Metric("the L2 error of the computed G against the closed form of "
+                              "eqs. (10), (13), relative to the closed form's norm (growth "
+                              "with a closed form only)"),
+        G_elastic_vs_growth_L2_rel=Metric(
+            "the L2 difference of G computed from the elastic deformation (eq. 12) and from "
+            "the growth (eq. 10) of the solved body, relative to the latter: zero in exact "
+            "arithmetic"))
 
     def __post_init__(self):
         super().__post_init__()
@@ -169,18 +173,11 @@ class PrescribedScene(Elastic, Scene):
         return NeoHookean.from_nu(self.mu, self.nu)
 
     def trust(self, results):
-        """Warnings on formulations that lock as nu -> 0.5, from runs of the cube (eq. 50,
-        mu = 0.55 MPa; largest principal stress, order 4 on hexahedra unless said):
-
-        * displacement at nu = 0.499: 0.00317 MPa against the mixed form's 0.00288, in 233
-          Newton iterations over 32 load steps against 10 in one; at 0.49999: 0.52 MPa
-          after 4619 iterations; below order 4 already at nu = 0.49 (the sweep of the user
-          guide, examples/sweeps/cube_poisson.toml, maxh 0.5: 0.0114 MPa at order 2 and 0.0059 at
-          order 3, against 0.00285 at order 4);
-        * the mixed form does not lock, on tetrahedra below order 4 through the bubbles of
-          its displacement (:func:`ngincompat.fem.problem.bubbles`: without them, 0.198 MPa
-          at order 2 and nu = 0.49999).
-        """
+        """A warning when the displacement formulation runs at a Poisson's ratio where it
+        locks (:data:`LOCKING_NU` at order 4 and above, :data:`LOW_ORDER_LOCKING_NU` below):
+        its stress is too stiff there and Newton needs hundreds of iterations, while the mixed
+        form neither locks nor struggles (``docs/measurements/stability.md``, "Where the
+        locking warning starts")."""
         if not self.mechanics:
             return []
         limit = LOCKING_NU if self.order >= 4 else LOW_ORDER_LOCKING_NU

@@ -14,9 +14,8 @@ import math
 from dataclasses import dataclass
 
 #: Newton iterations per converged load or time step, on average over a run, above which the
-#: solve is flagged. Runs at the scenes' defaults take 3-8 (the cube 7 in 1 step, the
-#: folding bilayer's stages 3-12); the cube at nu = 0.49999 in the displacement formulation,
-#: which locks, took 4619 iterations.
+#: solve is flagged: well above what runs at the scenes' defaults take, well below a locking
+#: formulation's (``docs/measurements/stability.md``, "Where the locking warning starts").
 NEWTON_PER_STEP = 20
 
 

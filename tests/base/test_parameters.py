@@ -188,11 +188,11 @@ def test_outputs_are_parsed_in_one_place():
         assert output.wanted(results) == expected
 
 
-def test_metric_quantities_belong_to_the_scene_that_reports_them():
-    assert Scene.metric_quantities == {}
-    for name, cls in SCENES.items():
-        assert set(cls.metric_quantities) <= set(cls.metrics), name
-    assert "rotation_rate" not in SkinExpansionScene.metric_quantities
+def test_metric_units_belong_to_the_scene_that_reports_them():
+    assert dict(Scene.metrics) == {}
+    assert "rotation_rate" not in SkinExpansionScene.metrics
+    with pytest.raises(KeyError):
+        SkinExpansionScene.metric_unit("rotation_rate")
     assert SCENES["cylinder"].metric_unit("rotation_rate") == "1/mm"
     assert SCENES["folding"].metric_unit("onset_wavelength") == "cm"
 

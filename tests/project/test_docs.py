@@ -83,14 +83,19 @@ def test_api_reference_has_every_public_module_class_and_function(site):
     assert ("py:module", "geometries.cube") in documented     # a module, not the function
 
 
+def page_sections(page, kind):
+    """Scene name -> the HTML of a generated page between its ``<kind>-<scene>`` anchor and
+    the next scene's."""
+    starts = sorted((page.index(f'id="{kind}-{name}"'), name) for name in SCENES)
+    ends = [s for s, _ in starts[1:]] + [len(page)]
+    return {name: page[start:end] for (start, name), end in zip(starts, ends, strict=True)}
+
+
 @pytest.mark.docs
 def test_parameters_page_lists_every_parameter_of_every_scene(site):
     page = (site / "guide" / "parameters.html").read_text(encoding="utf-8")
-    for name, cls in SCENES.items():
-        start = page.index(f'id="parameters-{name}"')
-        end = min([page.index(f'id="parameters-{n}"') for n in SCENES
-                   if page.index(f'id="parameters-{n}"') > start] or [len(page)])
-        section = html.unescape(page[start:end])
+    for name, section in page_sections(page, "parameters").items():
+        cls, section = SCENES[name], html.unescape(section)
         cells = re.findall(r'<span class="pre">([^<]*)</span>', section)
         for parameter, decl in cls.declarations().items():
             assert parameter in cells, (name, parameter)
@@ -98,6 +103,23 @@ def test_parameters_page_lists_every_parameter_of_every_scene(site):
         for preset, values in cls.presets.items():        # what each preset sets, shown
             for key in values:
                 assert key in cells, (name, preset, key)
+
+
+@pytest.mark.docs
+def test_metrics_page_lists_every_metric_of_every_scene_with_unit_and_meaning(site):
+    page = (site / "guide" / "metrics.html").read_text(encoding="utf-8")
+    for name, section in page_sections(page, "metrics").items():
+        cls = SCENES[name]
+        rows = re.findall(r'<tr[^>]*>(.*?)</tr>', section, flags=re.S)
+        listed = {}
+        for row in rows[1:]:
+            cells = [html.unescape(re.sub(r"<[^>]+>", "", c)).strip()
+                     for c in re.findall(r"<td[^>]*>(.*?)</td>", row, flags=re.S)]
+            listed[cells[0]] = cells[1:]
+        assert list(listed) == list(cls.metrics), name
+        for metric, (unit, meaning) in listed.items():
+            assert unit == cls.metric_unit(metric), (name, metric)
+            assert " ".join(meaning.split()) == " ".join(cls.metrics[metric].meaning.split())
 
 
 @pytest.mark.docs

@@ -29,8 +29,15 @@ from ngincompat.scenes.base import (
     check_time_steps,
     param,
 )
-from ngincompat.scenes.curvature import CURVATURE_QUANTITIES
 from ngincompat.scenes.material import MU, NU
+from ngincompat.scenes.metrics import (
+    CURVATURE,
+    INCOMPATIBILITY,
+    MECHANICS,
+    Metric,
+    registry,
+    select,
+)
 from ngincompat.scenes.trust import Indicator
 
 GEOMETRIES = ("idealized", "mni152", "fsaverage")
@@ -61,24 +68,82 @@ class AtrophyScene(Scene):
     units = {"length": "cm", "stress": "kPa", "energy": "mJ", "time": "yr"}
     # the measurements behind them: docs/measurements/solver-costs.md, "Presets"
     presets = {"preview": dict(snapshots=1), "paper": dict(maxh=0.7, dt=0.1)}
-    metrics = ("volume_loss", "gray_volume_loss", "white_volume_loss", "volume_loss_theta",
-               "volume_bookkeeping_error", "Je_deviation_max", "Je_deviation_volume_fraction",
-               "burgers_max",
-               "burgers_peak_depth", "max_principal_stress", "stress_peak_depth", "strain_energy",
-               "equilibrium_residual_rel", "c_min", "c_max", "c_integral", "front_radius",
-               "theta_min_reached", "G_norm_L2", "scalar_curvature_min",
-               "scalar_curvature_max", "einstein_norm_L2", "einstein_norm_L2_error",
-               "gray_volume", "white_volume", "volume_surface_deviation",
-               "cortex_elements_across_min", "cortex_elements_across_median",
-               "cortex_thickness", "burgers_interface_fraction",
-               "interface_band_volume_fraction", "stress_interface_over_surface")
-    metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
-                         "strain_energy": "energy",
-                         "G_norm_L2": "length^(1/2)", "front_radius": "length",
-                         "burgers_peak_depth": "length", "stress_peak_depth": "length",
-                         "c_integral": "length^3", "gray_volume": "length^3",
-                         "white_volume": "length^3", "cortex_thickness": "length",
-                         **CURVATURE_QUANTITIES}
+    metrics = registry(
+        dict(
+            volume_loss=Metric("the brain's volume loss at the last equilibrium, 1 - int J dV "
+                               "/ V0 over the body (V0 its reference volume)"),
+            gray_volume_loss=Metric("the same over the gray matter, 1 - int J dV / V0 over "
+                                    "gray (section 3.5: it shrinks faster than white)"),
+            white_volume_loss=Metric("the same over the white matter, 1 - int J dV / V0 over "
+                                     "white"),
+            volume_loss_theta=Metric("the volume loss the growth prescribes at t_end, "
+                                     "1 - int theta dV / V0 over the body, without the "
+                                     "mechanics"),
+            volume_bookkeeping_error=Metric("the difference between int J dV and int theta dV "
+                                            "over the body at the last equilibrium, relative "
+                                            "to the reference volume"),
+            Je_deviation_max=Metric("the largest |Je - 1|, Je = J / theta, over the integration "
+                                    "points and vertices at the last equilibrium: the elastic "
+                                    "volume change, small in a nearly incompressible tissue"),
+            Je_deviation_volume_fraction=Metric(
+                "the share of the reference volume where |Je - 1| exceeds JE_DEVIATION "
+                "(ngincompat.scenes.atrophy.case) at the last equilibrium")),
+        select(["burgers_max"], INCOMPATIBILITY),
+        dict(
+            burgers_peak_depth=Metric("the depth below the outer surface of the largest |b| "
+                                      "(of the planes normal to e1, e2, e3) along the line "
+                                      "from the centre of the bounding box along +X1 (Fig. 5d)",
+                                      "length")),
+        select(["max_principal_stress"], MECHANICS),
+        dict(
+            stress_peak_depth=Metric("the depth below the outer surface of the largest maximum "
+                                     "principal Cauchy stress along that line (Fig. 5e)",
+                                     "length")),
+        select(["strain_energy"], MECHANICS),
+        dict(
+            equilibrium_residual_rel=Metric(
+                "the norm of int P F^T dV, the integral of the Cauchy stress over the deformed "
+                "brain, relative to int |sigma| J dV: zero for a traction-free body in "
+                "equilibrium"),
+            c_min=Metric("the smallest nodal concentration c of misfolded protein over the "
+                         "run, the initial state included"),
+            c_max=Metric("the largest nodal concentration c over the run, the initial state "
+                         "included"),
+            c_integral=Metric("the amount of misfolded protein int c dV (lumped mass) at t_end",
+                              "length^3"),
+            front_radius=Metric("the largest distance from the seed's centre of a mesh vertex "
+                                "where c >= 1/2 at t_end (a seed with a centre only)",
+                                "length"),
+            theta_min_reached=Metric("the smallest volume ratio theta (Fg = theta^(1/3) I, eq. "
+                                     "13) over the body at t_end")),
+        select(["G_norm_L2"], INCOMPATIBILITY),
+        CURVATURE,
+        dict(
+            gray_volume=Metric("the reference volume of the gray matter", "length^3"),
+            white_volume=Metric("the reference volume of the white matter", "length^3"),
+            volume_surface_deviation=Metric(
+                "the larger relative difference of the gray and the white matter's mesh "
+                "volumes from the volumes the surfaces enclose, between the pial and the white "
+                "surface and inside the white one (divergence theorem; fsaverage only)"),
+            cortex_elements_across_min=Metric(
+                "the smallest number of elements across the cortex over the columns between "
+                "white and pial triangles off the medial wall (ngincompat.fem.resolution; "
+                "fsaverage only)"),
+            cortex_elements_across_median=Metric("the median of that number over the columns "
+                                                 "(fsaverage only)"),
+            cortex_thickness=Metric("the mean cortical thickness T: the gray matter's volume "
+                                    "over the mean of the outer surface's and the gray/white "
+                                    "interface's areas (reference)", "length"),
+            burgers_interface_fraction=Metric(
+                "the share of int |b| dV within T of the gray/white interface, on either side "
+                "(Fig. 5d: |b| concentrated at the interface)"),
+            interface_band_volume_fraction=Metric(
+                "the share of the reference volume within T of the interface: "
+                "burgers_interface_fraction for a uniform |b|"),
+            stress_interface_over_surface=Metric(
+                "the mean maximum principal stress in the gray band at the interface "
+                "(7/8 <= xi < 1, xi the depth in local cortical thicknesses) over that in the "
+                "band at the outer surface (0 <= xi < 1/8) (Fig. 5e)")))
     #: The coarse run --maxh 2 --set t_end=10 --set dt=1 --set snapshots=2 gave 3.5e-5 while
     #: the mixed form's pair on tetrahedra was not stable, 4e-16 with its bubbles
     #: (docs/measurements/mixed.md). (|Je - 1|: trust.)

@@ -21,6 +21,7 @@ from ngincompat.scenes.base import (
     param,
 )
 from ngincompat.scenes.folding.case import FoldingCase
+from ngincompat.scenes.metrics import INCOMPATIBILITY, MECHANICS, Metric, registry, select
 from ngincompat.scenes.trust import Indicator
 
 #: The axon fields of Fig. 7 (left to right), and "none": no axon growth.
@@ -47,30 +48,91 @@ class FoldingScene(Scene):
                   "relaxation stopped short of it"),
         Indicator("release_reaction_rel", 1e-6, "the released body is not self-equilibrated: "
                   "its pins carry load"))
-    metrics = ("onset_growth", "onset_wavelength", "onset_time", "fold_amplitude", "sulci",
-               "sulcus_depth",
-               "t_reached", "theta_c_reached", "Je_min", "self_contact_area",
-               "self_contact_penetration_max", "burgers_interface_mean",
-               "theta_a_max", "burgers_max", "burgers_max_depth", "burgers_max_X1",
-               "equilibrium_residual", "equilibrium_eigenvalue", "max_principal_stress",
-               "max_principal_stress_released", "top_curvature_released",
-               "peak_tension_depth", "peak_tension_depth_released", "release_reaction_rel",
-               "top_stretch_min", "strain_energy", "strain_energy_released")
-    metric_quantities = {"burgers_max": "1/length", "max_principal_stress": "stress",
-                         "max_principal_stress_released": "stress",
-                         "onset_wavelength": "length",
-                         "fold_amplitude": "length", "sulcus_depth": "length",
-                         "onset_time": "time",
-                         "t_reached": "time", "self_contact_area": "length",
-                         "self_contact_penetration_max": "length",
-                         "burgers_interface_mean": "1/length",
-                         "burgers_max_depth": "length", "burgers_max_X1": "length",
-                         "equilibrium_eigenvalue": "stress/length^2",
-                         "top_curvature_released": "1/length",
-                         "peak_tension_depth": "length",
-                         "peak_tension_depth_released": "length",
-                         "strain_energy": "stress length^2",
-                         "strain_energy_released": "stress length^2"}
+    metrics = registry(
+        dict(
+            onset_growth=Metric("the cortex growth theta_c at the onset of buckling: the "
+                                "earliest zero crossing of the smallest eigenvalues of the "
+                                "elastic tangent at frozen growth, interpolated linearly in "
+                                "theta_c between the first step with a negative one and the "
+                                "step before"),
+            onset_wavelength=Metric("the wavelength of that onset's buckling mode along the top "
+                                    "surface, twice the mean distance between the zero "
+                                    "crossings of its u2 (reference length)", "length"),
+            onset_time=Metric("the growth time of the onset, (onset_growth - 1) / cortex_rate",
+                              "time"),
+            fold_amplitude=Metric("half the peak-to-peak vertical displacement u2 along the top "
+                                  "surface of the final grown equilibrium, before the release",
+                                  "length"),
+            sulci=Metric("the number of sulci of the final grown equilibrium: the troughs of u2 "
+                         "along the top, with a hysteresis of a tenth of its peak-to-peak "
+                         "height, one on a roller end counting one half"),
+            sulcus_depth=Metric("the depth of the deepest of those sulci below the lower of "
+                                "its two neighbouring crests of u2", "length"),
+            t_reached=Metric("the growth time of the last converged growth step: t_end where "
+                             "the run grew to its end", "time"),
+            theta_c_reached=Metric("the cortex growth there, 1 + cortex_rate t_reached"),
+            Je_min=Metric("the smallest elastic Jacobian Je = det F / theta over the "
+                          "integration points and vertices, over the records of the growth and "
+                          "the final grown and released states: positive where no element has "
+                          "inverted"),
+            self_contact_area=Metric("the reference length of the top line in self-contact "
+                                     "(where it penetrates the other wall or an image, gap < 0) "
+                                     "in the final grown state: the section's contact area",
+                                     "length"),
+            self_contact_penetration_max=Metric(
+                "the largest penetration -gap of the top surface's self-contact at its "
+                "integration points, over the records of the growth and the final grown and "
+                "released states", "length"),
+            burgers_interface_mean=Metric(
+                "the mean |b| on the plane normal to e3 (eq. 11) over the band of one cortex "
+                "thickness centred on the cortex-subcortex interface (reference X2), where "
+                "Fig. 7b has it largest", "1/length"),
+            theta_a_max=Metric("the largest axon growth theta_a (theta of the subcortex's "
+                               "fiber growth, eqs. 23 and 45) over the section at the end")),
+        select(["burgers_max"], INCOMPATIBILITY),
+        dict(
+            burgers_max_depth=Metric("the reference depth below the top surface (height - X2) "
+                                     "of the point where |b| is largest", "length"),
+            burgers_max_X1=Metric("the reference X1 of that point", "length"),
+            equilibrium_residual=Metric("the residual without viscosity at the equilibrium "
+                                        "found at t_end with the growth held, relative to that "
+                                        "at the end of the viscous march"),
+            equilibrium_eigenvalue=Metric(
+                "the smallest eigenvalue omega of the elastic tangent at frozen growth, "
+                "K w = omega M w with M the L2 mass matrix, at that equilibrium: not negative "
+                "where it is stable", "stress/length^2")),
+        select(["max_principal_stress"], MECHANICS),
+        dict(
+            max_principal_stress_released=Metric(
+                "the largest principal Cauchy stress over the integration points and vertices "
+                "after the release (supports removed, growth frozen): the residual stress of "
+                "the incompatibility alone (Fig. 7c)", "stress"),
+            top_curvature_released=Metric(
+                "the signed curvature of the circle fitted to the deformed top line (X1 + u1, "
+                "X2 + u2) over the central third of the length after the release: positive "
+                "where the top bulges upward (section 3.7's bending of the top layer)",
+                "1/length"),
+            peak_tension_depth=Metric("the reference depth below the top surface where "
+                                      "max_principal_stress is reached (the grown state on its "
+                                      "supports)", "length"),
+            peak_tension_depth_released=Metric(
+                "the reference depth below the top surface where max_principal_stress_released "
+                "is reached: below the interface where it exceeds cortex_thickness (Fig. 7c)",
+                "length"),
+            release_reaction_rel=Metric("the norm of the reactions of the rigid-body pins at "
+                                        "the released equilibrium relative to the forces the "
+                                        "removed supports carried: zero for a "
+                                        "self-equilibrated body"),
+            top_stretch_min=Metric("the smallest elastic stretch of the top surface along it, "
+                                   "lambda_e = |F e1| / theta_c, over the records of the "
+                                   "perfect branch and the march (a neo-Hookean surface "
+                                   "creases below CREASE_STRETCH)"),
+            strain_energy=Metric("the elastic energy per unit depth of the grown state on its "
+                                 "supports, int Jg Psi dA over the reference section (Psi of "
+                                 "eq. 36)", "stress length^2"),
+            strain_energy_released=Metric("the elastic energy per unit depth after the release, "
+                                          "int Jg Psi dA over the reference section",
+                                          "stress length^2")))
     units = {"length": "cm", "stress": "kPa", "energy": "kPa cm^3 (mJ)", "time": "day"}
 
     order: int = ORDER(2, help="polynomial order of the displacement: 2 (across the cortex at "
