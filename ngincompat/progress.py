@@ -29,8 +29,8 @@ from typing import TextIO
 from tqdm.auto import tqdm
 
 #: Seconds without a line after which a case says that it is still computing: a silent minute
-#: is too long for a user to tell a run from a hang (a 100 cm bilayer meshed for 92 s and
-#: iterated its first step for three minutes without a word).
+#: is too long for a user to tell a run from a hang (meshing a large body, or the first step
+#: on a fine mesh, can take minutes without a word).
 STILL = 60.0
 
 

@@ -40,10 +40,9 @@ from ngincompat.workflow.results import DONE
 RESOLUTIONS = ("preview", "paper")
 
 #: The hemispheres are solved as quarters (their mirror planes X1 = 0, X2 = 0 held): the same
-#: solution at a third of the unknowns. With the centre refined to 0.04 the quarter's stresses
-#: are closer to the radial solution than the full hemisphere's at 0.05 (largest relative
-#: deviation 1.7e-4 at 7638 dofs against 2.1e-4 at 30228), and its growth solve is 2-3 s
-#: instead of 10-24 s.
+#: solution at a quarter of the unknowns, with the centre refined to 0.04 closer
+#: to the radial solution than the full hemisphere (``docs/measurements/solver-costs.md``,
+#: "The prescribed scenes: levers behind the defaults").
 HEMISPHERE = dict(model="quarter", centre_maxh=0.04)
 
 

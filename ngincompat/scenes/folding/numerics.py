@@ -22,8 +22,8 @@ CONTACT_REACH = 0.25
 #: Newton's linear solver in every stage (:class:`~ngincompat.fem.solver.NewtonOptions`): GMRES
 #: preconditioned by the sparse Cholesky factorisation of the tangent's symmetric part. The
 #: coupled tangent (growth condensed) is symmetric but for the stretch-driven axons' coupling
-#: (under 1 % of its norm); on the default bilayer GMRES takes a few iterations per direction
-#: and a Newton step costs about half of one with UMFPACK's LU, with the same residuals
+#: (small beside its norm); on the default bilayer GMRES takes a few iterations per direction
+#: and a Newton step costs less than one with UMFPACK's LU, with the same residuals
 #: (``docs/measurements/folding.md``, "Where the time goes").
 #: At most ``KRYLOV_MAXITER`` iterations: where the preconditioner is poor the step is cut.
 LINEAR_SOLVER = "symmetric-gmres"
@@ -54,7 +54,7 @@ RELAXATION_STEPS = 500
 #: the viscous march gives a step up once its residual has stayed above its best for
 #: ``STALL`` iterations (``stall``). The march meets short events where a fold snaps, which
 #: only steps of a few thousandths of a day get through: doubling after each easy step
-#: failed again at each, and each failed try cost the 12 iterations of its cap
+#: failed again at each, and each failed try cost the iterations of its cap
 #: (docs/measurements/folding.md, "The march's failed steps").
 STEP_HOLD = 2
 STALL = 3

@@ -48,9 +48,9 @@ from ngincompat.scenes import SCENES, get_scene
 
 SWEEP_KEYS = ("scene", "fixed", "vary", "zip", "metrics")
 RANGE_KEYS = ("start", "stop", "num", "step")
-#: The most cases a sweep may have, counted from the file before any list is made (a range
-#: of num = 1e12 tried to allocate 7 TiB, a 1000^3 product took 4.7 GB before failing): each
-#: case is a run of its scene, so 10,000 of them are days of computing already.
+#: The most cases a sweep may have, counted from the file before any list is made (a huge
+#: range or product would exhaust the memory before the first case ran): each case is a run of
+#: its scene, so 10,000 of them are days of computing already.
 MAX_CASES = 10_000
 
 
