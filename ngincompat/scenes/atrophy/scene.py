@@ -144,9 +144,9 @@ class AtrophyScene(Scene):
                 "the mean maximum principal stress in the gray band at the interface "
                 "(7/8 <= xi < 1, xi the depth in local cortical thicknesses) over that in the "
                 "band at the outer surface (0 <= xi < 1/8) (Fig. 5e)")))
-    #: The coarse run --maxh 2 --set t_end=10 --set dt=1 --set snapshots=2 gave 3.5e-5 while
-    #: the mixed form's pair on tetrahedra was not stable, 4e-16 with its bubbles
-    #: (docs/measurements/mixed.md). (|Je - 1|: trust.)
+    #: An unstable mixed pair left a residual far above the limit, the stable one round-off
+    #: (``docs/measurements/mixed.md``, "What it changed in the atrophy scene"). (|Je - 1|:
+    #: trust.)
     indicators = (
         Indicator("equilibrium_residual_rel", 1e-6, "the equilibrium is not met: refine, or "
                   "use formulation=mixed"),
