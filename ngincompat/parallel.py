@@ -17,7 +17,7 @@ from __future__ import annotations
 import functools
 import os
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any, SupportsFloat, TypeVar
 
 import numpy as np
 
@@ -131,7 +131,7 @@ def distribute_geometry(geometry: Any, maxh: float, curve_order: int = 1) -> ngs
     return mesh
 
 
-def total(mesh: ngs.Mesh, value: float) -> float:
+def total(mesh: ngs.Mesh, value: SupportsFloat) -> float:
     """The sum over the ranks of a rank-local number (e.g. ``BilinearForm.Energy``)."""
     return mesh.comm.Sum(float(value)) if distributed(mesh) else float(value)
 

@@ -15,6 +15,8 @@ so omega has the unit stress / length^2 and does not depend on the mesh; growth 
 Hessian even when the growth is coupled to the stretch.
 """
 
+from collections.abc import Sequence
+
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
@@ -23,6 +25,8 @@ from scipy.sparse.linalg import LinearOperator, eigsh
 
 from ngincompat import config
 from ngincompat.errors import ConvergenceError, require
+from ngincompat.fem.coupled import CoupledProblem
+from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.fem.sparse_lu import free_block
 from ngincompat.fem.work import part
 
@@ -47,7 +51,7 @@ MAX_SHIFTS = 16
 SHIFT_GROWTH = 4
 
 
-def _symmetric_lu(A):
+def _symmetric_lu(A: sp.spmatrix) -> spla.SuperLU:
     """SuperLU of the symmetric sparse A with a symmetric permutation and diagonal pivots
     (minimum degree on the pattern of A^T + A, pivot threshold 0, symmetric mode):
     P A P^T = L U with U = D L^T, an LDL^T factorisation."""
@@ -63,12 +67,12 @@ def _symmetric_lu(A):
     return lu
 
 
-def _negatives(lu):
+def _negatives(lu: spla.SuperLU) -> int:
     """The number of negative pivots D of an LU from :func:`_symmetric_lu`."""
     return int(np.count_nonzero(lu.U.diagonal() < 0))
 
 
-def count_below(K, M, sigma=0.0):
+def count_below(K: sp.spmatrix, M: sp.spmatrix, sigma: float = 0.0) -> int:
     """The number of eigenvalues omega < sigma of the pencil K w = omega M w (K symmetric, M
     symmetric positive definite; scipy sparse matrices).
 
@@ -80,7 +84,7 @@ def count_below(K, M, sigma=0.0):
     return _negatives(_symmetric_lu(K - sigma * M))
 
 
-def _inverse_operator(A, inverse, lu):
+def _inverse_operator(A: sp.spmatrix, inverse: str, lu: spla.SuperLU) -> LinearOperator:
     """A^-1 factorised by ``inverse`` ("superlu": ``lu``; else NGSolve's factorisation of that
     name) as a scipy LinearOperator."""
     if inverse == "superlu":
@@ -91,7 +95,7 @@ def _inverse_operator(A, inverse, lu):
         factor = matrix.Inverse(inverse=inverse)
     x, y = matrix.CreateColVector(), matrix.CreateColVector()
 
-    def solve(b):
+    def solve(b: np.ndarray) -> np.ndarray:
         x.FV().NumPy()[:] = np.ravel(b)
         y.data = factor * x
         return y.FV().NumPy().copy()
@@ -99,13 +103,15 @@ def _inverse_operator(A, inverse, lu):
     return LinearOperator(A.shape, matvec=solve, dtype=float)
 
 
-def _residual(K, M, values, vectors):
+def _residual(K: sp.spmatrix, M: sp.spmatrix, values: np.ndarray, vectors: np.ndarray) -> float:
     """The largest residual |K w - omega M w| / (|K|_1 |w|) of the pairs."""
     scale = spla.norm(K, 1) * np.linalg.norm(vectors, axis=0)
     return float(np.max(np.linalg.norm(K @ vectors - (M @ vectors) * values, axis=0) / scale))
 
 
-def _pairs_about(K, M, sigma, count, A, lu):
+def _pairs_about(K: sp.spmatrix, M: sp.spmatrix, sigma: float, count: int | np.integer,
+                 A: sp.spmatrix,
+                 lu: spla.SuperLU) -> tuple[np.ndarray, np.ndarray]:
     """The ``count`` eigenpairs of the pencil nearest sigma: shift-invert Lanczos from a seeded
     start with A = K - sigma M factorised by the first of :data:`INVERSES` whose pairs are
     accurate (``lu``: A's :func:`_symmetric_lu`)."""
@@ -120,7 +126,8 @@ def _pairs_about(K, M, sigma, count, A, lu):
                            f"({', '.join(INVERSES)})")
 
 
-def _smallest(K, M, count, negative=False):
+def _smallest(K: sp.spmatrix, M: sp.spmatrix, count: int,
+              negative: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """The ``count`` smallest eigenpairs of the pencil (with ``negative``: at least all the
     negative ones and the smallest other), proven by the inertia.
 
@@ -165,7 +172,8 @@ def _smallest(K, M, count, negative=False):
 
 
 @part("eigenpairs")
-def smallest_eigenpairs(problem, count=1, negative=False):
+def smallest_eigenpairs(problem: GrowthMechanics | CoupledProblem, count: int = 1,
+                        negative: bool = False) -> tuple[np.ndarray, list[ngs.GridFunction]]:
     """The ``count`` smallest eigenvalues omega of K w = omega M w and their modes.
 
     Parameters
@@ -236,7 +244,7 @@ def smallest_eigenpairs(problem, count=1, negative=False):
     return values[order], modes
 
 
-def _normalised(mode):
+def _normalised(mode: ngs.GridFunction) -> ngs.GridFunction:
     """``mode`` scaled to unit L2 norm and signed so that its largest dof is positive."""
     w = mode.vec.FV().NumPy()
     sign = np.sign(w[np.argmax(np.abs(w))])
@@ -245,7 +253,8 @@ def _normalised(mode):
     return mode
 
 
-def combine(modes, x):
+def combine(modes: Sequence[ngs.GridFunction],
+            x: Sequence[float] | np.ndarray) -> ngs.GridFunction:
     """The mode sum_j x_j v_j of the ``modes`` v_j, of unit L2 norm, its largest dof
     positive."""
     mode = ngs.GridFunction(modes[0].space, name="buckling mode")
@@ -254,7 +263,7 @@ def combine(modes, x):
     return _normalised(mode)
 
 
-def _mass(V):
+def _mass(V: ngs.FESpace) -> ngs.BaseMatrix:
     """The L2 mass matrix int w . v dV of the space V."""
     u, v = V.TnT()
     mass = ngs.BilinearForm(V)
@@ -263,7 +272,8 @@ def _mass(V):
     return mass.mat
 
 
-def overlaps(first, second):
+def overlaps(first: Sequence[ngs.GridFunction],
+             second: Sequence[ngs.GridFunction]) -> np.ndarray:
     """The L2 inner products int w_i . v_j dV of the modes ``first`` (w_i) and ``second``
     (v_j), GridFunctions of one space: an (len(first), len(second)) array."""
     matrix = _mass(first[0].space)
@@ -276,7 +286,9 @@ def overlaps(first, second):
     return result
 
 
-def mode_crossings(loads, previous, values, overlap):
+def mode_crossings(loads: tuple[float, float], previous: Sequence[float] | np.ndarray,
+                   values: Sequence[float] | np.ndarray,
+                   overlap: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Where the modes of two samples of the pencil cross zero, by the Rayleigh quotients of
     the modes of both samples interpolated linearly between them.
 
@@ -327,7 +339,9 @@ def mode_crossings(loads, previous, values, overlap):
     return crossings, held
 
 
-def earliest_crossing(loads, previous, values, overlap):
+def earliest_crossing(loads: tuple[float, float], previous: Sequence[float] | np.ndarray,
+                      values: Sequence[float] | np.ndarray,
+                      overlap: np.ndarray) -> tuple[float, np.ndarray, float] | None:
     """The earliest of :func:`mode_crossings` (same arguments): the load, the mode there as
     coefficients x of the modes v_j at l1 (unit length: a mode w_i at l0 as its part in their
     span, sum_j c_ij v_j, normalised) and the part of it the other sample held; None if
@@ -346,7 +360,7 @@ def earliest_crossing(loads, previous, values, overlap):
     return float(crossings[first]), x, float(held[first])
 
 
-def wavelength(x, w):
+def wavelength(x: Sequence[float] | np.ndarray, w: Sequence[float] | np.ndarray) -> float:
     """The wavelength of an undulation w(x) sampled at increasing x: twice the mean distance
     between its consecutive zero crossings (linearly interpolated); NaN with fewer than two.
 

@@ -44,26 +44,30 @@ of a :class:`~ngincompat.fem.coupled.CoupledProblem`.
 """
 
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
-from typing import ClassVar
+from typing import Any, ClassVar, TypeAlias
 
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat import names
 from ngincompat.errors import require
-from ngincompat.fem.terms import VolumeHolder
+from ngincompat.fem.terms import Unknown, VolumeHolder
+
+# what the functions here take and give: CoefficientFunctions, or numpy arrays
+_Values: TypeAlias = ngs.CoefficientFunction | np.ndarray
 
 
-def _ifpos(c, a, b):
+def _ifpos(c: _Values, a: Any, b: Any) -> _Values:
     """a where c > 0, else b, for CoefficientFunctions or arrays."""
     if isinstance(c, ngs.CoefficientFunction):
         return ngs.IfPos(c, a, b)
     return np.where(c > 0, a, b)
 
 
-def ramp(s, eps):
+def ramp(s: _Values, eps: float) -> tuple[_Values, _Values]:
     """The ramp max(s, 0) rounded over the width ``eps`` (see the module's notes), r(s) = 0,
     s^2 / (2 eps), s - eps / 2, and its integral R(s) = 0, s^3 / (6 eps), s^2 / 2 - eps s / 2
     + eps^2 / 6 (s <= 0, 0 < s < eps, s >= eps); eps = 0: max(s, 0) and max(s, 0)^2 / 2."""
@@ -87,7 +91,7 @@ class Expander:
     penalty: float
     width: float = 0.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.footprint in self.FOOTPRINTS, "footprint", self.footprint,
                 ", ".join(self.FOOTPRINTS))
         require(self.size > 0, "footprint_size", self.size, "> 0")
@@ -96,7 +100,7 @@ class Expander:
         require(math.isfinite(self.width) and self.width >= 0, "contact_width", self.width,
                 ">= 0 (finite)")
 
-    def factors(self):
+    def factors(self) -> tuple[tuple[float, ...], ...]:
         """The dome as a product of quadratics: (sign, x0, y0, cx, cy) stands for
         sign (1 - cx (x - x0)^2 - cy (y - y0)^2); inside the footprint all are positive."""
         r = self.size / 2
@@ -107,7 +111,7 @@ class Expander:
         a, b = r, (r / 2 if self.footprint == "rectangle" else r)
         return ((1, 0, 0, 1 / a**2, 0), (1, 0, 0, 0, 1 / b**2))
 
-    def _raw(self, x, y):
+    def _raw(self, x: _Values, y: _Values) -> tuple[_Values, _Values, _Values]:
         """phi before scaling to 1 at its top, and its gradient (zero outside)."""
         values, grads = [], []
         for sign, x0, y0, cx, cy in self.factors():
@@ -122,38 +126,41 @@ class Expander:
         return phi, dx, dy
 
     @cached_property
-    def peak(self):
+    def peak(self) -> float:
         """The largest value of the unscaled dome (1 but for the crescent, found on a grid of
         the footprint's bounding box with 1001 x 1001 points)."""
         s = np.linspace(-self.size / 2, self.size / 2, 1001)
         x, y = np.meshgrid(s, s)
         return float(np.max(self._raw(x, y)[0]))
 
-    def shape(self, x, y):
+    def shape(self, x: _Values, y: _Values) -> tuple[_Values, ...]:
         """phi(x, y) and its gradient, scaled so that the top of the dome is at 1."""
         peak = self.peak
         return tuple(c / peak for c in self._raw(x, y))
 
-    def gap(self, x, height):
+    def gap(self, x: ngs.CoefficientFunction | Sequence[np.ndarray],
+            height: ngs.CoefficientFunction | float) -> _Values:
         """The gap g of the point x (a 3-vector CF, or a tuple of arrays) above the dome of
         ``height``: negative where the skin penetrates the expander."""
         phi, dx, dy = self.shape(x[0], x[1])
         slope = (1 + height * height * (dx * dx + dy * dy)) ** 0.5
         return (x[2] - height * phi) / slope
 
-    def ramp(self, s):
+    def ramp(self, s: _Values) -> tuple[_Values, _Values]:
         """The rounded ramp r(s) and its integral R(s) over the width (:func:`ramp`)."""
         return ramp(s, self.width)
 
-    def energy(self, x, height):
+    def energy(self, x: ngs.CoefficientFunction | Sequence[np.ndarray],
+               height: ngs.CoefficientFunction | float) -> _Values:
         """The penalty energy per reference area, kappa R(-g)."""
         return self.penalty * self.ramp(-self.gap(x, height))[1]
 
-    def pressure(self, x, height):
+    def pressure(self, x: ngs.CoefficientFunction | Sequence[np.ndarray],
+                 height: ngs.CoefficientFunction | float) -> _Values:
         """The contact pressure kappa r(-g) per reference area (zero where open)."""
         return self.penalty * self.ramp(-self.gap(x, height))[0]
 
-    def points(self, spacing):
+    def points(self, spacing: float) -> np.ndarray:
         """Points of the footprint (X3 = 0) on a square grid of ``spacing``, for sampling."""
         require(spacing > 0, "spacing", spacing, "> 0")
         n = int(math.ceil(self.size / spacing)) + 1
@@ -163,7 +170,8 @@ class Expander:
         return np.column_stack([x[inside], y[inside], np.zeros(np.count_nonzero(inside))])
 
 
-def sample(mesh, expander, cfs, spacing):
+def sample(mesh: ngs.Mesh, expander: Expander, cfs: Mapping[str, ngs.CoefficientFunction],
+           spacing: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Values of the CFs ``cfs`` (name -> CF) on the skin's lower surface at the footprint's
     points of a grid of ``spacing`` (:meth:`Expander.points`); returns (points, values)."""
     pts = expander.points(spacing)
@@ -171,7 +179,8 @@ def sample(mesh, expander, cfs, spacing):
     return pts, {k: np.asarray(cf(where)).ravel() for k, cf in cfs.items()}
 
 
-def measure(mesh, boundary, expander, height, gap, pressure):
+def measure(mesh: ngs.Mesh, boundary: str, expander: Expander, height: float,
+            gap: ngs.CoefficientFunction, pressure: ngs.CoefficientFunction) -> dict[str, float]:
     """The expander and its contact with the skin's lower surface ``boundary``: height,
     contact area (where g < 0, reference area), the contact force (the integral of the
     pressure over the reference surface), largest penetration (on a grid of spacing
@@ -179,7 +188,7 @@ def measure(mesh, boundary, expander, height, gap, pressure):
     pressure over the contact area (the contact force per contact area)."""
     region = mesh.Boundaries(boundary)
 
-    def integral(cf):
+    def integral(cf: ngs.CoefficientFunction) -> float:
         return ngs.Integrate(cf, mesh, ngs.BND, definedon=region, order=8)
 
     area, force = integral(ngs.IfPos(-gap, 1.0, 0.0)), integral(pressure)
@@ -211,35 +220,37 @@ class ExpanderContact(VolumeHolder):
         The boundary that rests on the expander.
     """
 
-    def __init__(self, expander: Expander, boundary: str):
+    def __init__(self, expander: Expander, boundary: str) -> None:
         super().__init__(boundary)
         self.expander = expander
 
-    def attach(self, problem, unknowns):
+    def attach(self, problem: Any, unknowns: Sequence[Unknown]) -> ngs.comp.SumOfIntegrals:
         self.mesh, self.u = problem.mesh, problem.u
         region = self.mesh.Boundaries(self.boundary)
         self.base_integral = ngs.Integrate(self.expander.shape(ngs.x, ngs.y)[0], self.mesh,
                                            ngs.BND, definedon=region, order=8)
         u, v = problem.displacement.trial, problem.displacement.test
-        contact = self.expander.energy(_position(u), self.height()).Diff(u, v)
+        contact = self.expander.energy(  # type: ignore[union-attr]  # of a CF, a CF
+            _position(u), self.height()).Diff(u, v)
         return contact.Compile() * self._measure()
 
-    def _measure(self):
+    def _measure(self) -> ngs.comp.DifferentialSymbol:
         """The boundary's integral, with the two more degrees the penalty's kink needs."""
         return ngs.ds(self.boundary, bonus_intorder=2)
 
-    def held_energy(self, u):
-        return self.expander.energy(_position(u), self.height()).Compile() * self._measure()
+    def held_energy(self, u: ngs.CoefficientFunction) -> ngs.comp.SumOfIntegrals:
+        return self.expander.energy(  # type: ignore[union-attr]  # of a CF, a CF
+            _position(u), self.height()).Compile() * self._measure()
 
-    def height(self):
+    def height(self) -> ngs.CoefficientFunction:
         """The expander's height H (a CF) whose volume H int phi dA is the target."""
         return self.target / self.base_integral
 
-    def expander_height(self):
+    def expander_height(self) -> float:
         """The expander's height H at the current target (:meth:`height`'s value)."""
         return self.target.Get() / self.base_integral
 
-    def set_target(self, volume, lift=False):
+    def set_target(self, volume: float, lift: bool = False) -> None:
         """Set the expander's volume; with ``lift``, the state moves with the expander's
         top (u += dH phi(x1, x2) e3, dH its change of height, x = X + u the point's current
         place): a predictor that keeps every point's height above the expander, for Newton
@@ -255,27 +266,27 @@ class ExpanderContact(VolumeHolder):
             step.Set(ngs.CoefficientFunction((0, 0, change / self.base_integral * phi)))
             self.u.vec.data += step.vec
 
-    def gap(self):
+    def gap(self) -> ngs.CoefficientFunction:
         """The contact gap g of the current state (a CF; negative: penetration)."""
         return self.expander.gap(_position(self.u), self.height())
 
-    def contact_pressure(self):
+    def contact_pressure(self) -> ngs.CoefficientFunction:
         """The contact pressure of the current state (a CF, per unit reference area)."""
         return self.expander.pressure(_position(self.u), self.height())
 
-    def energy(self, order=8):
+    def energy(self, order: int = 8) -> float:
         """The penalty energy of the current state, integrated by NGSolve's rule of
         ``order`` (the default as :func:`measure`'s)."""
         density = self.expander.energy(_position(self.u), self.height())
         return ngs.Integrate(density, self.mesh, ngs.BND,
                              definedon=self.mesh.Boundaries(self.boundary), order=order)
 
-    def measures(self):
+    def measures(self) -> dict[str, float]:
         """The expander and the contact (:func:`measure`)."""
         return measure(self.mesh, self.boundary, self.expander, self.expander_height(),
                        self.gap(), self.contact_pressure())
 
 
-def _position(u):
+def _position(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """The current position x = X + u."""
     return ngs.CoefficientFunction((ngs.x, ngs.y, ngs.z)) + u

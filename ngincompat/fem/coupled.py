@@ -24,6 +24,7 @@ regularisation::
 """
 
 from collections.abc import Mapping, Sequence
+from typing import Any, Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -82,7 +83,7 @@ class CoupledProblem:
 
     def __init__(self, mesh: ngs.Mesh, terms: Sequence[Term], order: int = 2,
                  dirichlet: str = "", symmetry: Mapping[str, str] | None = None,
-                 condense: bool = True, realcompile: bool | None = None):
+                 condense: bool = True, realcompile: bool | None = None) -> None:
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         ensure_heap(order)
         self.mesh, self.order, self.condense = mesh, order, condense
@@ -98,7 +99,7 @@ class CoupledProblem:
         self.symmetry: dict[str, str] = {}
         self.pinned: tuple[int, ...] = ()
         self._rigid = not dirichlet
-        self._frozen = None
+        self._frozen: FrozenGrowth | Literal[False] | None = None
         self.support(symmetry or {})
         self.realcompile = (self.fes.ndof >= REALCOMPILE_NDOF if realcompile is None
                             else realcompile)
@@ -115,10 +116,10 @@ class CoupledProblem:
                 self.form += residual
 
     @property
-    def ndof(self):
+    def ndof(self) -> int:
         return self.fes.ndof
 
-    def support(self, symmetry: Mapping[str, str]):
+    def support(self, symmetry: Mapping[str, str]) -> None:
         """Hold the body by the symmetry planes ``symmetry`` (boundary name -> axis of the
         normal component held at its current value, as for
         :func:`~ngincompat.fem.problem.displacement_space`) instead of those before, and
@@ -143,7 +144,7 @@ class CoupledProblem:
         self.freedofs = self.fes.FreeDofs(coupling=self.condense)
         self._frozen = None         # made anew with these supports
 
-    def energy(self):
+    def energy(self) -> float:
         """The energy of the current step at the current state, the sum of the terms'
         energies in their order, e.g. with a viscous regularisation and a dead traction
 
@@ -153,7 +154,7 @@ class CoupledProblem:
         (the growth rows hold theta at theta_n)."""
         return sum(term.energy() for term in self.terms)
 
-    def frozen_energy(self):
+    def frozen_energy(self) -> float:
         """The energy at frozen growth (a step dt = 0, which switches the viscous term off)
         at the current state: the energy whose derivative the residual of :meth:`frozen_tangent`
         is."""
@@ -164,7 +165,7 @@ class CoupledProblem:
         finally:
             self.dt.Set(dt)
 
-    def frozen_tangent(self):
+    def frozen_tangent(self) -> ngs.BaseMatrix:
         """The tangent at frozen growth (a step dt = 0: theta held at theta_n, no viscosity)
         at the current state, assembled into and returned as ``form.mat``. Its growth rows
         are then the identity and do not depend on u, so condensed onto u it is the Hessian
@@ -178,7 +179,7 @@ class CoupledProblem:
             self.dt.Set(dt)
         return self.form.mat
 
-    def frozen(self):
+    def frozen(self) -> "FrozenGrowth | None":
         """The problem at frozen growth on its displacement alone (:class:`FrozenGrowth`,
         made once), or None if one of its terms cannot be held so (a multiplier)."""
         if self._frozen is None:
@@ -188,27 +189,27 @@ class CoupledProblem:
                             else FrozenGrowth(self, energies))
         return self._frozen or None
 
-    def measures(self):
+    def measures(self) -> dict[str, float]:
         """What the terms report of the current state, merged in their order."""
         measured = {}
         for term in self.terms:
             measured.update(term.measures())
         return measured
 
-    def accept_step(self):
+    def accept_step(self) -> None:
         """Make the converged state the start of the next step, in every term (theta_n <-
         theta_n+1, u_n <- u_n+1)."""
         for term in self.terms:
             term.accept_step()
 
-    def saved(self):
+    def saved(self) -> dict:
         """What a checkpoint keeps of the terms besides the state."""
         kept = {}
         for term in self.terms:
             kept.update(term.saved())
         return kept
 
-    def restore(self, data):
+    def restore(self, data: Mapping[str, Any]) -> None:
         """Take back into the terms what :meth:`saved` kept (``data`` from a checkpoint)."""
         for term in self.terms:
             term.restore(data)
@@ -241,7 +242,8 @@ class FrozenGrowth:
     inverse = "sparsecholesky"
     condense = True
 
-    def __init__(self, problem: CoupledProblem, energies):
+    def __init__(self, problem: CoupledProblem,
+                 energies: Sequence[ngs.comp.SumOfIntegrals]) -> None:
         self.coupled, self.fes, self.state, self.dt = problem, problem.space, problem.u, problem.dt
         self.form = ngs.BilinearForm(self.fes, symmetric=True, condense=self.condense)
         for energy in energies:
@@ -250,5 +252,5 @@ class FrozenGrowth:
         # the space's own array, whose held dofs the problem's support clears
         self.freedofs = self.fes.FreeDofs(coupling=self.condense)
 
-    def accept_step(self):
+    def accept_step(self) -> None:
         self.coupled.accept_step()

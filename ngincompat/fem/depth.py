@@ -14,6 +14,8 @@ spherical shell of outer radius R), the depth coordinate is
 so a profile against xi averages the cortex over its local thickness.
 """
 
+from collections.abc import Mapping, Sequence
+
 import ngsolve as ngs
 import numpy as np
 from scipy.spatial import cKDTree
@@ -21,7 +23,7 @@ from scipy.spatial import cKDTree
 from ngincompat import parallel
 
 
-def boundary_points(mesh, name, per_edge=8):
+def boundary_points(mesh: ngs.Mesh, name: str, per_edge: int = 8) -> np.ndarray:
     """Points spread over the faces of boundary ``name`` (triangles; quadrilaterals cut in
     two): a barycentric grid of ``per_edge`` intervals per edge on each (of every rank's faces
     on a distributed mesh)."""
@@ -40,7 +42,7 @@ def boundary_points(mesh, name, per_edge=8):
     return parallel.gather_rows(mesh, np.einsum("gc,mcx->mgx", grid, corners).reshape(-1, 3))
 
 
-def distance(mesh, name, per_edge=8):
+def distance(mesh: ngs.Mesh, name: str, per_edge: int = 8) -> ngs.GridFunction:
     """The distance from boundary ``name`` as a piecewise linear GridFunction."""
     tree = cKDTree(boundary_points(mesh, name, per_edge))
     gf = ngs.GridFunction(ngs.H1(mesh, order=1))
@@ -49,7 +51,8 @@ def distance(mesh, name, per_edge=8):
     return gf
 
 
-def depth_coordinate(mesh, surface="surface", interface="interface", gray="gray"):
+def depth_coordinate(mesh: ngs.Mesh, surface: str = "surface", interface: str = "interface",
+                     gray: str = "gray") -> tuple[ngs.CoefficientFunction, ngs.GridFunction, float]:
     """xi of the module's docstring, and the mean cortical thickness T."""
     d_s, d_i = distance(mesh, surface), distance(mesh, interface)
     area = sum(ngs.Integrate(1.0, mesh, ngs.BND, definedon=mesh.Boundaries(name))
@@ -61,7 +64,9 @@ def depth_coordinate(mesh, surface="surface", interface="interface", gray="gray"
     return xi, d_i, thickness
 
 
-def band_means(cfs, xi, edges, mesh, order=4):
+def band_means(cfs: Mapping[str, ngs.CoefficientFunction], xi: ngs.CoefficientFunction,
+               edges: Sequence[float] | np.ndarray, mesh: ngs.Mesh,
+               order: int = 4) -> tuple[dict[str, np.ndarray], np.ndarray]:
     """The mean of each CoefficientFunction of ``cfs`` over the bands edges[k] <= xi <
     edges[k + 1] (NaN where a band is empty), and the bands' volumes; one integration per
     field, all bands at once."""

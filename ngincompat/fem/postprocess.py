@@ -7,6 +7,8 @@ they can never disagree with it: with W(F) = Jg Psi(F Fg^-1) per reference volum
     sigma = P F^T / J (Cauchy).
 """
 
+from collections.abc import Callable, Mapping, Sequence
+
 import ngsolve as ngs
 import numpy as np
 from netgen.libngpy._meshing import NgException
@@ -15,7 +17,8 @@ from ngincompat import parallel
 from ngincompat.mechanics import kinematics
 
 
-def stresses(energy_density, u):
+def stresses(energy_density: Callable[[ngs.CoefficientFunction], ngs.CoefficientFunction],
+             u: ngs.GridFunction) -> dict[str, ngs.CoefficientFunction]:
     """P, S and sigma of a displacement GridFunction.
 
     Parameters
@@ -36,7 +39,7 @@ def stresses(energy_density, u):
     return {"P": P, "S": ngs.Inv(F) * P, "sigma": (1.0 / ngs.Det(F)) * P * F.trans, "W": W}
 
 
-def largest_principal_value(T):
+def largest_principal_value(T: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """The largest eigenvalue of a symmetric 3x3 CoefficientFunction in closed form (the
     trigonometric solution of the characteristic cubic): with q = tr T / 3,
     p = sqrt(|T - q I|^2 / 6) and r = det((T - q I) / p) / 2 in [-1, 1],
@@ -55,12 +58,16 @@ def largest_principal_value(T):
     return (q + 2 * p * ngs.cos(ngs.acos(r) / 3)).Compile()
 
 
-def component(T, a, b=None):
+def component(T: ngs.CoefficientFunction, a: ngs.CoefficientFunction,
+              b: ngs.CoefficientFunction | None = None) -> ngs.CoefficientFunction:
     """The component a . T b of a tensor in a local basis (b defaults to a)."""
     return ngs.InnerProduct(a, T * (a if b is None else b))
 
 
-def sample_line(mesh, cfs, start, end, n=101):
+def sample_line(mesh: ngs.Mesh, cfs: Mapping[str, ngs.CoefficientFunction],
+                start: Sequence[float] | np.ndarray,
+                end: Sequence[float] | np.ndarray,
+                n: int = 101) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Values of CoefficientFunctions at ``n`` equally spaced points from ``start`` to ``end``.
 
     Returns
@@ -87,7 +94,10 @@ def sample_line(mesh, cfs, start, end, n=101):
     return s * np.linalg.norm(end - start), values
 
 
-def sample_plane(mesh, cfs, origin, e_u, e_v, u, v):
+def sample_plane(mesh: ngs.Mesh, cfs: Mapping[str, ngs.CoefficientFunction],
+                 origin: Sequence[float],
+                 e_u: Sequence[float], e_v: Sequence[float], u: Sequence[float] | np.ndarray,
+                 v: Sequence[float] | np.ndarray) -> dict[str, np.ndarray]:
     """Values of CoefficientFunctions on the grid of points origin + u_i e_u + v_j e_v.
 
     Parameters
@@ -123,14 +133,14 @@ def sample_plane(mesh, cfs, origin, e_u, e_v, u, v):
     return out
 
 
-def _locatable(mesh, pts):
+def _locatable(mesh: ngs.Mesh, pts: np.ndarray) -> list[np.ndarray | None]:
     """Move points that lie on or just outside a curved boundary (the mesh approximates it)
     towards the centre of the set, by at most 3 % of their distance, until the mesh finds them;
     None for a point still outside (a coarse straight-sided mesh of a curved body): its
     values are NaN. On a distributed mesh a point is moved only until some rank finds it (the
     same point on every rank); None on the ranks whose part does not hold it."""
     centre = pts.mean(axis=0)
-    out = [None] * len(pts)
+    out: list[np.ndarray | None] = [None] * len(pts)
     todo = np.arange(len(pts))
     for shift in (1e-9, 1e-4, 1e-3, 1e-2, 3e-2):
         moved = pts[todo] + shift * (centre - pts[todo])
@@ -142,7 +152,7 @@ def _locatable(mesh, pts):
     return out
 
 
-def _holds(mesh, q):
+def _holds(mesh: ngs.Mesh, q: np.ndarray) -> bool:
     """Whether the mesh (this rank's part) finds the point q."""
     try:
         ngs.x(mesh(*q))

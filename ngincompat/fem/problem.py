@@ -24,7 +24,7 @@ import numbers
 import os
 import shutil
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Literal
 
@@ -35,6 +35,7 @@ from ngsolve.krylovspace import CGSolver
 from ngincompat import config, parallel
 from ngincompat.errors import require
 from ngincompat.fem.quadrature import resolve, volume_measure
+from ngincompat.fem.solver import NewtonProblem
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.mechanics.growth import GrowthModel
@@ -48,7 +49,7 @@ from ngincompat.mechanics.materials import (
 log = logging.getLogger(__name__)
 
 
-def ensure_heap(order):
+def ensure_heap(order: int) -> None:
     """Raise NGSolve's local heap so the element matrices of ``order`` fit.
 
     The symbolic linearisation of the energy needs about 265 bytes per integration point and
@@ -71,7 +72,7 @@ def ensure_heap(order):
 REALCOMPILE_NDOF = 10000
 
 
-def find_compiler():
+def find_compiler() -> str | None:
     """Put NGSolve's compiler script ``ngscxx`` on ``PATH`` if it is not there but beside the
     running interpreter, where NGSolve's wheels install it: a virtual environment used
     without activating it (``.venv/bin/ngincompat``, as in the README) has its ``bin`` off
@@ -85,7 +86,8 @@ def find_compiler():
     return found
 
 
-def compiled(cf, realcompile, maxderiv=1):
+def compiled(cf: ngs.CoefficientFunction, realcompile: bool,
+             maxderiv: int = 1) -> ngs.CoefficientFunction:
     """``cf`` compiled: to C++ by the system's compiler if ``realcompile`` (and that works),
     else by NGSolve's own step list, with derivatives up to ``maxderiv``.
 
@@ -119,15 +121,17 @@ MIXED_NU_MIN = 1e-6
 DISPLACEMENT_NU_MAX = 0.49999
 
 
-def check_formulation(material, formulation, order):
+def check_formulation(material: Material, formulation: str, order: int) -> None:
     """Raise ParameterError unless ``formulation`` ("displacement" or "mixed") can be used with
     ``material`` at displacement ``order``: the mixed form needs a bulk split of the energy
     and order >= 2."""
     require(formulation in ("displacement", "mixed"), "formulation", formulation,
             "displacement or mixed")
-    mu, lam = material.mu, getattr(material, "lam", None)
-    if formulation == "displacement" and isinstance(lam, numbers.Real):
-        nu = lam / (2 * (lam + mu))
+    # moduli per region (Regional) have no single nu: each scene checks its own
+    mu, lam = getattr(material, "mu", None), getattr(material, "lam", None)
+    nu = (float(lam) / (2 * (float(lam) + float(mu)))
+          if isinstance(lam, numbers.Real) and isinstance(mu, numbers.Real) else None)
+    if formulation == "displacement" and nu is not None:
         require(nu <= DISPLACEMENT_NU_MAX, "nu", round(nu, 12),
                 f"<= {DISPLACEMENT_NU_MAX:g} for the displacement formulation, which locks "
                 "nearer incompressibility: use formulation=mixed")
@@ -136,8 +140,7 @@ def check_formulation(material, formulation, order):
                 f"displacement for the {material.name} material (mixed needs a bulk split "
                 "of the energy, as neo-hookean has)")
         require(order >= 2, "order", order, ">= 2 for the mixed formulation")
-        if isinstance(lam, numbers.Real):   # (moduli per region: each scene checks its own)
-            nu = lam / (2 * (lam + mu))
+        if nu is not None:
             require(nu >= MIXED_NU_MIN, "nu", round(nu, 12) if nu >= 1e-12 else nu,
                     f"in [{MIXED_NU_MIN:g}, 0.5) for the mixed formulation (its pressure "
                     "term p^2 / (2 lambda) needs lambda / mu >= 2e-6; a compressible body "
@@ -194,7 +197,7 @@ class GrowthMechanics:
                  fibers: Sequence[DirectionField] = (), dirichlet: str = "",
                  symmetry: Mapping[str, str] | None = None, condense: bool = True,
                  formulation: Literal["displacement", "mixed"] = "displacement",
-                 components: bool = True, quadrature: str = "gauss"):
+                 components: bool = True, quadrature: str = "gauss") -> None:
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         check_formulation(material, formulation, order)
         self.quadrature = resolve(quadrature, mesh, order)
@@ -231,7 +234,7 @@ class GrowthMechanics:
                 self.freedofs.Clear(dof)
         else:
             self.pinned = ()
-        self._fit_inverse = None
+        self._fit_inverse: _ComponentLaplaceInverse | None = None
         if components:
             form_space = component_space(self.space, [self.fes.components[1]] if mixed else [],
                                          self.bubbles)
@@ -251,34 +254,38 @@ class GrowthMechanics:
     inverse = "sparsecholesky"
 
     @property
-    def ndof(self):
+    def ndof(self) -> int:
         """Number of unknowns (over all ranks of a distributed mesh)."""
         return self.fes.ndofglobal
 
-    def fibers_intermediate(self):
+    def fibers_intermediate(self) -> tuple[ngs.CoefficientFunction, ...]:
         """Fiber directions pushed to the intermediate configuration, Fg a0 / |Fg a0| (eq. 39)."""
         return intermediate_fibers(self.growth.Fg, self.fibers)
 
-    def _density(self, F, p=None):
+    def _density(self, F: ngs.CoefficientFunction,
+                 p: ngs.CoefficientFunction | None = None) -> ngs.CoefficientFunction:
         """Jg Psi(Fe), Fe = F Fg^-1; with a pressure p, the mixed form of the bulk term."""
         if p is None:
             return grown_energy_density(F, self.growth, self.material, self.fibers)
-        rest, g = self.material.bulk_split(kinematics.elastic_part(F, self.growth.Fg))
-        return self.growth.Jg * (rest + p * g - p * p / (2 * self.material.lam))
+        # with a pressure the material is a MixedMaterial (check_formulation)
+        rest, g = self.material.bulk_split(  # type: ignore[attr-defined]
+            kinematics.elastic_part(F, self.growth.Fg))
+        return self.growth.Jg * (rest + p * g
+                                 - p * p / (2 * self.material.lam))  # type: ignore[attr-defined]
 
-    def frozen_tangent(self):
+    def frozen_tangent(self) -> ngs.BaseMatrix:
         """The tangent of the equilibrium at the current state (the growth is prescribed),
         assembled into and returned as ``form.mat``: the Hessian of the energy, condensed as
         the problem is (mixed: the pressure eliminated)."""
         self.form.AssembleLinearization(self.state.vec)
         return self.form.mat
 
-    def energy_density(self, F):
+    def energy_density(self, F: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
         """Strain energy per reference volume, Jg Psi(Fe) with Fe = F Fg^-1 (mixed: with the
         computed pressure in the bulk term, so its derivative is the mixed stress)."""
         return self._density(F, self.pressure)
 
-    def strain_energy(self, degree=None):
+    def strain_energy(self, degree: int | None = None) -> float:
         """Total elastic energy int Jg Psi dV of the current state (mixed: the value of the
         discrete saddle-point functional); summed over the ranks of a distributed mesh.
 
@@ -289,7 +296,7 @@ class GrowthMechanics:
             return ngs.Integrate(self.energy_density(F), self.mesh, order=degree)
         return parallel.total(self.mesh, self.form.Energy(self.state.vec))
 
-    def growth_load(self):
+    def growth_load(self) -> ngs.BaseVector:
         """The vector f with f . v = int (Fg - I) : Grad v dV, at the current growth time."""
         v = self.space.TestFunction()
         form = ngs.LinearForm(ngs.InnerProduct(self.growth.Fg - ngs.Id(3), ngs.Grad(v)) * ngs.dx)
@@ -297,7 +304,7 @@ class GrowthMechanics:
         load.data = form.Assemble().vec
         return load
 
-    def compatible_displacement(self, load):
+    def compatible_displacement(self, load: ngs.BaseVector) -> ngs.BaseVector:
         """The best compatible approximation of a growth increment: the displacement w that
         minimises int |Grad w - dFg|^2 dV, given ``load`` = f(dFg) (see :meth:`growth_load`).
 
@@ -326,7 +333,7 @@ class _ComponentLaplaceInverse:
     or on a distributed mesh the one with the lexicographically smallest coordinates; the
     anchor only shifts the fit by a translation)."""
 
-    def __init__(self, fes, enrichment=None):
+    def __init__(self, fes: ngs.FESpace, enrichment: Mapping[str, int] | None = None) -> None:
         mesh = fes.mesh
         self.distributed = parallel.distributed(mesh)
         scalar = ngs.H1(mesh, order=fes.globalorder, **(enrichment or {}))
@@ -353,8 +360,9 @@ class _ComponentLaplaceInverse:
                     bits.Set(int(i))
                 if self.distributed:
                     project = ngs.Projector(bits, True)
-                    made[key] = CGSolver(lap.mat, project @ bddc.mat @ project, tol=1e-10,
-                                         maxiter=2000)
+                    made[key] = CGSolver(lap.mat,
+                                         project @ bddc.mat @ project,  # type: ignore[union-attr]
+                                         tol=1e-10, maxiter=2000)
                 else:
                     made[key] = lap.mat.Inverse(bits, inverse="sparsecholesky")
             self.inverses.append(made[key])
@@ -362,7 +370,7 @@ class _ComponentLaplaceInverse:
         self._rhs = lap.mat.CreateColVector()
         self._sol = lap.mat.CreateColVector()
 
-    def _anchor(self, mesh, scalar):
+    def _anchor(self, mesh: ngs.Mesh, scalar: ngs.FESpace) -> list[int]:
         """The scalar dofs of the anchor vertex on this rank (none if it is elsewhere)."""
         if not self.distributed:
             return [scalar.GetDofNrs(ngs.NodeId(ngs.VERTEX, 0))[0]]
@@ -371,7 +379,7 @@ class _ComponentLaplaceInverse:
         return [scalar.GetDofNrs(ngs.NodeId(ngs.VERTEX, i))[0]
                 for i, p in enumerate(pts) if np.array_equal(p, corner)]
 
-    def solve(self, load):
+    def solve(self, load: ngs.BaseVector) -> ngs.BaseVector:
         """w = L^-1 load on the free dofs, zero on the others, one component at a time."""
         w = load.CreateVector()
         f, x = load.FV().NumPy(), w.FV().NumPy()
@@ -390,7 +398,8 @@ class _ComponentLaplaceInverse:
         return w
 
 
-def component_space(space, rest=(), enrichment=None):
+def component_space(space: ngs.FESpace, rest: Sequence[ngs.FESpace] = (),
+                    enrichment: Mapping[str, int] | None = None) -> ngs.FESpace:
     """The space of the energy form: the displacement space ``space`` (VectorH1) as three
     scalar H1 spaces of its order (and its ``enrichment``, :func:`bubbles`), followed by the
     spaces ``rest``.
@@ -415,7 +424,7 @@ def component_space(space, rest=(), enrichment=None):
 BUBBLE_ORDERS = (2, 3)
 
 
-def bubbles(mesh, order, formulation):
+def bubbles(mesh: ngs.Mesh, order: int, formulation: str) -> dict[str, int]:
     """The enrichment of the displacement space (NGSolve's H1 flags) that makes the mixed
     formulation's pair inf-sup stable on a mesh of tetrahedra: face bubbles of ``order`` + 1
     and interior bubbles of ``order`` + 2 (for order 2 the three-dimensional Crouzeix-Raviart
@@ -436,7 +445,9 @@ def bubbles(mesh, order, formulation):
     return {"orderface": order + 1, "orderinner": order + 2}
 
 
-def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None):
+def displacement_space(mesh: ngs.Mesh, order: int, dirichlet: str = "",
+                       symmetry: Mapping[str, str] | None = None,
+                       enrichment: Mapping[str, int] | None = None) -> ngs.FESpace:
     """VectorH1 of ``order`` (with the H1 flags ``enrichment``, :func:`bubbles`) with u = 0
     on ``dirichlet`` and the normal component zero on the symmetry planes (boundary name ->
     axis "x", "y" or "z"; "x" or "y" on the section of a body in plane strain, a mesh of
@@ -452,7 +463,7 @@ def displacement_space(mesh, order, dirichlet="", symmetry=None, enrichment=None
     return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
 
 
-def rigid_pins(mesh, fes, held=()):
+def rigid_pins(mesh: ngs.Mesh, fes: ngs.FESpace, held: Iterable[int] = ()) -> tuple[int, ...]:
     """Displacement dofs at vertices whose pinning removes exactly the rigid-body motions
     that the boundary conditions of ``fes`` and the dofs ``held`` (fixed besides them)
     leave free.
@@ -490,7 +501,7 @@ def rigid_pins(mesh, fes, held=()):
                  if tuple(table[v, :d]) in local)
 
 
-def pin_reactions(problem):
+def pin_reactions(problem: NewtonProblem) -> np.ndarray:
     """The forces the rigid-body pins of ``problem`` exert in its current state: the
     residual (internal force) at the pinned dofs, which only the pins balance. For a
     self-equilibrated body in equilibrium they vanish (the residual is orthogonal to the
@@ -500,7 +511,7 @@ def pin_reactions(problem):
     return residual.FV().NumPy()[list(problem.pinned)].copy()
 
 
-def _pin_nodes(pts, free):
+def _pin_nodes(pts: np.ndarray, free: np.ndarray) -> list[tuple[int, int]]:
     """The (vertex, component) pairs that :func:`rigid_pins` pins, for vertex coordinates
     ``pts`` (n, d) and the free flags ``free`` of their d displacement components."""
     d = pts.shape[1]
@@ -518,6 +529,7 @@ def _pin_nodes(pts, free):
     if len(fixed):
         _, s, vt = np.linalg.svd(fixed)
         basis = vt[int(np.sum(s > 1e-10 * s[0])):].T
+    pinned: list[tuple[int, int]]
     pinned, chosen = [], np.zeros((0, basis.shape[1]))
     for v, c in _support_preference(pts):
         if len(pinned) == basis.shape[1]:
@@ -531,7 +543,7 @@ def _pin_nodes(pts, free):
     return pinned
 
 
-def _support_preference(pts):
+def _support_preference(pts: np.ndarray) -> list[tuple[int, int]]:
     """(vertex, component) pairs in the order of preference of :func:`rigid_pins`."""
     d = pts.shape[1]
     i0 = int(np.argmin(pts.sum(axis=1)))

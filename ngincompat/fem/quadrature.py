@@ -29,6 +29,8 @@ size (44 against 46 points at degree 8) and "auto" keeps them, so the energies o
 scenes do not move; on hexahedra it is "gauss".
 """
 
+from types import ModuleType
+
 import ngsolve as ngs
 
 from ngincompat import parallel
@@ -43,13 +45,13 @@ SYMMETRIC_MAX_DEGREE = 15
 CHECK_DEGREE = 16
 
 
-def degree(order):
+def degree(order: int) -> int:
     """The degree of the energy form's rule for a displacement of ``order`` on tetrahedra:
     2 order - 2 (at least 1), NGSolve's own choice for a form in the gradients."""
     return max(2 * order - 2, 1)
 
 
-def check_quadrature(quadrature, order):
+def check_quadrature(quadrature: str, order: int) -> None:
     """Raise ParameterError unless ``quadrature`` names a rule (:data:`QUADRATURES`) that
     exists for a displacement of ``order`` (symmetric: and basix is installed)."""
     require(quadrature in QUADRATURES, "quadrature", quadrature,
@@ -61,7 +63,7 @@ def check_quadrature(quadrature, order):
         _basix()
 
 
-def _basix():
+def _basix() -> ModuleType:
     """The module basix; ParameterError naming the setting if it is not installed."""
     try:
         import basix
@@ -72,7 +74,7 @@ def _basix():
     return basix
 
 
-def symmetric_rule(degree):
+def symmetric_rule(degree: int) -> ngs.IntegrationRule:
     """The fully symmetric rule of ``degree`` on NGSolve's reference tetrahedron, an
     :class:`ngsolve.IntegrationRule`.
 
@@ -92,12 +94,12 @@ def symmetric_rule(degree):
                                [float(w) for w in weights])
 
 
-def _other_shapes(mesh):
+def _other_shapes(mesh: ngs.Mesh) -> set[str]:
     """The element types of ``mesh`` other than tetrahedra (on this rank)."""
     return {str(el.type) for el in mesh.Elements(ngs.VOL)} - {str(ngs.ET.TET)}
 
 
-def resolve(quadrature, mesh, order):
+def resolve(quadrature: str, mesh: ngs.Mesh, order: int) -> str:
     """The rule ``quadrature`` stands for on ``mesh`` for a displacement of ``order``:
     "gauss" or "symmetric" as given; "auto" is "symmetric" where the mesh has only tetrahedra
     (on every rank) and the symmetric rule of degree 2 order - 2 has at most half the points
@@ -112,7 +114,8 @@ def resolve(quadrature, mesh, order):
     return "symmetric" if 2 * len(symmetric_rule(d).points) <= points else "gauss"
 
 
-def volume_measure(mesh, order, quadrature="gauss"):
+def volume_measure(mesh: ngs.Mesh, order: int,
+                   quadrature: str = "gauss") -> ngs.comp.DifferentialSymbol:
     """``ngs.dx`` with the rule ``quadrature`` (after :func:`resolve`) for a displacement of
     ``order`` on ``mesh``.
 

@@ -15,6 +15,7 @@ import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,6 +27,9 @@ from ngincompat.fem.solver import NewtonOptions, NewtonSolver, SolverHistory, St
 from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.terms import ViscousRegularisation
 from ngincompat.progress import Progress
+
+if TYPE_CHECKING:
+    import ngsolve as ngs
 
 
 @dataclass(eq=False)
@@ -118,7 +122,7 @@ class RelaxationStage:
     eigenvalue: float = field(default=float("nan"), init=False)
     _kicked: list = field(default_factory=list, init=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.max_steps >= 1, "max_steps", self.max_steps, ">= 1")
         require(self.kick >= 0, "kick", self.kick, ">= 0 (a displacement)")
 
@@ -195,13 +199,13 @@ class RelaxationStage:
     def _unit(self) -> str:
         return f" {self.unit}" if self.unit else ""
 
-    def _lowers(self, energy) -> bool:
+    def _lowers(self, energy: float) -> bool:
         """Is Phi at the current state finite and at most ``energy`` (Pi(u_n)), beyond
         round-off?"""
         phi = self.problem.energy()
         return math.isfinite(phi) and phi <= energy + 1e-12 * abs(energy)
 
-    def _residual(self, solver) -> float:
+    def _residual(self, solver: NewtonSolver) -> float:
         """The norm of the residual without viscosity at the current state."""
         dt = self.problem.dt.Get()
         self.problem.dt.Set(0.0)
@@ -209,7 +213,8 @@ class RelaxationStage:
         self.problem.dt.Set(dt)
         return norm
 
-    def _equilibrium(self, history, saved, progress) -> str:
+    def _equilibrium(self, history: SolverHistory, saved: ngs.BaseVector,
+                     progress: Progress) -> str:
         """Newton without viscosity from the current state: "stable" where it converges to
         a stable equilibrium; "kicked" where it converges to a saddle, the state moved off
         it (:meth:`_kick`); else "refused", the state restored to ``saved``."""
@@ -238,7 +243,7 @@ class RelaxationStage:
         self.final_residual = record.residuals[-1]
         return "stable" if record.converged else "kicked" if kicked else "refused"
 
-    def _kick(self, mode) -> bool:
+    def _kick(self, mode: ngs.GridFunction) -> bool:
         """Move the state (a saddle Newton converged to) along its unstable ``mode`` by
         ``kick`` at the mode's largest dof; True if it did (``kick`` > 0). A saddle met
         again in this relaxation (its energy at frozen growth equal to a kicked one's to

@@ -23,7 +23,9 @@ import numpy as np
 from ngincompat import parallel
 
 
-def elements_across(mesh, inner, outer, normal, thickness, material="gray", samples=16):
+def elements_across(mesh: ngs.Mesh, inner: np.ndarray, outer: np.ndarray, normal: np.ndarray,
+                    thickness: np.ndarray, material: str = "gray",
+                    samples: int = 16) -> np.ndarray:
     """The number of elements across the layer at each segment (see the module).
 
     Parameters
@@ -46,11 +48,11 @@ def elements_across(mesh, inner, outer, normal, thickness, material="gray", samp
     """
     s = (np.arange(samples) + 0.5) / samples
     flat = (inner[:, None, :] + s[None, :, None] * (outer - inner)[:, None, :]).reshape(-1, 3)
-    extent = np.full(len(flat), np.nan)
+    extent: np.ndarray = np.full(len(flat), np.nan)
     if mesh.ne:
         found = np.asarray(mesh(flat[:, 0], flat[:, 1], flat[:, 2])["nr"])
         elements = list(mesh.Elements(ngs.VOL))
-        corners = [[v.nr for v in el.vertices] for el in elements]
+        corners: list[list[int]] | np.ndarray = [[v.nr for v in el.vertices] for el in elements]
         most = max(map(len, corners))       # repeating a vertex leaves the extent alone
         corners = np.array([c + c[:1] * (most - len(c)) for c in corners], dtype=int)
         counted = np.array([el.mat == material for el in elements])

@@ -72,20 +72,22 @@ zero.
 """
 
 import math
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat.errors import require
 from ngincompat.fem.contact import ramp
-from ngincompat.fem.terms import Term
+from ngincompat.fem.terms import Term, Unknown
 from ngincompat.fem.work import part
 
 #: Integration order of the pairs on each element of the boundary.
 INTORDER = 4
 
 
-def _relative_position(mesh, u):
+def _relative_position(mesh: ngs.Mesh, u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """x(Y) - x(X) of a pair, u the trial displacement (``Other()``: at Y)."""
     X = ngs.CF((ngs.x, ngs.y, ngs.z)[:mesh.dim])
     return X.Other() + u.Other() - X - u
@@ -99,7 +101,7 @@ class SelfContact(Term):
     normal m into the body (see the module's notes), until :meth:`remove_mirrors`."""
 
     def __init__(self, boundary: str, penalty: float, width: float, reach: float,
-                 mirrors=()):
+                 mirrors: Iterable[tuple[Sequence[float], Sequence[float]]] = ()) -> None:
         require(math.isfinite(penalty) and penalty > 0, "contact_penalty", penalty,
                 "> 0 (finite)")
         require(math.isfinite(width) and width >= 0, "contact_width", width, ">= 0 (finite)")
@@ -112,7 +114,7 @@ class SelfContact(Term):
                     "a unit vector")
         self.mirrored = ngs.Parameter(1.0)       # 0: the mirrors' images are gone
 
-    def attach(self, problem, unknowns):
+    def attach(self, problem: Any, unknowns: Sequence[Unknown]) -> ngs.comp.SumOfIntegrals | None:
         self.mesh, self.u, self.problem = problem.mesh, problem.u, problem
         # the pairs in the problem's form, the same pairs in a form of their own (the
         # term's energy) and those of the measures: a ContactBoundary each (one adding its
@@ -130,33 +132,33 @@ class SelfContact(Term):
         u, v = problem.displacement.trial, problem.displacement.test
         return self.mirrored * self.mirror_energy(u).Diff(u, v).Compile() * self._measure()
 
-    def remove_mirrors(self):
+    def remove_mirrors(self) -> None:
         """The symmetry planes are removed with the supports they were: their images are
         walls no longer (in the residual, the energy and the measures)."""
         self.mirrored.Set(0.0)
 
-    def _images(self):
+    def _images(self) -> tuple[tuple[tuple[float, ...], tuple[float, ...]], ...]:
         """The mirrors whose images are walls now."""
         return self.mirrors if self.mirrored.Get() else ()
 
-    def mirror_gaps(self, u):
+    def mirror_gaps(self, u: ngs.CoefficientFunction) -> list[ngs.CoefficientFunction]:
         """The gaps g_m = 2 (x - P) . m of the boundary's points to their images in the
         ``mirrors``, ``u`` the displacement (CFs)."""
         x = ngs.CF((ngs.x, ngs.y, ngs.z)[:self.mesh.dim]) + u
         return [2 * (x - ngs.CF(point[:self.mesh.dim])) * ngs.CF(normal[:self.mesh.dim])
                 for point, normal in self._images()]
 
-    def mirror_energy(self, u):
+    def mirror_energy(self, u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
         """The density of Pi_m, (kappa / 2) sum over the mirrors of R(-g_m) (a CF)."""
         return sum((self.penalty / 2 * ramp(-gap, self.width)[1]
                     for gap in self.mirror_gaps(u)), ngs.CF(0.0))
 
-    def _measure(self):
+    def _measure(self) -> ngs.comp.DifferentialSymbol:
         """The boundary's integral, with the two more degrees the ramp's kink needs (as the
         expander's contact)."""
         return ngs.ds(self.boundary, bonus_intorder=2)
 
-    def pairing(self, trial):
+    def pairing(self, trial: ngs.CoefficientFunction) -> ngs.ContactBoundary:
         """A ContactBoundary of the boundary with itself carrying the energy Pi_c of the
         trial displacement ``trial``."""
         region = self.mesh.Boundaries(self.boundary)
@@ -166,7 +168,7 @@ class SelfContact(Term):
                           * ramp(-gap, self.width)[1])
         return contact
 
-    def facing(self, normal):
+    def facing(self, normal: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
         """1 where a pair of the last update lies within 25.8 degrees of the normal
         ``normal`` (cos = 0.9, in the state of that update: constant within a step), else 0:
         the pairs that the measures count (:meth:`gap`). Around the bottom of a narrow
@@ -175,7 +177,7 @@ class SelfContact(Term):
         along = relative * normal
         return ngs.IfPos(along * along - 0.81 * (relative * relative), 1.0, 0.0)
 
-    def update(self):
+    def update(self) -> None:
         """Pair the boundary's points in the current state (the pairs and normals the energy
         uses until the next update): one search, whose pairs both forms take."""
         (searched, form), (other, own) = self.forms
@@ -184,13 +186,13 @@ class SelfContact(Term):
             searched.Update(self.u, form, INTORDER, self.reach, keep_pairs=True)
             other.Update(self.u, own, INTORDER, self.reach, other=searched)
 
-    def accept_step(self):
+    def accept_step(self) -> None:
         self.update()
 
-    def restore(self, data):
+    def restore(self, data: Mapping[str, Any]) -> None:
         self.update()
 
-    def energy(self):
+    def energy(self) -> float:
         """Pi_c with the pairs of the last update, and Pi_m, at the current state."""
         energy = self.own.Energy(self.problem.state.vec)
         if self._images():
@@ -199,7 +201,7 @@ class SelfContact(Term):
                                     order=2 * self.u.space.globalorder + 2)
         return energy
 
-    def gap(self):
+    def gap(self) -> ngs.CoefficientFunction:
         """The gap g of the current state, freshly paired (a CF on the boundary; 1e300 where
         no facing point is within ``reach``)."""
         with part("contact search"):
@@ -218,7 +220,7 @@ class SelfContact(Term):
             gap * gap - 0.81 * distance * distance, 1.0, 0.0)
         return ngs.IfPos(facing, gap, 1e300)
 
-    def measures(self):
+    def measures(self) -> dict[str, float]:
         """``self_contact_area``: the reference area of the boundary where it penetrates the
         other wall or an image (g < 0 or g_m < 0, where the pressure acts) and
         ``self_contact_penetration_max``, the largest -g or -g_m at the integration points
@@ -229,7 +231,8 @@ class SelfContact(Term):
         return measure(self.mesh, self.boundary, gap)
 
 
-def measure(mesh, boundary, gap, order=2):
+def measure(mesh: ngs.Mesh, boundary: str, gap: ngs.CoefficientFunction,
+            order: int = 2) -> dict[str, float]:
     """The contact area (reference area where ``gap`` < 0) and the largest penetration -gap,
     both over the points of NGSolve's rule of ``order`` on the ``boundary`` (each point a
     search for its pair: the cost of the measures)."""
@@ -243,7 +246,8 @@ def measure(mesh, boundary, gap, order=2):
 FLAT = {ngs.ET.TRIG: (0, 1, 2), ngs.ET.QUAD: (0, 1, 3), ngs.ET.SEGM: (0, 1)}
 
 
-def boundary_values(mesh, boundary, cf, order):
+def boundary_values(mesh: ngs.Mesh, boundary: str, cf: ngs.CoefficientFunction,
+                    order: int) -> tuple[np.ndarray, np.ndarray]:
     """The values of the scalar ``cf`` at the points of NGSolve's rule of ``order`` on every
     element of the ``boundary`` and the points' reference areas, for straight elements:
     triangles and parallelograms, or the segments of a section's boundary (:data:`FLAT`).

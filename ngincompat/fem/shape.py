@@ -20,6 +20,8 @@ once, so the count is half the troughs of the period. The depth of a sulcus is t
 lower of its two crests.
 """
 
+from collections.abc import Sequence
+
 import numpy as np
 from scipy.linalg import eig
 
@@ -30,7 +32,7 @@ _PRATT = np.array([[0.0, 0.0, 0.0, -2.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 
                    [-2.0, 0.0, 0.0, 0.0]])
 
 
-def circle_curvature(x, z):
+def circle_curvature(x: Sequence[float] | np.ndarray, z: Sequence[float] | np.ndarray) -> float:
     """The signed curvature 1 / R of the circle fitted to the points (x, z) (at least 3):
     positive where the curve bulges toward +z (the centre below it), zero for a line.
 
@@ -54,7 +56,7 @@ def circle_curvature(x, z):
     return float(2 * a[0] / scale)
 
 
-def sulci(z, fraction=0.1):
+def sulci(z: Sequence[float] | np.ndarray, fraction: float = 0.1) -> tuple[float, float]:
     """The number of sulci of the line sampled at the heights ``z`` between two symmetry
     planes (one on an end counts one half) and the depth of the deepest (see the module's
     notes); (0, 0) for a line whose height does not vary."""

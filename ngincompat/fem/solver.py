@@ -19,8 +19,9 @@ residual norms, line-search lengths and the energy.
 
 import logging
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 import ngsolve as ngs
 import numpy as np
@@ -82,7 +83,7 @@ LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres")
 INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 
 
-def resolve_linear_solver(name, mesh):
+def resolve_linear_solver(name: str, mesh: ngs.Mesh) -> str:
     """The linear solver that ``name`` (one of :data:`LINEAR_SOLVERS`) means on ``mesh``:
     "auto" is "direct" in a serial run and "cg" on a distributed mesh."""
     if name != "auto":
@@ -200,7 +201,7 @@ class NewtonOptions:
     krylov_rtol: float = 1e-10
     krylov_maxiter: int = 2000
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(0 < self.rtol < 1, "rtol", self.rtol, "in (0, 1)")
         require(self.atol >= 0, "atol", self.atol, ">= 0")
         require(self.max_iter >= 1, "max_iter", self.max_iter, ">= 1")
@@ -251,15 +252,15 @@ class SolverHistory:
     work: dict = field(default_factory=dict)
 
     @property
-    def newton_iterations(self):
+    def newton_iterations(self) -> int:
         return sum(s.iterations for s in self.steps if s.converged)
 
     @property
-    def tangent_assemblies(self):
+    def tangent_assemblies(self) -> int:
         """Tangents assembled and factorised over all attempted steps."""
         return sum(s.tangents for s in self.steps)
 
-    def as_dict(self):
+    def as_dict(self) -> dict[str, Any]:
         return {"converged": self.converged, "t_reached": self.t_reached,
                 "newton_iterations": self.newton_iterations,
                 "tangent_assemblies": self.tangent_assemblies,
@@ -276,7 +277,7 @@ class NewtonSolver:
     problem ``has_energy``."""
 
     def __init__(self, problem: NewtonProblem, options: NewtonOptions = NewtonOptions(),
-                 energy=None):
+                 energy: Callable[[], float] | None = None) -> None:
         self.problem = problem
         self.options = options
         self._energy = energy
@@ -285,21 +286,21 @@ class NewtonSolver:
         self._res = vec.CreateVector()
         self._du = vec.CreateVector()
         self._u0 = vec.CreateVector()
-        self._inverse = None
+        self._inverse: ngs.BaseMatrix | None = None
         free = problem.fes.FreeDofs()
         self._fixed = np.array([not free[i] for i in range(len(free))], dtype=bool)
         self._fixed[list(problem.pinned)] = True
         mesh = problem.fes.mesh
         self._mesh = mesh
         self.linear_solver = resolve_linear_solver(options.linear_solver, mesh)
-        self._preconditioner = None
-        self._linear = None
-        self._symmetric = None
+        self._preconditioner: ngs.Preconditioner | None = None
+        self._linear: CGSolver | GMResSolver | None = None
+        self._symmetric: SymmetricPart | None = None
         if self.linear_solver in ("cg", "gmres"):
             # registered with the form: rebuilt by every AssembleLinearization
             self._preconditioner = ngs.Preconditioner(problem.form, "bddc")
 
-    def energy(self, vec):
+    def energy(self, vec: ngs.BaseVector) -> float:
         """The problem's energy at ``vec``, summed over the ranks of a distributed mesh; with
         ``energy`` given, its value at the current state (which ``vec`` is)."""
         with part("energy"):
@@ -307,7 +308,7 @@ class NewtonSolver:
                 return self._energy()
             return parallel.total(self._mesh, self.problem.form.Energy(vec))
 
-    def residual(self, vec=None):
+    def residual(self, vec: ngs.BaseVector | None = None) -> ngs.BaseVector:
         """The residual (energy gradient) on free dofs at ``vec`` (default: the current u)."""
         a = self.problem.form
         with part("residual"):
@@ -315,7 +316,7 @@ class NewtonSolver:
             self._res.FV().NumPy()[self._fixed] = 0.0
         return self._res
 
-    def factorise(self):
+    def factorise(self) -> None:
         """Assemble the tangent at the current state and factorise it (kept for
         :meth:`direction` until the next call)."""
         p = self.problem
@@ -337,13 +338,14 @@ class NewtonSolver:
             krylov = GMResSolver
         else:
             free = ngs.Projector(p.freedofs, True)
-            preconditioner = free @ self._preconditioner.mat @ free
+            # made with the solver for cg and gmres
+            preconditioner = free @ self._preconditioner.mat @ free  # type: ignore[union-attr]
             krylov = CGSolver if self.linear_solver == "cg" else GMResSolver
         self._linear = krylov(p.form.mat, preconditioner, tol=self.options.krylov_rtol,
                               maxiter=self.options.krylov_maxiter)
         self._inverse = self._linear
 
-    def direction(self):
+    def direction(self) -> ngs.BaseVector:
         """Solve K du = r with the last factorised tangent K (of the current state unless
         tangents are reused); returns du."""
         p = self.problem
@@ -360,7 +362,8 @@ class NewtonSolver:
                 du.data = inv * r
         return du
 
-    def _acceptable(self, E, E_new, alpha, slope, r_norm):
+    def _acceptable(self, E: float, E_new: float, alpha: float, slope: float,
+                    r_norm: float) -> bool:
         """Is the trial state (already in u) acceptable?
 
         A non-finite energy (Je <= 0 somewhere) never is. Otherwise, with ``backtrack``
@@ -380,7 +383,7 @@ class NewtonSolver:
         r_new = self.residual().Norm()
         return math.isfinite(r_new) and r_new <= (1 - 1e-4 * alpha) * r_norm
 
-    def _step(self, E, r):
+    def _step(self, E: float, r: ngs.BaseVector) -> tuple[float, float]:
         """One line-searched step along the Newton direction from the current state.
 
         Returns (alpha, energy) of the accepted step, or (0, E) with the state unchanged when
@@ -397,7 +400,7 @@ class NewtonSolver:
             return 1.0, self.energy(u) if self.has_energy else E
         trial = {}
 
-        def acceptable(alpha):
+        def acceptable(alpha: float) -> bool:
             trial["E"] = E_new = self.energy(u) if self.has_energy else _merit(
                 self.residual().Norm())
             return self._acceptable(E, E_new, alpha, slope, r_norm)
@@ -408,7 +411,8 @@ class NewtonSolver:
             return 0.0, E
         return alpha, trial["E"]
 
-    def _backtrack(self, du, acceptable, tries):
+    def _backtrack(self, du: ngs.BaseVector, acceptable: Callable[[float], bool],
+                   tries: int) -> float:
         """Move the state from ``_u0`` along -``du`` by the first of ``tries`` lengths 1,
         1/2, 1/4, ... at which ``acceptable(alpha)`` holds (the trial state in place);
         returns that length, or 0 with the state back at ``_u0``."""
@@ -422,7 +426,7 @@ class NewtonSolver:
         u.data = self._u0
         return 0.0
 
-    def step(self, record, acceptable):
+    def step(self, record: StepRecord, acceptable: Callable[[], bool]) -> float:
         """One Newton step from the current state: the tangent assembled and factorised there
         once, the state moved along its direction by the longest of 1, 1/2, 1/4, ... (at
         most ``max_backtracks`` halvings) at which ``acceptable()`` holds (called with the
@@ -450,7 +454,7 @@ class NewtonSolver:
             record.line_search.append(alpha)
         return alpha
 
-    def minimise(self, record):
+    def minimise(self, record: StepRecord) -> bool:
         """Newton iterations at the current load; fills ``record``; returns True if converged."""
         opts = self.options
         u = self.problem.state.vec
@@ -514,7 +518,7 @@ class NewtonSolver:
 ROUNDOFF = 1e-8
 
 
-def _at_roundoff(residuals):
+def _at_roundoff(residuals: Sequence[float]) -> bool:
     """Has the residual stopped falling (the last at least half the one before) after it
     fell below :data:`ROUNDOFF` of the largest of the step (``residuals[0]`` its start)?"""
     if len(residuals) < 3:
@@ -527,7 +531,7 @@ def _at_roundoff(residuals):
 STALL_FROM = 5
 
 
-def _stalled(residuals, stall):
+def _stalled(residuals: Sequence[float], stall: int) -> bool:
     """Have the last ``stall`` residuals (``residuals[0]`` the step's start, one per
     iteration after it) all stayed above the smallest before them, from iteration
     :data:`STALL_FROM` on? Never with ``stall`` = 0."""
@@ -537,6 +541,6 @@ def _stalled(residuals, stall):
     return min(residuals[-stall:]) > min(residuals[:-stall])
 
 
-def _merit(residual_norm):
+def _merit(residual_norm: float) -> float:
     """Stand-in for the energy of a problem without one: 0 where the residual is finite."""
     return 0.0 if math.isfinite(residual_norm) else float("nan")

@@ -13,13 +13,15 @@ solid, COLAMD fills in far more than the sparse Cholesky factorisation, which
 as NGSolve's ``mat.Inverse(freedofs)`` solves it.
 """
 
+from collections.abc import Sequence
+
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 
-def free_block(matrix, free):
+def free_block(matrix: ngs.BaseMatrix, free: np.ndarray | Sequence[int]) -> sp.csr_matrix:
     """The rows and columns ``free`` (indices or a boolean mask) of an assembled NGSolve sparse
     matrix, as a SciPy CSR matrix."""
     rows, cols, values = matrix.COO()
@@ -39,28 +41,28 @@ class SuperLUInverse(ngs.BaseMatrix):
         SuperLU found the free block exactly singular.
     """
 
-    def __init__(self, matrix, freedofs):
+    def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray) -> None:
         super().__init__()
         self._matrix = matrix
         self._free = np.flatnonzero(np.fromiter(freedofs, dtype=bool, count=len(freedofs)))
         self._lu = splu(free_block(matrix, self._free).tocsc())
 
-    def IsComplex(self):
+    def IsComplex(self) -> bool:
         return False
 
-    def Height(self):
+    def Height(self) -> int:
         return self._matrix.height
 
-    def Width(self):
+    def Width(self) -> int:
         return self._matrix.width
 
-    def CreateColVector(self):
+    def CreateColVector(self) -> ngs.BaseVector:
         return self._matrix.CreateColVector()
 
-    def CreateRowVector(self):
+    def CreateRowVector(self) -> ngs.BaseVector:
         return self._matrix.CreateRowVector()
 
-    def Mult(self, x, y):
+    def Mult(self, x: ngs.BaseVector, y: ngs.BaseVector) -> None:
         solution = np.zeros(self._matrix.height)
         solution[self._free] = self._lu.solve(x.FV().NumPy()[self._free])
         y.FV().NumPy()[:] = solution

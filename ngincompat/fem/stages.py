@@ -160,7 +160,7 @@ class CoupledStage:
     unit: str = ""
     _loaded: float = field(default=float("inf"), init=False, repr=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.volume is None or self.holder is not None, "holder", self.holder,
                 "the term that holds the volume, for a stage that drives a volume")
         require(self.traction is None or self.dead_load is not None, "dead_load",
@@ -291,7 +291,8 @@ class ContactControlStage:
                                f"after {self.max_rounds} rounds", history=history,
                                t_converged=history.t_reached)
 
-    def _resize(self, solver, history, k, expander, change):
+    def _resize(self, solver: NewtonSolver, history: SolverHistory, k: int, expander: float,
+                change: float) -> None:
         """Round ``k``: the expander's volume from ``expander`` by ``change``, halved (from
         the round's start) until Newton converges, at most ``max_cuts`` times."""
         problem, contact = self.problem, self.contact
@@ -314,7 +315,7 @@ class ContactControlStage:
                                t_converged=history.t_reached)
 
 
-def save_checkpoint(problem, path: Path, t: float) -> None:
+def save_checkpoint(problem: CoupledProblem, path: Path, t: float) -> None:
     """Write the state of a coupled problem (its unknowns and what its terms keep: the
     previous growth, a volume target) atomically."""
     arrays = {"t": t, "state": problem.state.vec.FV().NumPy(), **problem.saved()}
@@ -323,7 +324,7 @@ def save_checkpoint(problem, path: Path, t: float) -> None:
             np.savez(f, **arrays)
 
 
-def restore_checkpoint(problem, path: Path) -> float | None:
+def restore_checkpoint(problem: CoupledProblem, path: Path) -> float | None:
     """Load a checkpoint into the problem; returns its time, or None if there is none.
 
     Raises

@@ -8,17 +8,29 @@ size; after an easy one the next doubles (:class:`~ngincompat.fem.solver.NewtonO
 
 import logging
 import time as _time
+from collections.abc import Callable
+
+import ngsolve as ngs
 
 from ngincompat import config
 from ngincompat.errors import ConvergenceError, Interrupted
-from ngincompat.fem.solver import NewtonOptions, NewtonSolver, SolverHistory, StepRecord
-from ngincompat.progress import SILENT, Progress
+from ngincompat.fem.coupled import CoupledProblem, FrozenGrowth
+from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.fem.solver import (
+    NewtonOptions,
+    NewtonProblem,
+    NewtonSolver,
+    SolverHistory,
+    StepRecord,
+)
+from ngincompat.progress import SILENT, Progress, StageProgress
 
 log = logging.getLogger(__name__)
 
 
-def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Progress = SILENT,
-                 stage="growth"):
+def solve_growth(problem: GrowthMechanics, time: ngs.Parameter,
+                 options: NewtonOptions = NewtonOptions(), t_end: float = 1.0,
+                 progress: Progress = SILENT, stage: str = "growth") -> SolverHistory:
     """Apply prescribed growth from the current time to ``t_end`` in adaptive load steps.
 
     Parameters
@@ -43,7 +55,7 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Pr
         When a step would fall below ``options.min_step``; ``problem.u`` and ``time`` then
         hold the last converged state.
     """
-    def advance(t, t_new):
+    def advance(t: float, t_new: float) -> None:
         if options.predictor:
             before = problem.growth_load()
             time.Set(t_new)
@@ -59,9 +71,12 @@ def solve_growth(problem, time, options=NewtonOptions(), t_end=1.0, progress: Pr
                   report=progress.march(stage, t0, t_end))
 
 
-def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_start=0.0,
-                  schedule=None, on_step=None, progress: Progress = SILENT, stage="growth",
-                  unit="", energy=None):
+def solve_coupled(problem: CoupledProblem | FrozenGrowth, t_end: float, dt: float,
+                  options: NewtonOptions = NewtonOptions(max_iter=20), t_start: float = 0.0,
+                  schedule: Callable[[float], object] | None = None,
+                  on_step: Callable[[float], bool] | None = None,
+                  progress: Progress = SILENT, stage: str = "growth", unit: str = "",
+                  energy: Callable[[], float] | None = None) -> SolverHistory:
     """March a :class:`~ngincompat.fem.coupled.CoupledProblem` in time with adaptive steps.
 
     Parameters
@@ -93,7 +108,7 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
     start, previous = state.CreateVector(), state.CreateVector()
     times = {"start": t_start, "previous": None}    # of ``start`` and ``previous``
 
-    def advance(t, t_new):
+    def advance(t: float, t_new: float) -> None:
         problem.dt.Set(t_new - t)
         if schedule is not None:
             schedule(t_new)
@@ -102,11 +117,11 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
         if options.extrapolate and times["previous"] is not None:
             state.data += (t_new - t) / (t - times["previous"]) * (start - previous)
 
-    def restore(t):
+    def restore(t: float) -> None:
         if schedule is not None:
             schedule(t)
 
-    def accept(t):
+    def accept(t: float) -> bool:
         previous.data = start
         times["previous"] = times["start"]
         problem.accept_step()
@@ -116,7 +131,10 @@ def solve_coupled(problem, t_end, dt, options=NewtonOptions(max_iter=20), t_star
                   progress.march(stage, t_start, t_end, unit), energy)
 
 
-def _march(problem, options, t, t_end, dt, advance, restore, accept, report, energy=None):
+def _march(problem: NewtonProblem, options: NewtonOptions, t: float, t_end: float, dt: float,
+           advance: Callable[[float, float], None], restore: Callable[[float], object],
+           accept: Callable[[float], bool] | None, report: StageProgress,
+           energy: Callable[[], float] | None = None) -> SolverHistory:
     """The adaptive stepping loop: a failed step is undone and retried at half the size.
 
     ``report`` (a :class:`~ngincompat.progress.StageProgress`) hears of every converged and
@@ -139,8 +157,11 @@ def _march(problem, options, t, t_end, dt, advance, restore, accept, report, ene
                 if record.converged:
                     t += dt
                     history.t_reached = t
-                    stop = accept is not None and accept(t)
+                    # t's state is kept before accept (a checkpoint, an observation) runs:
+                    # a Ctrl-C there reports t with t's state, not the step's before
                     saved.data = problem.state.vec
+                    stop = accept is not None and accept(t)
+                    saved.data = problem.state.vec          # as accept left it
                     report.step(t, dt, record.iterations)
                     log.info("t = %.4g reached in %d Newton iterations", t, record.iterations)
                     if stop:

@@ -5,9 +5,16 @@ symmetric part (:mod:`ngincompat.fem.solver`); the symmetric part of each new ta
 the transpose permutation of the pattern, found once per pattern.
 """
 
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ngincompat.errors import require
+
+if TYPE_CHECKING:     # the matrices are NGSolve's
+    import ngsolve as ngs
 
 
 class SymmetricPart:
@@ -25,10 +32,10 @@ class SymmetricPart:
         The pattern is not structurally symmetric.
     """
 
-    def __init__(self, matrix):
+    def __init__(self, matrix: ngs.BaseMatrix) -> None:
         self._adopt(matrix)
 
-    def _adopt(self, matrix):
+    def _adopt(self, matrix: ngs.BaseMatrix) -> None:
         rows, cols, _ = matrix.COO()
         rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
         n = matrix.height
@@ -41,7 +48,7 @@ class SymmetricPart:
         self.key = key
         self.matrix = matrix.CreateMatrix()
 
-    def of(self, matrix):
+    def of(self, matrix: ngs.BaseMatrix) -> ngs.BaseMatrix:
         """(A + A^T) / 2 of ``matrix`` A."""
         rows, cols, _ = matrix.COO()
         key = np.asarray(rows, np.int64) * matrix.height + np.asarray(cols, np.int64)

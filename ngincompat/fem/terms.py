@@ -24,8 +24,10 @@ is one class with the methods of :class:`Term`; nothing else needs to know it.
 """
 
 import abc
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from types import NotImplementedType
+from typing import TYPE_CHECKING, Any
 
 import ngsolve as ngs
 import numpy as np
@@ -43,8 +45,8 @@ class Unknown:
     """One field of a coupled problem: its trial and test functions in the problem's
     compound space and its values, a component of the problem's state."""
 
-    trial: object
-    test: object
+    trial: ngs.comp.ProxyFunction
+    test: ngs.comp.ProxyFunction
     field: ngs.GridFunction
 
 
@@ -59,13 +61,13 @@ class Term(abc.ABC):
     of a term without unknowns, measures, history or checkpointed data.
     """
 
-    def spaces(self, problem) -> Sequence[ngs.FESpace]:
+    def spaces(self, problem: Any) -> Sequence[ngs.FESpace]:
         """The spaces of the unknowns the term adds (the problem's ``mesh``, ``order`` and
         displacement ``space`` are set when this is called)."""
         return ()
 
     @abc.abstractmethod
-    def attach(self, problem, unknowns: Sequence[Unknown]):
+    def attach(self, problem: Any, unknowns: Sequence[Unknown]) -> ngs.comp.SumOfIntegrals | None:
         """Bind the term to ``problem`` (its displacement is ``problem.displacement``),
         ``unknowns`` those of :meth:`spaces`; returns the term's residual, integrals linear
         in the test functions (e.g. ``r * ngs.dx``), or None."""
@@ -74,7 +76,8 @@ class Term(abc.ABC):
     def energy(self) -> float:
         """The term's energy at the problem's current state and step."""
 
-    def held_energy(self, u):
+    def held_energy(self,
+                    u: ngs.CoefficientFunction) -> ngs.comp.SumOfIntegrals | NotImplementedType:
         """The term's energy as integrals in the displacement alone, ``u`` a trial function
         of the problem's displacement space, with everything else it depends on held at its
         current value (theta at frozen growth), each by the rule of the term's residual (the
@@ -95,7 +98,7 @@ class Term(abc.ABC):
         """What a checkpoint keeps of the term besides the state (name -> array or float)."""
         return {}
 
-    def restore(self, data) -> None:  # noqa: B027 - a hook: nothing for a term saving none
+    def restore(self, data: Mapping[str, Any]) -> None:  # noqa: B027 - a hook: nothing for a term saving none
         """Take back what :meth:`saved` kept, from a checkpoint's ``data`` (a mapping that
         may lack the keys of older checkpoints)."""
 
@@ -135,18 +138,18 @@ class GrowthEnergy(Term):
 
     def __init__(self, kind: str | type[GrowthKind], direction: DirectionField | None,
                  law: GrowthLaw, material: Material, fibers: Sequence[DirectionField] = (),
-                 growth_order: int | None = None):
+                 growth_order: int | None = None) -> None:
         self.growth_class = kind if isinstance(kind, type) else growth_kind(kind)
         self.kind = self.growth_class.kind
         self.direction, self.law, self.material = direction, law, material
         self.fibers = tuple(fibers)
         self.growth_order = growth_order
 
-    def spaces(self, problem):
+    def spaces(self, problem: Any) -> tuple[ngs.FESpace, ...]:
         order = max(problem.order - 1, 0) if self.growth_order is None else self.growth_order
         return (ngs.L2(problem.mesh, order=order),)
 
-    def attach(self, problem, unknowns):
+    def attach(self, problem: Any, unknowns: Sequence[Unknown]) -> ngs.comp.SumOfIntegrals:
         (growth,) = unknowns
         self.mesh, self.u = problem.mesh, problem.u
         self.theta = growth.field
@@ -171,22 +174,23 @@ class GrowthEnergy(Term):
         return compiled(ngs.InnerProduct(stress, kinematics.displacement_gradient(v)) + rate * eta,
                         problem.realcompile) * ngs.dx
 
-    def model(self, theta):
+    def model(self, theta: ngs.CoefficientFunction) -> GrowthKind:
         """The growth model of the term's kind and direction for the growth theta."""
         return self.growth_class.from_theta(theta, self.direction)
 
-    def energy_density(self, F, theta=None):
+    def energy_density(self, F: ngs.CoefficientFunction,
+                       theta: ngs.CoefficientFunction | None = None) -> ngs.CoefficientFunction:
         """Strain energy per reference volume, Jg Psi(F Fg^-1), at the growth ``theta``
         (default: the current one), the fibers pushed to the intermediate configuration,
         Fg a0 / |Fg a0| (eq. 39)."""
         growth = self.model(self.theta if theta is None else theta)
         return grown_energy_density(F, growth, self.material, self.fibers)
 
-    def energy(self):
+    def energy(self) -> float:
         """The strain energy int Jg Psi dV of the current state."""
         return ngs.Integrate(self._energy, self.mesh)
 
-    def held_energy(self, u):
+    def held_energy(self, u: ngs.CoefficientFunction) -> ngs.comp.SumOfIntegrals:
         """int Jg Psi(F(u) Fg(theta)^-1) dV at the current theta, by the rule of the residual:
         NGSolve's default rule has degree 2 p - 2 for an energy in the gradient of u of
         order p, and 2 q for the residual with theta eta, theta of order q."""
@@ -195,14 +199,14 @@ class GrowthEnergy(Term):
         density = self.energy_density(kinematics.deformation_gradient(u))
         return compiled(density, self.realcompile, maxderiv=2) * ngs.dx(bonus_intorder=bonus)
 
-    def accept_step(self):
+    def accept_step(self) -> None:
         """theta_n <- theta_n+1."""
         self.theta_old.vec.data = self.theta.vec
 
-    def saved(self):
+    def saved(self) -> dict:
         return {"theta_old": self.theta_old.vec.FV().NumPy()}
 
-    def restore(self, data):
+    def restore(self, data: Mapping[str, Any]) -> None:
         self.theta_old.vec.FV().NumPy()[:] = data["theta_old"]
 
 
@@ -218,10 +222,10 @@ class ViscousRegularisation(Term):
     of a relaxation at frozen growth (:class:`~ngincompat.fem.relaxation.RelaxationStage`).
     """
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.viscosity = ngs.Parameter(0.0)
 
-    def attach(self, problem, unknowns):
+    def attach(self, problem: Any, unknowns: Sequence[Unknown]) -> ngs.comp.SumOfIntegrals:
         self.problem, self.u = problem, problem.u
         self.u_old = ngs.GridFunction(problem.space)
         dt = problem.dt
@@ -229,12 +233,12 @@ class ViscousRegularisation(Term):
         return rate * ngs.InnerProduct(problem.displacement.trial - self.u_old,
                                        problem.displacement.test) * ngs.dx
 
-    def restart(self, viscosity):
+    def restart(self, viscosity: float) -> None:
         """Set eta and measure u - u_n from the current displacement."""
         self.viscosity.Set(viscosity)
         self.u_old.vec.data = self.u.vec
 
-    def energy(self):
+    def energy(self) -> float:
         dt = self.problem.dt.Get()
         if dt <= 0:
             return 0.0
@@ -242,7 +246,7 @@ class ViscousRegularisation(Term):
         return self.viscosity.Get() / (2 * dt) * ngs.Integrate(ngs.InnerProduct(change, change),
                                                                self.problem.mesh)
 
-    def accept_step(self):
+    def accept_step(self) -> None:
         """u_n <- u_n+1."""
         self.u_old.vec.data = self.u.vec
 
@@ -254,27 +258,27 @@ class DeadTraction(Term):
     that supports exerted there, e.g. to remove them gradually once they are gone
     (:meth:`~ngincompat.fem.coupled.CoupledProblem.support`)."""
 
-    def __init__(self, boundaries: str):
+    def __init__(self, boundaries: str) -> None:
         self.boundaries = boundaries
         self.scale = ngs.Parameter(0.0)
 
-    def attach(self, problem, unknowns):
+    def attach(self, problem: Any, unknowns: Sequence[Unknown]) -> ngs.comp.SumOfIntegrals:
         self.problem = problem
         self.field = ngs.GridFunction(problem.space, name="traction")
         return self._work(problem.displacement.test)
 
-    def _work(self, w):
+    def _work(self, w: ngs.CoefficientFunction) -> ngs.comp.SumOfIntegrals:
         """-s int t . w dA: the energy at w = u, the residual at the test function (the
         energy is linear in u)."""
         return -self.scale * ngs.InnerProduct(self.field, w) * ngs.ds(self.boundaries)
 
-    def held_energy(self, u):
+    def held_energy(self, u: ngs.CoefficientFunction) -> ngs.comp.SumOfIntegrals:
         return self._work(u)
 
-    def energy(self):
+    def energy(self) -> float:
         return ngs.Integrate(self._work(self.problem.u), self.problem.mesh)
 
-    def hold(self):
+    def hold(self) -> float:
         """Hold the current state in equilibrium by this traction: t with
         int t . v dA = R(u) . v on the boundaries, R the problem's residual without it (the
         reactions there of supports just removed; elsewhere R is
@@ -299,7 +303,7 @@ class DeadTraction(Term):
         return float(np.linalg.norm(reactions.FV().NumPy()[np.array(on, dtype=bool)]))
 
 
-def enclosed_volume_density(u):
+def enclosed_volume_density(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """x3 det(dx_a / dX_b) (a, b = 1, 2), x = X + u: per reference area of a boundary
     initially in the plane X3 = 0, whose integral is the volume V enclosed under the
     boundary's current place (the boundary's edge held in that plane)."""
@@ -308,7 +312,8 @@ def enclosed_volume_density(u):
     return x3 * (Fs[0, 0] * Fs[1, 1] - Fs[0, 1] * Fs[1, 0])
 
 
-def enclosed_volume_variation(u, v):
+def enclosed_volume_variation(u: ngs.CoefficientFunction,
+                              v: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """d/du of :func:`enclosed_volume_density` along v, written out:
     v3 det(Fs) + x3 (dFs_11 Fs_22 + Fs_11 dFs_22 - dFs_12 Fs_21 - Fs_12 dFs_21) with
     Fs = I + Grad(u) and dFs = Grad(v) on the boundary (their tangential parts)."""
@@ -327,11 +332,15 @@ class VolumeHolder(Term):
     they measure and the target a checkpoint keeps. A subclass sets ``mesh`` and ``u`` as
     it is attached."""
 
-    def __init__(self, boundary: str):
+    if TYPE_CHECKING:   # set by the subclass as it is attached
+        mesh: ngs.Mesh
+        u: ngs.GridFunction
+
+    def __init__(self, boundary: str) -> None:
         self.boundary = boundary
         self.target = ngs.Parameter(0.0)
 
-    def volume(self):
+    def volume(self) -> float:
         """The volume enclosed under the boundary in the current state."""
         return ngs.Integrate(enclosed_volume_density(self.u), self.mesh, ngs.BND,
                              definedon=self.mesh.Boundaries(self.boundary))
@@ -341,10 +350,10 @@ class VolumeHolder(Term):
         """Hold the volume ``volume`` from now on (``lift``: move the state with the holder
         where it has a shape that moves)."""
 
-    def saved(self):
+    def saved(self) -> dict:
         return {"volume_target": self.target.Get()}
 
-    def restore(self, data):
+    def restore(self, data: Mapping[str, Any]) -> None:
         if "volume_target" in data:             # older checkpoints: the hold sets it
             self.target.Set(float(data["volume_target"]))
 
@@ -361,10 +370,10 @@ class VolumeConstraint(VolumeHolder):
     does not differentiate through the surface gradient ``Grad(u).Trace()`` (6.2.2608), and
     would leave out the in-plane part x3 d(det)/du . v."""
 
-    def spaces(self, problem):
+    def spaces(self, problem: Any) -> tuple[ngs.FESpace, ...]:
         return (ngs.NumberSpace(problem.mesh),)
 
-    def attach(self, problem, unknowns):
+    def attach(self, problem: Any, unknowns: Sequence[Unknown]) -> ngs.comp.SumOfIntegrals:
         (multiplier,) = unknowns
         self.mesh, self.u, self.multiplier = problem.mesh, problem.u, multiplier.field
         p, q = multiplier.trial, multiplier.test
@@ -374,17 +383,17 @@ class VolumeConstraint(VolumeHolder):
         return (p * enclosed_volume_variation(u, v) * ngs.ds(self.boundary)
                 + (dV - self.target / area) * q * ngs.ds(self.boundary))
 
-    def set_target(self, volume, lift=False):
+    def set_target(self, volume: float, lift: bool = False) -> None:
         """Set the volume target (``lift`` as for an expander's, here without effect)."""
         self.target.Set(volume)
 
-    def pressure(self):
+    def pressure(self) -> float:
         """The pressure that holds the volume (the multiplier, with the sign of a pressure
         pushing on the boundary)."""
         return -self.multiplier.vec[0]
 
-    def energy(self):
+    def energy(self) -> float:
         return self.multiplier.vec[0] * (self.volume() - self.target.Get())
 
-    def measures(self):
+    def measures(self) -> dict[str, float]:
         return {"pressure": self.pressure()}

@@ -48,7 +48,9 @@ _VERTEX_RULES = {
 }
 
 
-def diffusion_tensor(d_ext, d_axn=0.0, n=None):
+def diffusion_tensor(d_ext: float | ngs.CoefficientFunction,
+                     d_axn: float | ngs.CoefficientFunction = 0.0,
+                     n: ngs.CoefficientFunction | None = None) -> ngs.CoefficientFunction:
     """D = d_ext I + d_axn n (x) n as a 3x3 CoefficientFunction.
 
     Parameters
@@ -90,7 +92,9 @@ class FisherKPP:
         flat elements let c fall far below 0, where the reaction drives it to -inf.
     """
 
-    def __init__(self, mesh, D, alpha, c0, monotone=True):
+    def __init__(self, mesh: ngs.Mesh, D: ngs.CoefficientFunction, alpha: float,
+                 c0: ngs.CoefficientFunction | float,
+                 monotone: bool = True) -> None:
         require(alpha >= 0, "alpha", alpha, ">= 0 (conversion rate)")
         self.mesh = mesh
         self.fes = ngs.H1(mesh, order=1)
@@ -114,7 +118,7 @@ class FisherKPP:
         self.K = K
         self.t = 0.0
 
-    def step(self, dt, rtol=1e-10, max_iter=20):
+    def step(self, dt: float, rtol: float = 1e-10, max_iter: int = 20) -> int:
         """Advance c by one backward-Euler step of length ``dt``; returns Newton iterations.
 
         Newton starts from c^n. Converged when the update is below ``rtol`` in the max norm
@@ -142,19 +146,19 @@ class FisherKPP:
         raise ConvergenceError(f"Fisher-KPP step dt = {dt:g} at t = {self.t:g}: no "
                                f"convergence in {max_iter} Newton iterations")
 
-    def minimum(self):
+    def minimum(self) -> float:
         """The smallest nodal value of c."""
         return -parallel.maximum(self.mesh, np.max(-self.c.vec.FV().NumPy(), initial=-np.inf))
 
-    def maximum(self):
+    def maximum(self) -> float:
         """The largest nodal value of c."""
         return parallel.maximum(self.mesh, np.max(self.c.vec.FV().NumPy(), initial=-np.inf))
 
-    def integral(self):
+    def integral(self) -> float:
         """int c dV with the lumped mass (the quantity the scheme balances)."""
         return parallel.total(self.mesh, self.mass @ self.c.vec.FV().NumPy())
 
-    def _solve(self, A, b, spd):
+    def _solve(self, A: sp.spmatrix, b: np.ndarray, spd: bool) -> np.ndarray:
         """A^-1 b for the tangent A (scipy; on a distributed mesh this rank's part of it and
         of b, and the result is c's update at this rank's vertices)."""
         if not parallel.distributed(self.mesh):
@@ -177,7 +181,7 @@ class FisherKPP:
         return x.FV().NumPy().copy()
 
 
-def _solve(A, b, spd):
+def _solve(A: sp.spmatrix, b: np.ndarray, spd: bool) -> np.ndarray:
     """A^-1 b: conjugate gradients with a Jacobi preconditioner where A is symmetric positive
     definite (K an M-matrix plus a positive diagonal: the case alpha dt < 1, some twenty
     times faster than a sparse LU at a few thousand unknowns), else a sparse LU."""
@@ -189,7 +193,7 @@ def _solve(A, b, spd):
     return spla.splu(A.tocsc()).solve(b)
 
 
-def _csr(matrix):
+def _csr(matrix: ngs.BaseMatrix) -> sp.csr_matrix:
     """An assembled NGSolve sparse matrix as scipy CSR (of a parallel one: this rank's part)."""
     matrix = getattr(matrix, "local_mat", matrix)
     values, cols, rows = matrix.CSR()
@@ -197,7 +201,7 @@ def _csr(matrix):
                          shape=(matrix.height, matrix.width))
 
 
-def _summed_over_ranks(mesh, K):
+def _summed_over_ranks(mesh: ngs.Mesh, K: sp.spmatrix) -> np.ndarray:
     """The entries of K's upper triangle (in the order of ``sp.triu(K, k=1).tocoo()``),
     summed over the ranks that share their edge; K's own entries on a serial mesh."""
     off = sp.triu(K, k=1).tocoo()
@@ -216,14 +220,14 @@ def _summed_over_ranks(mesh, K):
     return summed.FV().NumPy()[at]
 
 
-def _sparse(A):
+def _sparse(A: sp.spmatrix) -> ngs.la.SparseMatrixd:
     """A scipy sparse matrix as an NGSolve one."""
     A = sp.coo_matrix(A)
     return ngs.la.SparseMatrixd.CreateFromCOO(A.row.tolist(), A.col.tolist(), A.data.tolist(),
                                               *A.shape)
 
 
-def _upwind(K, summed):
+def _upwind(K: sp.spmatrix, summed: np.ndarray) -> sp.csr_matrix:
     """K plus the discrete diffusion that removes its off-diagonal entries whose ``summed``
     value (over the ranks, :func:`_summed_over_ranks`) is positive, keeping symmetry and zero
     row sums."""
@@ -237,18 +241,18 @@ def _upwind(K, summed):
     return (K + fix).tocsr()
 
 
-def logistic(t, c0, alpha):
+def logistic(t: float | np.ndarray, c0: float, alpha: float) -> np.ndarray:
     """The logistic solution c(t) = c0 e^(alpha t) / (1 - c0 + c0 e^(alpha t)): the
     spatially uniform solution of the Fisher-KPP equation."""
     e = np.exp(alpha * np.asarray(t, float))
     return c0 * e / (1 - c0 + c0 * e)
 
 
-def logistic_integral(t, c0, alpha):
+def logistic_integral(t: float | np.ndarray, c0: float, alpha: float) -> np.ndarray:
     """int_0^t c ds = ln(1 - c0 + c0 e^(alpha t)) / alpha for the logistic solution."""
     return np.log(1 - c0 + c0 * np.exp(alpha * np.asarray(t, float))) / alpha
 
 
-def minimal_front_speed(D, alpha):
+def minimal_front_speed(D: float, alpha: float) -> float:
     """The speed 2 sqrt(D alpha) that fronts from compact seeds approach (from below)."""
     return 2.0 * np.sqrt(D * alpha)

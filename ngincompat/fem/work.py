@@ -12,6 +12,7 @@ most its wall time; the rest is Python between the calls and what no part names.
 from __future__ import annotations
 
 import time
+from collections.abc import Iterator
 from contextlib import contextmanager
 
 #: The kinds of work, with what they cover.
@@ -32,7 +33,7 @@ _running: list[list] = []      # [kind, start, seconds of inner parts] of each o
 
 
 @contextmanager
-def part(kind: str):
+def part(kind: str) -> Iterator[None]:
     """Count the block's wall time, less that of the parts inside it, as ``kind``."""
     if kind not in KINDS:
         raise ValueError(f"kind of work {kind!r}: allowed {', '.join(KINDS)}")

@@ -20,11 +20,18 @@ Evaluated wherever it is needed (integration points, sampling points), theta the
 reaches theta_min, whatever the step. c enters clamped to [0, 1].
 """
 
+from __future__ import annotations
+
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ngincompat.errors import require
+
+if TYPE_CHECKING:     # NGSolve is imported where a field is made
+    import ngsolve as ngs
 
 
 @dataclass(frozen=True)
@@ -45,17 +52,18 @@ class AtrophyLaw:
     theta_min: float
     name: str = "rate"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.rate >= 0, self.name, self.rate, ">= 0 (rate of volume loss)")
         require(0 < self.theta_min < 1, "theta_min", self.theta_min, "in (0, 1)")
 
-    def theta(self, exposure, exp=np.exp):
+    def theta(self, exposure: np.ndarray | ngs.CoefficientFunction,
+              exp: Callable[[Any], Any] = np.exp) -> np.ndarray | ngs.CoefficientFunction:
         """theta after the exposure E = int c dt (numpy array or, with ``exp=ngsolve.exp``,
         a CoefficientFunction)."""
         span = 1.0 - self.theta_min
         return self.theta_min + span * exp(-self.rate * exposure / span)
 
-    def check_step(self, dt):
+    def check_step(self, dt: float) -> None:
         """Raise ParameterError unless one step at c = 1 loses less than the whole span
         1 - theta_min at the initial rate: G dt < 1 - theta_min (a step that the explicit
         rate would carry past theta_min resolves nothing of the approach to it)."""
@@ -65,6 +73,6 @@ class AtrophyLaw:
                 "pass theta_min)")
 
 
-def exposure_increment(c, dt):
+def exposure_increment(c: np.ndarray, dt: float) -> np.ndarray:
     """dt clamp(c, 0, 1): what one step adds to the exposure (numpy array of values of c)."""
     return dt * np.clip(c, 0.0, 1.0)

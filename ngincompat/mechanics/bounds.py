@@ -22,6 +22,8 @@ positive there, and every result computed from it is marked the same.
 
 import ast
 import math
+from collections.abc import Callable
+from typing import Self
 
 import numpy as np
 
@@ -37,7 +39,7 @@ MAX_BOXES = 100_000
 _ULPS = 4
 
 
-def _outward(v, direction):
+def _outward(v: np.ndarray, direction: int) -> np.ndarray:
     """``v`` moved by :data:`_ULPS` units in the last place towards ``direction`` (+-1);
     zeros and infinities stay."""
     finite = np.isfinite(v) & (v != 0)
@@ -52,7 +54,7 @@ class Interval:
 
     __slots__ = ("lo", "hi", "nan")
 
-    def __init__(self, lo, hi, nan=False):
+    def __init__(self, lo: np.ndarray, hi: np.ndarray, nan: bool | np.ndarray = False) -> None:
         with np.errstate(invalid="ignore"):
             lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
             self.nan = np.isnan(lo) | np.isnan(hi) | nan
@@ -62,32 +64,32 @@ class Interval:
             self.hi = np.where(self.nan, np.inf, _outward(hi, 1)) + 0.0
 
     @classmethod
-    def point(cls, value, n):
+    def point(cls, value: float, n: int) -> Self:
         return cls(np.full(n, value), np.full(n, value))
 
-    def contains_zero(self):
+    def contains_zero(self) -> np.ndarray:
         return (self.lo <= 0) & (self.hi >= 0)
 
 
-def _negative_zero(low, *ends):
+def _negative_zero(low: np.ndarray, *ends: np.ndarray) -> np.ndarray:
     """``low`` with its zero made -0 where one of ``ends`` is -0: numpy's min and max may
     return either of two zeros, and a lower end must allow -0 wherever it may occur."""
     minus = np.any([(e == 0) & np.signbit(e) for e in ends], axis=0)
     return np.where((low == 0) & minus, -0.0, low)
 
 
-def _add(a, b):
+def _add(a: Interval, b: Interval) -> Interval:
     # inf + -inf is NaN
     nan = ((a.hi == np.inf) & (b.lo == -np.inf)) | ((a.lo == -np.inf) & (b.hi == np.inf))
     with np.errstate(invalid="ignore"):
         return Interval(a.lo + b.lo, a.hi + b.hi, nan)
 
 
-def _sub(a, b):
+def _sub(a: Interval, b: Interval) -> Interval:
     return _add(a, _neg(b))
 
 
-def _mul(a, b):
+def _mul(a: Interval, b: Interval) -> Interval:
     with np.errstate(invalid="ignore", over="ignore"):
         products = np.stack([a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi])
     # 0 * inf is NaN, also where the zero lies inside an interval whose ends are not zero
@@ -97,7 +99,7 @@ def _mul(a, b):
                     np.max(products, axis=0), nan)
 
 
-def _reciprocal(a):
+def _reciprocal(a: Interval) -> Interval:
     """1 / a as numpy computes it: 1/+0 = inf and 1/-0 = -inf, so an interval holding +0 (its
     lower end <= 0 <= its upper end) reaches inf and one holding -0 (a lower end below zero or
     at -0) reaches -inf; the reciprocal of a subnormal side overflows to infinity, as numpy's
@@ -109,22 +111,22 @@ def _reciprocal(a):
     return Interval(np.where(minus_zero, -np.inf, lo), np.where(holds_zero, np.inf, hi))
 
 
-def _div(a, b):
+def _div(a: Interval, b: Interval) -> Interval:
     return _mul(a, _reciprocal(b))
 
 
-def _neg(a):
+def _neg(a: Interval) -> Interval:
     return Interval(-a.hi, -a.lo)
 
 
-def _monotone(f, a):
+def _monotone(f: Callable[[np.ndarray], np.ndarray], a: Interval) -> Interval:
     """f(a) for an f increasing over a that keeps the sign of zero (exp, sqrt, atan, tanh,
     sinh; tan between two poles, cosh of |a|)."""
     with np.errstate(all="ignore"):
         return Interval(f(a.lo), f(a.hi))
 
 
-def _even_power(a, n):
+def _even_power(a: Interval, n: float) -> Interval:
     """a**n for an even integer n >= 0: smallest at the point of the box nearest to 0."""
     with np.errstate(over="ignore", under="ignore"):
         lo, hi = np.abs(a.lo) ** n, np.abs(a.hi) ** n
@@ -132,20 +134,20 @@ def _even_power(a, n):
     return Interval(low, np.maximum(lo, hi))
 
 
-def _sqrt(a):
+def _sqrt(a: Interval) -> Interval:
     # NaN below zero: the box holds a point where theta is NaN unless all of it is >= 0
     # sqrt(-0) = -0: a lower end at -0 stays
     root = _monotone(np.sqrt, Interval(np.where(a.lo < 0, 0.0, a.lo), np.maximum(a.hi, 0)))
     return Interval(np.where(a.lo < 0, np.nan, root.lo), root.hi)
 
 
-def _log(a):
+def _log(a: Interval) -> Interval:
     with np.errstate(divide="ignore", invalid="ignore"):
         lo, hi = np.log(a.lo), np.log(a.hi)
     return Interval(np.where(a.lo < 0, np.nan, lo), hi)
 
 
-def _power(a, b, exponent):
+def _power(a: Interval, b: Interval, exponent: float | None) -> Interval:
     """a**b as numpy computes it (see :func:`ngincompat.mechanics.expressions.power`)."""
     if exponent is not None and float(exponent).is_integer():
         # every float from 2**53 on is an even integer
@@ -171,14 +173,15 @@ def _power(a, b, exponent):
     return Interval(np.where(positive, value.lo, np.nan), np.where(positive, value.hi, np.nan))
 
 
-def _periodic(a, f, peak, trough):
+def _periodic(a: Interval, f: Callable[[np.ndarray], np.ndarray], peak: float,
+              trough: float) -> Interval:
     """sin or cos on an interval: the end points, and +-1 where the interval holds a peak
     (``peak + 2 pi k``) or a trough."""
     with np.errstate(invalid="ignore"):
         ends = np.stack([f(a.lo), f(a.hi)])
         lo, hi = _negative_zero(np.min(ends, axis=0), *ends), np.max(ends, axis=0)
 
-        def holds(x0):
+        def holds(x0: float) -> np.ndarray:
             k = np.ceil((a.lo - x0) / (2 * np.pi))
             return x0 + 2 * np.pi * k <= a.hi
 
@@ -189,7 +192,7 @@ def _periodic(a, f, peak, trough):
     return Interval(lo, hi, infinite)
 
 
-def _tan(a):
+def _tan(a: Interval) -> Interval:
     with np.errstate(invalid="ignore"):
         k = np.ceil((a.lo - np.pi / 2) / np.pi)
         pole = (np.pi / 2 + np.pi * k <= a.hi) | ~np.isfinite(a.lo) | ~np.isfinite(a.hi)
@@ -198,18 +201,18 @@ def _tan(a):
                     ~np.isfinite(a.lo) | ~np.isfinite(a.hi))
 
 
-def _cosh(a):
+def _cosh(a: Interval) -> Interval:
     value = _monotone(np.cosh, Interval(np.abs(a.lo), np.abs(a.hi)))
     high = np.maximum(value.lo, value.hi)
     low = np.where(a.contains_zero(), 1.0, np.minimum(value.lo, value.hi))
     return Interval(low, high)
 
 
-def _abs(a):
+def _abs(a: Interval) -> Interval:
     return _even_power(a, 1)
 
 
-FUNCTIONS = {
+FUNCTIONS: dict[str, Callable[..., Interval]] = {
     "sqrt": _sqrt,
     "exp": lambda a: _monotone(np.exp, a),
     "log": _log,
@@ -230,7 +233,8 @@ FUNCTIONS = {
 _BINARY = {ast.Add: _add, ast.Sub: _sub, ast.Mult: _mul, ast.Div: _div}
 
 
-def enclosure(text, lo, hi, name="theta"):
+def enclosure(text: str, lo: np.ndarray, hi: np.ndarray,
+              name: str = "theta") -> tuple[np.ndarray, np.ndarray]:
     """Bounds of the expression ``text`` on boxes.
 
     Parameters
@@ -257,21 +261,22 @@ def enclosure(text, lo, hi, name="theta"):
              "Rxy": _sqrt(_add(squares[0], squares[1])),
              "pi": Interval.point(math.pi, n), "e": Interval.point(math.e, n)}
 
-    def constant(node):
+    def constant(node: ast.expr) -> float | None:
         """The value of a constant exponent (``2``, ``-0.5``), else None."""
         if isinstance(node, ast.Constant):
-            return float(node.value)
+            return float(node.value)  # type: ignore[arg-type]  # a number: syntax_tree
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
             value = constant(node.operand)
             return None if value is None else (-value if isinstance(node.op, ast.USub)
                                                else value)
         return None
 
-    def bound(node):
+    def bound(node: ast.AST) -> Interval:
         if isinstance(node, ast.Expression):
             return bound(node.body)
         if isinstance(node, ast.Constant):
-            value = float(node.value) if abs(node.value) < 2 ** 1024 else math.inf
+            value = (float(node.value)  # type: ignore[arg-type]  # a number: syntax_tree
+                     if abs(node.value) < 2 ** 1024 else math.inf)  # type: ignore[arg-type]
             return Interval.point(value, n)
         if isinstance(node, ast.Name):
             return names[node.id]
@@ -281,12 +286,13 @@ def enclosure(text, lo, hi, name="theta"):
         elif isinstance(node, ast.BinOp):
             operands = [bound(node.left), bound(node.right)]
             if isinstance(node.op, ast.Pow):
-                result = _power(*operands, constant(node.right))
+                result = _power(*operands, constant(node.right))  # type: ignore[call-arg, arg-type]
             else:
                 result = _BINARY[type(node.op)](*operands)
         else:
-            operands = [bound(a) for a in node.args]
-            result = FUNCTIONS[node.func.id](*operands)
+            # the one kind left by syntax_tree: a call of a function of FUNCTIONS
+            operands = [bound(a) for a in node.args]  # type: ignore[attr-defined]
+            result = FUNCTIONS[node.func.id](*operands)  # type: ignore[attr-defined]
         # a NaN operand makes the result NaN (numpy's nan ** 0 = 1 is taken as NaN too: the
         # enclosure stays one, only wider)
         return Interval(result.lo, result.hi, np.any([o.nan for o in operands], axis=0)
@@ -296,7 +302,9 @@ def enclosure(text, lo, hi, name="theta"):
     return result.lo, result.hi
 
 
-def positive_on(text, lo, hi, name="theta", evaluate=None):
+def positive_on(text: str, lo: np.ndarray, hi: np.ndarray, name: str = "theta",
+                evaluate: Callable[[np.ndarray], np.ndarray] | None = None
+                ) -> tuple[np.ndarray, float, bool] | None:
     """Prove ``text`` > 0 on every box, or find a point where it is not positive and finite.
 
     (That theta is finite is for the sampling of
@@ -328,7 +336,7 @@ def positive_on(text, lo, hi, name="theta", evaluate=None):
     lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
     scale = np.where(hi > lo, hi - lo, 1.0)
     if evaluate is None:
-        def evaluate(points):
+        def evaluate(points: np.ndarray) -> np.ndarray:
             return enclosure(text, points, points, name)[0]
     for _ in range(MAX_ROUNDS + 1):
         open_ = ~(enclosure(text, lo, hi, name)[0] > 0)

@@ -35,11 +35,16 @@ import ast
 import math
 import re
 import sys
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat.errors import ExpressionError, shown
+
+if TYPE_CHECKING:
+    from typing_extensions import TypeIs
 
 #: Integer exponents up to this size are expanded into products (repeated squaring, exact up to
 #: a few roundings); larger ones use ``|a|**n`` with the sign of ``a**n``.
@@ -64,11 +69,11 @@ _ROUND = 2.0 ** 52
 _TANH_SATURATION = 20.0
 
 
-def _is_const(value):
+def _is_const(value: object) -> "TypeIs[float]":
     return isinstance(value, float)
 
 
-def _fold(func, *args):
+def _fold(func: Callable[..., Any], *args: float) -> float:
     """Evaluate ``func`` on float constants as numpy does for float64 arrays (no warnings).
 
     Arrays, not scalars: for a scalar exponent numpy's ``power`` takes shortcuts (0.5 is
@@ -78,7 +83,7 @@ def _fold(func, *args):
         return float(func(*(np.array([a], dtype=float) for a in args))[0])
 
 
-def _cf(value):
+def _cf(value: float | ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """A CoefficientFunction for ``value``; a constant becomes one NGSolve keeps as it is.
 
     ``ngs.CF(0.0)`` is NGSolve's zero function, which products and sums simplify away
@@ -90,24 +95,26 @@ def _cf(value):
     return ngs.CF(value) if value != 0 else ngs.Parameter(value)
 
 
-def _if_pos(condition, then, otherwise):
+def _if_pos(condition: ngs.CoefficientFunction, then: float | ngs.CoefficientFunction,
+            otherwise: float | ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     return ngs.IfPos(condition, _cf(then), _cf(otherwise))
 
 
-def _nan_or_zero(a):
+def _nan_or_zero(a: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """+0 where ``a`` is a number (inf included), NaN where it is NaN."""
     angle = ngs.atan(a)
     return angle - angle
 
 
-def absolute(a):
+def absolute(a: float | ngs.CoefficientFunction) -> float | ngs.CoefficientFunction:
     """``numpy.abs``: ``abs(-0) = 0``, ``abs(nan) = nan``."""
     if _is_const(a):
         return _fold(np.abs, a)
     return ngs.IfPos(a, a, 0.0 - a)
 
 
-def minimum(a, b):
+def minimum(a: float | ngs.CoefficientFunction,
+            b: float | ngs.CoefficientFunction) -> float | ngs.CoefficientFunction:
     """``numpy.minimum``: ``a if (a < b or isnan(a)) else b``, so a NaN argument gives NaN."""
     if _is_const(a) and _is_const(b):
         return _fold(np.minimum, a, b)
@@ -115,7 +122,8 @@ def minimum(a, b):
     return ngs.IfPos(b - a, a, b - _nan_or_zero(a))
 
 
-def maximum(a, b):
+def maximum(a: float | ngs.CoefficientFunction,
+            b: float | ngs.CoefficientFunction) -> float | ngs.CoefficientFunction:
     """``numpy.maximum``: ``a if (a > b or isnan(a)) else b``, so a NaN argument gives NaN."""
     if _is_const(a) and _is_const(b):
         return _fold(np.maximum, a, b)
@@ -123,7 +131,7 @@ def maximum(a, b):
     return ngs.IfPos(a - b, a, b - _nan_or_zero(a))
 
 
-def tanh(a):
+def tanh(a: float | ngs.CoefficientFunction) -> float | ngs.CoefficientFunction:
     """``numpy.tanh``, accurate for small |a| and exactly +-1 for large |a|."""
     if _is_const(a):
         return _fold(np.tanh, a)
@@ -131,7 +139,8 @@ def tanh(a):
                    _if_pos(-a - _TANH_SATURATION, -1.0, ngs.sinh(a) / ngs.cosh(a)))
 
 
-def power(a, b):
+def power(a: float | ngs.CoefficientFunction,
+          b: float | ngs.CoefficientFunction) -> float | ngs.CoefficientFunction:
     """``a ** b`` with the semantics of ``numpy.power`` for float64.
 
     In particular a negative base with an integer exponent is exact (``(-0.5)**2 = 0.25``; an
@@ -162,7 +171,8 @@ def power(a, b):
     return _power_general(_cf(a), b)
 
 
-def _power_constant_exponent(a, n):
+def _power_constant_exponent(a: ngs.CoefficientFunction,
+                             n: float) -> float | ngs.CoefficientFunction:
     if n == 0:
         return 1.0
     if math.isnan(n):  # numpy: 1**nan = 1, anything else NaN
@@ -184,7 +194,8 @@ def _power_constant_exponent(a, n):
     return _if_pos(-a - _BIG, math.inf if n > 0 else 0.0, a ** n)
 
 
-def _power_general(a, b):
+def _power_general(a: ngs.CoefficientFunction,
+                   b: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
     """``numpy.power`` for a non-constant exponent: the integer test of b is done pointwise."""
     m = absolute(a)
     # |a|**b for b != 0 and b not NaN; clamping b = +-inf to +-_BIG makes 1**inf = 1
@@ -210,15 +221,17 @@ def _power_general(a, b):
     return _if_pos(absolute(b), sign * magnitude, _if_pos(b - b + 1, 1.0, nan_exponent))
 
 
-def _elementwise(numpy_function, cf_function):
-    def apply(*args):
+def _elementwise(numpy_function: Callable[..., Any],
+                 cf_function: Callable[..., ngs.CoefficientFunction]
+                 ) -> Callable[..., float | ngs.CoefficientFunction]:
+    def apply(*args: float | ngs.CoefficientFunction) -> float | ngs.CoefficientFunction:
         if all(_is_const(a) for a in args):
             return _fold(numpy_function, *args)
         return cf_function(*(_cf(a) for a in args))
     return apply
 
 
-FUNCTIONS = {
+FUNCTIONS: dict[str, Callable[..., float | ngs.CoefficientFunction]] = {
     "sqrt": _elementwise(np.sqrt, ngs.sqrt),
     "exp": _elementwise(np.exp, ngs.exp),
     "log": _elementwise(np.log, ngs.log),
@@ -243,7 +256,8 @@ _NUMPY_BINARY = {
 }
 
 
-def _binary(op, a, b):
+def _binary(op: type[ast.operator], a: float | ngs.CoefficientFunction,
+            b: float | ngs.CoefficientFunction) -> float | ngs.CoefficientFunction:
     if op is ast.Pow:
         return power(a, b)
     if _is_const(a) and _is_const(b):
@@ -258,7 +272,7 @@ def _binary(op, a, b):
     return a / b
 
 
-def _names(time):
+def _names(time: float | ngs.CoefficientFunction) -> dict[str, float | ngs.CoefficientFunction]:
     x, y, z = ngs.x, ngs.y, ngs.z
     return {
         "X1": x, "X2": y, "X3": z, "x": x, "y": y, "z": z,
@@ -270,7 +284,7 @@ def _names(time):
     }
 
 
-def _number(value):
+def _number(value: float) -> float:
     try:
         return float(value)
     except OverflowError:  # an integer literal beyond the float range
@@ -279,7 +293,7 @@ def _number(value):
 
 
 
-def _check_size(tree, text, name):
+def _check_size(tree: ast.AST, text: str, name: str) -> None:
     """Refuse a syntax tree deeper than :data:`MAX_DEPTH` or larger than :data:`MAX_NODES`,
     walking it without recursion (the translation below recurses once per level)."""
     stack, nodes = [(tree, 1)], 0
@@ -296,7 +310,7 @@ def _check_size(tree, text, name):
         stack.extend((child, depth + 1) for child in ast.iter_child_nodes(node))
 
 
-def _parse(text, name):
+def _parse(text: str, name: str) -> ast.Expression:
     """The syntax tree of ``text`` within the limits of size, not yet checked against the
     whitelist."""
     if not isinstance(text, str) or not text.strip():
@@ -325,7 +339,7 @@ def _parse(text, name):
     return tree
 
 
-def syntax_tree(text, name="expression"):
+def syntax_tree(text: str, name: str = "expression") -> ast.Expression:
     """The syntax tree of a valid expression (:func:`parse_expression` accepts it), for
     other evaluations of the same expression (:mod:`ngincompat.mechanics.bounds`).
 
@@ -338,7 +352,8 @@ def syntax_tree(text, name="expression"):
     return _parse(text, name)
 
 
-def parse_expression(text, time=None, name="expression"):
+def parse_expression(text: str, time: ngs.Parameter | float | None = None,
+                     name: str = "expression") -> ngs.CoefficientFunction:
     """Translate ``text`` into a CoefficientFunction of (X, t).
 
     Parameters
@@ -368,7 +383,7 @@ def parse_expression(text, time=None, name="expression"):
         time = float(time)
     names = _names(time)
 
-    def build(node):
+    def build(node: ast.AST) -> float | ngs.CoefficientFunction:
         if isinstance(node, ast.Expression):
             return build(node.body)
         if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \

@@ -5,6 +5,7 @@ constant in space. The closed forms of section 2.3 (eq. 19-22, 24-27) assume con
 so only constant fields give a scene a closed-form oracle.
 """
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import ngsolve as ngs
@@ -35,11 +36,11 @@ class DirectionField:
     vector: tuple | None = None
 
     @property
-    def is_constant(self):
+    def is_constant(self) -> bool:
         return self.vector is not None
 
 
-def constant(vector, name=None):
+def constant(vector: str | Sequence[float], name: str | None = None) -> DirectionField:
     """A constant unit direction; ``vector`` is normalised, ``"e1"``, ``"e2"``, ``"e3"`` work."""
     if isinstance(vector, str):
         if vector not in _AXES:
@@ -54,7 +55,8 @@ def constant(vector, name=None):
     return DirectionField(ngs.CF(tuple(v)), name or "({:g}, {:g}, {:g})".format(*v), tuple(v))
 
 
-def radial(center=(0.0, 0.0, 0.0), axis=None):
+def radial(center: Sequence[float] = (0.0, 0.0, 0.0),
+           axis: str | Sequence[float] | None = None) -> DirectionField:
     """Unit radial direction from ``center``; about the line ``center + s*axis`` if given.
 
     Undefined on the centre point (line); a tiny regularisation keeps it finite there.
@@ -67,14 +69,15 @@ def radial(center=(0.0, 0.0, 0.0), axis=None):
     return DirectionField(d / ngs.sqrt(ngs.InnerProduct(d, d) + 1e-30), "radial")
 
 
-def circumferential(axis="e3", center=(0.0, 0.0, 0.0)):
+def circumferential(axis: str | Sequence[float] = "e3",
+                    center: Sequence[float] = (0.0, 0.0, 0.0)) -> DirectionField:
     """Unit circumferential direction about the line ``center + s*axis``: axis x radial."""
     a = constant(axis).cf
     r = radial(center, axis).cf
     return DirectionField(ngs.Cross(a, r), "circumferential")
 
 
-def from_name(spec, parameter="direction"):
+def from_name(spec: str, parameter: str = "direction") -> DirectionField:
     """A direction field from a short name: e1, e2, e3, radial, radial_xy, circumferential,
     or the bilayer's axons_curved, axons_concentric, axons_straight (default placement);
     ``parameter`` is the name an unknown one is reported under."""
@@ -101,7 +104,8 @@ AXONS = names.AXONS
 FOCUS_DEPTH = 3.0
 
 
-def axons(kind, interface=0.95, length=3.0, focus_depth=FOCUS_DEPTH, vertical="e3"):
+def axons(kind: str, interface: float = 0.95, length: float = 3.0,
+          focus_depth: float = FOCUS_DEPTH, vertical: str = "e3") -> DirectionField:
     """The bilayer's axon orientations in the subcortex (cortical folding, Fig. 7).
 
     Parameters
@@ -139,7 +143,8 @@ def axons(kind, interface=0.95, length=3.0, focus_depth=FOCUS_DEPTH, vertical="e
     return DirectionField(ngs.Cross(constant(across).cf, fan.cf), "axons concentric")
 
 
-def by_region(mesh, directions, name):
+def by_region(mesh: ngs.Mesh, directions: Mapping[str, DirectionField],
+              name: str) -> DirectionField:
     """A direction field made of one field per region of the mesh (the cortex's e1 above the
     subcortex's axons), e.g. ``by_region(mesh, {"cortex": constant("e1"), ...}, "f0")``.
 

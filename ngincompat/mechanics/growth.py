@@ -26,9 +26,9 @@ kind is one class::
             return ngs.Norm(F * ngs.CF((1, 0, 0)))
 """
 
-from collections.abc import KeysView
+from collections.abc import KeysView, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar, Protocol, Self, TypeAlias, runtime_checkable
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, Self, TypeAlias, runtime_checkable
 
 import ngsolve as ngs
 import numpy as np
@@ -98,7 +98,13 @@ class GrowthKind:
     if TYPE_CHECKING:   # the constructor a registered kind has (a dataclass's)
         def __init__(self, theta: CF, direction: DirectionField | None = None) -> None: ...
 
-    def __init_subclass__(cls, **kwargs):
+        # and what it must provide (:meth:`__init_subclass__` checks that it does)
+        @property
+        def Fg(self) -> CF: ...
+
+        def stretch(self, F: CF) -> CF: ...
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         name = cls.__dict__.get("kind")
         if name is None:
@@ -260,7 +266,7 @@ class TensorGrowth:
     tensor: CF
     kind = "tensor"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if tuple(self.tensor.dims) != (3, 3):
             raise ParameterError(f"growth tensor must be 3x3, got dims {tuple(self.tensor.dims)}")
 
@@ -297,7 +303,9 @@ THETA_MAX = float(np.cbrt(np.finfo(float).max))
 THETA_FLOOR = 1e-3
 
 
-def check_positive(theta, mesh, time=None, times=CHECK_TIMES, order=4, expression=None):
+def check_positive(theta: CF, mesh: ngs.Mesh, time: ngs.Parameter | None = None,
+                   times: Sequence[float] = CHECK_TIMES, order: int = 4,
+                   expression: str | None = None) -> None:
     """Raise :class:`ParameterError` unless 0 < theta < inf everywhere in the body, and its
     cube, Jg of isotropic growth (eq. 13), is finite too.
 

@@ -28,11 +28,11 @@ class GrowthLaw(Protocol):
         """d theta / dt at growth theta and elastic stretch theta_e (section 2.6)."""
 
 
-def _macaulay(a):
+def _macaulay(a: CF) -> CF:
     return ngs.IfPos(a, a, 0.0)
 
 
-def _positive_power(a, n):
+def _positive_power(a: CF, n: float) -> CF:
     """<a>^n, with a derivative that is finite everywhere (a ** n alone has a NaN derivative
     at a = 0 for non-integer arithmetic; the branch not taken is never used)."""
     if n == 0:
@@ -63,7 +63,7 @@ class StrainDrivenLaw:
     gamma: float = 2.0
     theta_crit: float = 1.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.tau > 0, "tau", self.tau, "> 0")
         require(self.theta_max > 1, "theta_max", self.theta_max, "> 1")
         require(self.gamma >= 0, "gamma", self.gamma, ">= 0")
@@ -104,7 +104,7 @@ class HillLaw:
     theta_crit: float = 1.0
     theta_max: float = 3.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.k > 0, "k", self.k, "> 0")
         require(self.K > 0, "K", self.K, "> 0")
         require(self.n >= 1, "n", self.n, ">= 1")
@@ -134,7 +134,7 @@ class ConstantRateLaw:
 
     r: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.r >= 0, "rate", self.r, ">= 0")
 
     def rate(self, theta: CF, theta_e: CF) -> CF:
@@ -156,7 +156,7 @@ class RegionalLaw:
     mesh: ngs.Mesh
     laws: dict
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         regions = set(self.mesh.GetMaterials())
         require(set(self.laws) == regions, "laws", sorted(self.laws),
                 f"one law for each region: {', '.join(sorted(regions))}")

@@ -16,12 +16,14 @@ uniform parameters (mu, nu, k1, k2, kappa) of its classmethod ``from_parameters`
 import dataclasses
 from collections.abc import KeysView, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar, Protocol, Self, TypeAlias, runtime_checkable
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, Self, TypeAlias, runtime_checkable
 
 import ngsolve as ngs
 
 from ngincompat.errors import ParameterError, require
 from ngincompat.mechanics import kinematics
+from ngincompat.mechanics.fields import DirectionField
+from ngincompat.mechanics.growth import GrowthModel
 
 CF: TypeAlias = ngs.CoefficientFunction
 
@@ -87,7 +89,7 @@ class MaterialKind:
         def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
                             kappa: float = 0.0) -> Self: ...
 
-    def __init_subclass__(cls, **kwargs):
+    def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         name = cls.__dict__.get("name")
         if name is None:
@@ -122,7 +124,7 @@ def lame_lambda(mu: float, nu: float) -> float:
     return 2.0 * mu * nu / (1.0 - 2.0 * nu)
 
 
-def _check_lame(mu, lam):
+def _check_lame(mu: float, lam: float) -> None:
     require(mu > 0, "mu", mu, "> 0 (shear modulus)")
     require(lam > -2.0 * mu / 3.0, "lambda", lam, "> -2 mu / 3 (positive bulk modulus)")
 
@@ -149,7 +151,7 @@ class NeoHookean(MaterialKind):
     name = "neo-hookean"
     needs_fibers = False
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         # moduli per region are checked by by_region
         if not isinstance(self.mu, ngs.CoefficientFunction):
             _check_lame(self.mu, self.lam)
@@ -161,7 +163,7 @@ class NeoHookean(MaterialKind):
         return cls(mu, lame_lambda(mu, nu))
 
     @classmethod
-    def by_region(cls, mesh, moduli: dict[str, tuple[float, float]]) -> Self:
+    def by_region(cls, mesh: ngs.Mesh, moduli: dict[str, tuple[float, float]]) -> Self:
         """One neo-Hookean material with moduli per mesh region (material name), given as
         region -> (mu, nu); mu and lam become piecewise constant CoefficientFunctions (the
         energy is linear in both)."""
@@ -227,7 +229,7 @@ class GOH(MaterialKind):
     name = "goh"
     needs_fibers = True
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.mu > 0, "mu", self.mu, "> 0 (shear modulus)")
         require(self.lam > 0, "lambda", self.lam, "> 0 (bulk parameter)")
         require(self.k1 >= 0, "k1", self.k1, ">= 0 (fiber stiffness)")
@@ -263,7 +265,7 @@ class GOH(MaterialKind):
         return psi
 
 
-def intermediate_fibers(Fg, fibers):
+def intermediate_fibers(Fg: CF, fibers: Sequence[DirectionField]) -> tuple[CF, ...]:
     """Fiber directions pushed to the intermediate configuration, Fg a0 / |Fg a0| (eq. 39),
     for the direction fields ``fibers`` (:class:`~ngincompat.mechanics.fields.DirectionField`)."""
     pushed = []
@@ -273,7 +275,8 @@ def intermediate_fibers(Fg, fibers):
     return tuple(pushed)
 
 
-def grown_energy_density(F, growth, material, fibers=()):
+def grown_energy_density(F: CF, growth: GrowthModel, material: Material,
+                         fibers: Sequence[DirectionField] = ()) -> CF:
     """The strain energy per reference volume of a grown body, Jg Psi(Fe) with Fe = F Fg^-1
     (eq. 1, 30), the fibers pushed to the intermediate configuration (eq. 39); ``growth`` has
     ``Fg`` and ``Jg`` (:mod:`ngincompat.mechanics.growth`)."""
@@ -318,7 +321,7 @@ class Regional:
     materials: dict
     name = "regional"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         regions = set(self.mesh.GetMaterials())
         require(set(self.materials) == regions, "materials", sorted(self.materials),
                 f"one material for each region: {', '.join(sorted(regions))}")

@@ -30,6 +30,7 @@ in theta by bracketing and Brent's method.
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,7 +44,7 @@ _X, _Y = 0, 2
 _STEP = 1e-30  # complex step
 
 
-def nominal_stress(F, Fg, mu, lam):
+def nominal_stress(F: np.ndarray, Fg: np.ndarray, mu: float, lam: float) -> np.ndarray:
     """First Piola-Kirchhoff stress P = Jg P^e(Fe) Fg^-T of the neo-Hookean energy (eq. 36).
 
     Works on complex arrays (for the complex-step moduli).
@@ -55,7 +56,7 @@ def nominal_stress(F, Fg, mu, lam):
     return np.linalg.det(Fg) * Pe @ np.linalg.inv(Fg).T
 
 
-def moduli(F, Fg, mu, lam):
+def moduli(F: np.ndarray, Fg: np.ndarray, mu: float, lam: float) -> np.ndarray:
     """A[i, J, k, L] = dP_iJ / dF_kL at F (complex step: exact to round-off)."""
     A = np.empty((3, 3, 3, 3))
     for k in range(3):
@@ -83,16 +84,16 @@ class Prebuckled:
     sigma22: float
 
 
-def growth_tensor(theta):
+def growth_tensor(theta: float) -> np.ndarray:
     """Fg = I + (theta - 1) e1 (x) e1 (eq. 23 with f0 = e1)."""
     return np.diag([theta, 1.0, 1.0])
 
 
-def prebuckled_cortex(theta, mu, lam) -> Prebuckled:
+def prebuckled_cortex(theta: float, mu: float, lam: float) -> Prebuckled:
     """The cortex grown by ``theta`` along e1 between fixed ends, traction-free on top."""
     Fg = growth_tensor(theta)
 
-    def p33(stretch):
+    def p33(stretch: float) -> float:
         return nominal_stress(np.diag([1.0, 1.0, stretch]), Fg, mu, lam)[2, 2]
 
     stretch = brentq(p33, 0.2, 5.0, xtol=1e-15, rtol=1e-15)
@@ -101,7 +102,7 @@ def prebuckled_cortex(theta, mu, lam) -> Prebuckled:
     return Prebuckled(stretch, sigma[0, 0], sigma[1, 1])
 
 
-def stroh_matrix(A, k):
+def stroh_matrix(A: np.ndarray, k: float) -> np.ndarray:
     """K with z' = K z for z = (U1, U3, T1, T3) (see the module docstring).
 
     With x = X1 and y = X3, the tractions on X3 = const are T1 sin(k X1) and T3 cos(k X1),
@@ -139,7 +140,7 @@ class Bilayer:
     mu_sub: float
     lam_sub: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         require(self.height > 0, "height", self.height, "> 0")
         require(0 < self.cortex <= self.height, "cortex", self.cortex,
                 f"in (0, height = {self.height:g}]")
@@ -150,14 +151,14 @@ class Bilayer:
                     "> -2 mu / 3")
 
     @functools.lru_cache(maxsize=4096)  # noqa: B019 - frozen, few instances, pure
-    def cortex_moduli(self, theta):
+    def cortex_moduli(self, theta: float) -> np.ndarray:
         """Moduli of the cortex in its homogeneous state at growth theta."""
         state = prebuckled_cortex(theta, self.mu_cortex, self.lam_cortex)
         F = np.diag([1.0, 1.0, state.lambda3])
         return moduli(F, growth_tensor(theta), self.mu_cortex, self.lam_cortex)
 
     @functools.lru_cache(maxsize=1024)  # noqa: B019 - frozen, few instances, pure
-    def substrate_basis(self, k):
+    def substrate_basis(self, k: float) -> tuple[np.ndarray, float]:
         """The two solutions that satisfy the rollers at the bottom, carried to the
         interface: an orthonormal 4 x 2 basis and the sign that keeps the determinant's."""
         Z = np.eye(4)[:, [0, 3]]  # the rollers: z(0) = a e_U1 + b e_T3
@@ -173,7 +174,7 @@ class Bilayer:
 SATURATION = 40.0
 
 
-def _propagate(K, h, Z):
+def _propagate(K: np.ndarray, h: float, Z: np.ndarray) -> tuple[np.ndarray, float]:
     """exp(K h) Z in sub-steps with orthonormalisation after each (the growing solutions would
     otherwise swamp each other); returns the basis and the sign of the determinant of the
     discarded triangular factors, so that det(top rows) keeps the sign of the exact one.
@@ -199,7 +200,7 @@ def _propagate(K, h, Z):
     return Z, sign
 
 
-def determinant(bilayer: Bilayer, k, theta):
+def determinant(bilayer: Bilayer, k: float, theta: float) -> float:
     """A function of (k, theta) with the sign of the 2 x 2 determinant of the tractions at
     the top and the same zeros: the mode k bifurcates where it vanishes."""
     Z, sign = bilayer.substrate_basis(k)
@@ -208,7 +209,8 @@ def determinant(bilayer: Bilayer, k, theta):
     return sign * sign_cortex * np.linalg.det(Z[2:, :])
 
 
-def critical_growth(bilayer: Bilayer, k, theta_min=1.0, theta_max=3.0, resolution=0.005):
+def critical_growth(bilayer: Bilayer, k: float, theta_min: float = 1.0, theta_max: float = 3.0,
+                    resolution: float = 0.005) -> float:
     """The smallest theta in (theta_min, theta_max] at which wavenumber k bifurcates, or inf.
 
     theta is scanned in steps of ``resolution`` for a sign change of :func:`determinant`,
@@ -218,7 +220,8 @@ def critical_growth(bilayer: Bilayer, k, theta_min=1.0, theta_max=3.0, resolutio
     return _first_roots(bilayer, [k], theta_min, theta_max, resolution)[0]
 
 
-def _first_roots(bilayer, ks, theta_min, theta_max, resolution, first_only=False):
+def _first_roots(bilayer: Bilayer, ks: list[float], theta_min: float, theta_max: float,
+                 resolution: float, first_only: bool = False) -> np.ndarray:
     """The first root in theta of every k (inf where there is none); with ``first_only``
     the scan stops at the first theta interval where any k has one (the others are inf)."""
     thetas = np.arange(theta_min, theta_max + resolution / 2, resolution)
@@ -260,8 +263,9 @@ class Onset:
     mode: int | None
 
 
-def onset(bilayer: Bilayer, length=None, modes=range(1, 81), k_range=None, theta_max=3.0,
-          resolution=0.005):
+def onset(bilayer: Bilayer, length: float | None = None, modes: Sequence[int] = range(1, 81),
+          k_range: tuple[float, float] | None = None, theta_max: float = 3.0,
+          resolution: float = 0.005) -> Onset:
     """The onset: the smallest critical growth over the admissible wavenumbers.
 
     With ``length`` the ends are rollers and k = n pi / length for n in ``modes``; without,
@@ -274,7 +278,7 @@ def onset(bilayer: Bilayer, length=None, modes=range(1, 81), k_range=None, theta
         ks = [n * np.pi / length for n in modes]
     else:
         require(k_range is not None, "k_range", k_range, "(k_min, k_max) without a length")
-        ks = list(np.geomspace(k_range[0], k_range[1], 40))
+        ks = list(np.geomspace(k_range[0], k_range[1], 40))  # type: ignore[index]  # required
     roots = _first_roots(bilayer, ks, 1.0, theta_max, resolution, first_only=True)
     i = int(np.argmin(roots))
     if not np.isfinite(roots[i]):
@@ -283,7 +287,7 @@ def onset(bilayer: Bilayer, length=None, modes=range(1, 81), k_range=None, theta
         return Onset(roots[i], 2 * np.pi / ks[i], modes[i])
     start = roots[i] - resolution
 
-    def theta_c(k):
+    def theta_c(k: float) -> float:
         return critical_growth(bilayer, k, start, theta_max, resolution)
 
     a, b = ks[max(i - 1, 0)], ks[min(i + 1, len(ks) - 1)]
@@ -298,7 +302,7 @@ def onset(bilayer: Bilayer, length=None, modes=range(1, 81), k_range=None, theta
     return Onset(theta_c(k), 2 * np.pi / k, None)
 
 
-def thin_film(mu_film, mu_sub, thickness):
+def thin_film(mu_film: float, mu_sub: float, thickness: float) -> tuple[float, float]:
     """The classical thin-film estimate for an incompressible stiff film on a half-space:
     critical compressive strain (1/4) (3 mu_s / mu_f)^(2/3) and wavelength
     2 pi t (mu_f / (3 mu_s))^(1/3); as growth, theta = 1 / (1 - strain)."""

@@ -17,7 +17,9 @@ The system y = (r, P_r) is integrated outward from the isotropic state r = l0 R 
 (:func:`scipy.optimize.brentq`) on P_r(R0) = 0.
 """
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -31,13 +33,13 @@ class RadialSolution:
     R0: float
     mu: float
     lam: float
-    theta: object
-    _sol: object
+    theta: Callable[[float | np.ndarray], float | np.ndarray]
+    _sol: Any
 
-    def radius(self, R):
+    def radius(self, R: float | np.ndarray) -> np.ndarray:
         return self._sol.sol(np.asarray(R, float))[0]
 
-    def cauchy(self, R):
+    def cauchy(self, R: float | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(sigma_rr, sigma_tt) at reference radii R (sigma_tt = sigma_pp by symmetry)."""
         R = np.asarray(R, float)
         r, P = self._sol.sol(R)
@@ -47,7 +49,8 @@ class RadialSolution:
         return P / lt ** 2, Pt / (lr * lt)
 
 
-def _nominal(theta, l_i, l_a, l_b, mu, lam):
+def _nominal(theta: float | np.ndarray, l_i: float | np.ndarray, l_a: float | np.ndarray,
+             l_b: float | np.ndarray, mu: float, lam: float) -> float | np.ndarray:
     """Nominal stress along stretch l_i with the other two stretches l_a, l_b."""
     c = theta ** (-1.0 / 3.0)
     e = l_i * c
@@ -55,7 +58,8 @@ def _nominal(theta, l_i, l_a, l_b, mu, lam):
     return theta ** (2.0 / 3.0) * (mu * e - (mu - lam * lnJ) / e)
 
 
-def _radial_stretch(theta, lt, P, mu, lam):
+def _radial_stretch(theta: float | np.ndarray, lt: float | np.ndarray, P: float | np.ndarray,
+                    mu: float, lam: float) -> np.ndarray:
     """Invert P_r(lambda_r; lambda_t) for lambda_r by Newton's method (P_r is increasing)."""
     c = theta ** (-1.0 / 3.0)
     et = lt * c
@@ -73,7 +77,8 @@ def _radial_stretch(theta, lt, P, mu, lam):
     return e / c
 
 
-def solve_radial(theta, mu, lam, R0=1.0, eps=1e-6, rtol=1e-12):
+def solve_radial(theta: Callable[[float | np.ndarray], float | np.ndarray], mu: float, lam: float,
+                 R0: float = 1.0, eps: float = 1e-6, rtol: float = 1e-12) -> RadialSolution:
     """Solve the spherically symmetric growth problem by shooting on the central stretch.
 
     Parameters
@@ -90,7 +95,7 @@ def solve_radial(theta, mu, lam, R0=1.0, eps=1e-6, rtol=1e-12):
     RadialSolution
     """
 
-    def rhs(R, y):
+    def rhs(R: float, y: np.ndarray) -> list[float]:
         r, P = y
         th = theta(R)
         lt = r / R
@@ -98,7 +103,7 @@ def solve_radial(theta, mu, lam, R0=1.0, eps=1e-6, rtol=1e-12):
         Pt = _nominal(th, lt, lr, lt, mu, lam)
         return [lr, -2.0 * (P - Pt) / R]
 
-    def shoot(l0, dense=False):
+    def shoot(l0: float, dense: bool = False) -> Any:
         th0 = theta(np.array(eps))
         y0 = [l0 * eps, float(_nominal(th0, l0, l0, l0, mu, lam))]
         return solve_ivp(rhs, (eps, R0), y0, method="DOP853", rtol=rtol, atol=1e-14,

@@ -15,9 +15,11 @@ was given up, so the series is always the path the run took.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Self
+
+import ngsolve as ngs
 
 from ngincompat.workflow import output
 
@@ -43,14 +45,15 @@ class Frames:
     taken: list[tuple[float, dict]] = field(default_factory=list)
 
     @classmethod
-    def of(cls, scene, mesh, fields, names=None):
+    def of(cls, scene: Any, mesh: ngs.Mesh, fields: Callable[[], dict],
+           names: tuple[str, ...] | None = None) -> Self:
         """The series of a scene's run: enabled when its ``outputs`` ask for vtk, at the
         order of the VTK file (the displacement's, at most
         :data:`~ngincompat.workflow.output.VTK_ORDER`)."""
         return cls(mesh, min(scene.order, output.VTK_ORDER), fields, names,
                    "vtk" in scene.output_set())
 
-    def take(self, t, fields: dict | None = None) -> None:
+    def take(self, t: float, fields: dict | None = None) -> None:
         """Freeze the fields of the current state (``fields`` if given, else ``fields()``) as
         the frame of time ``t``, replacing the frames at ``t`` and after."""
         if not self.enabled:
@@ -65,8 +68,8 @@ class Frames:
     def times(self) -> list[float]:
         return [t for t, _ in self.taken]
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[tuple[float, dict]]:
         return iter(self.taken)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.taken)

@@ -33,7 +33,9 @@ import logging
 import math
 import os
 import zipfile
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -81,7 +83,7 @@ _INTERIOR_POINTS = {
 # ---------------------------------------------------------------------------------------------
 
 
-def load_mesh(path, curve_order=None):
+def load_mesh(path: str | os.PathLike, curve_order: int | None = None) -> ngs.Mesh:
     """Read a volume mesh file: Netgen's own, or one of the formats meshio reads.
 
     Parameters
@@ -148,7 +150,7 @@ def load_mesh(path, curve_order=None):
         raise file_error(path, "this format carries no geometry to curve the mesh to: "
                                "curve_order must be None or 1")
     else:
-        mesh = meshfiles.read(path, suffix)
+        mesh = meshfiles.read(path, suffix)  # type: ignore[arg-type]  # a known one: checked
     if curve_order is not None:
         mesh.Curve(curve_order)
     log.info("read %s: %d elements, %d vertices, materials %s, boundaries %s", path, mesh.ne,
@@ -156,7 +158,7 @@ def load_mesh(path, curve_order=None):
     return mesh
 
 
-def save_mesh(path, mesh):
+def save_mesh(path: str | os.PathLike, mesh: ngs.Mesh) -> Path:
     """Write a mesh as a Netgen ``.vol`` or ``.vol.gz`` file, atomically.
 
     The file holds the material and boundary names, the curved elements of a curved mesh
@@ -190,7 +192,7 @@ def save_mesh(path, mesh):
     return path
 
 
-def _check_saved(path, final):
+def _check_saved(path: Path, final: Path) -> None:
     """Raise an OSError unless Netgen wrote the whole mesh into ``path`` (its writer reports
     no failed write, e.g. on a full disk): the file holds the mesh's ``endmesh``; the message
     names ``final``, the file's final name."""
@@ -204,7 +206,7 @@ def _check_saved(path, final):
         raise io.incomplete(final)
 
 
-def describe_mesh(mesh):
+def describe_mesh(mesh: ngs.Mesh) -> dict[str, Any]:
     """A JSON-friendly summary of a mesh for results and provenance.
 
     Parameters
@@ -238,7 +240,8 @@ def describe_mesh(mesh):
 # growth fields
 # ---------------------------------------------------------------------------------------------
 
-def save_growth(path, mesh, theta, order):
+def save_growth(path: str | os.PathLike, mesh: ngs.Mesh, theta: ngs.CoefficientFunction | float,
+                order: int) -> Path:
     """Write a scalar growth indicator as H1 data on ``mesh`` (an ``.npz`` file), atomically.
 
     Parameters
@@ -313,7 +316,7 @@ def save_growth(path, mesh, theta, order):
     return path
 
 
-def load_growth(path, mesh):
+def load_growth(path: str | os.PathLike, mesh: ngs.Mesh) -> ngs.GridFunction:
     """Read a growth indicator given as data on ``mesh``.
 
     Parameters
@@ -357,7 +360,8 @@ def load_growth(path, mesh):
     return _vertex_growth(path, values, mesh)
 
 
-def ramped_growth(theta_data, time):
+def ramped_growth(theta_data: ngs.CoefficientFunction,
+                  time: ngs.Parameter | float) -> ngs.CoefficientFunction:
     """The growth indicator of a run ramped in the load parameter.
 
     Parameters
@@ -379,7 +383,7 @@ def ramped_growth(theta_data, time):
 # shared helpers
 # ---------------------------------------------------------------------------------------------
 
-def _check_input_file(path, allowed, name):
+def _check_input_file(path: str | os.PathLike, allowed: Sequence[str], name: str) -> Path:
     """The path of an existing, readable file with an allowed extension."""
     try:
         path = Path(os.fspath(path))
@@ -400,7 +404,7 @@ def _check_input_file(path, allowed, name):
     return path
 
 
-def _unique(names):
+def _unique(names: Iterable[str]) -> list[str]:
     out = []
     for name in names:
         if name not in out:
@@ -408,11 +412,11 @@ def _unique(names):
     return out
 
 
-def _error(path, reason):
+def _error(path: Path, reason: str) -> ParameterError:
     return file_error(path, reason, "theta_file")
 
 
-def _first_bad(values):
+def _first_bad(values: np.ndarray) -> int | None:
     """Index of the first value that is not finite or not > 0, or None."""
     bad = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
     return int(bad[0]) if len(bad) else None
@@ -423,15 +427,15 @@ def _first_bad(values):
 # ---------------------------------------------------------------------------------------------
 
 
-def _vertex_coordinates(mesh):
+def _vertex_coordinates(mesh: ngs.Mesh) -> np.ndarray:
     return np.array(mesh.ngmesh.Coordinates()[:mesh.nv], dtype=float).reshape(mesh.nv, -1)
 
 
-def _element_nodes(mesh):
+def _element_nodes(mesh: ngs.Mesh) -> np.ndarray:
     return np.ascontiguousarray(mesh.ngmesh.Elements3D().NumPy()["nodes"], dtype="<i8")
 
 
-def _fingerprint(mesh):
+def _fingerprint(mesh: ngs.Mesh) -> dict[str, Any]:
     coords = _vertex_coordinates(mesh)
     diameter = float(np.ptp(coords, axis=0).max()) if len(coords) else 0.0
     rounded = np.round(coords / (diameter or 1.0), 10) + 0.0     # + 0.0: no negative zeros
@@ -444,7 +448,7 @@ def _fingerprint(mesh):
     }
 
 
-def _element_values(gf, mesh):
+def _element_values(gf: ngs.GridFunction, mesh: ngs.Mesh) -> np.ndarray:
     rules = {et: ngs.IntegrationRule([p], [1.0]) for et, p in _INTERIOR_POINTS.items()}
     return np.asarray(gf(mesh.MapToAllElements(rules, ngs.VOL)), dtype=float).ravel()
 
@@ -453,7 +457,7 @@ def _element_values(gf, mesh):
 # growth data
 # ---------------------------------------------------------------------------------------------
 
-def _read_npz(path):
+def _read_npz(path: Path) -> dict[str, np.ndarray]:
     try:
         with np.load(path, allow_pickle=False) as data:
             return {key: data[key] for key in data.files}
@@ -461,7 +465,7 @@ def _read_npz(path):
         raise _error(path, f"is not a readable .npz file: {one_line(exc)}") from None
 
 
-def _user_array(path, arrays):
+def _user_array(path: Path, arrays: Mapping[str, np.ndarray]) -> np.ndarray:
     if "theta" in arrays:
         return arrays["theta"]
     if len(arrays) == 1:
@@ -470,7 +474,7 @@ def _user_array(path, arrays):
                        "'theta'")
 
 
-def _read_table(path):
+def _read_table(path: Path) -> np.ndarray:
     try:
         text = path.read_text(encoding="utf-8")
     except UnicodeDecodeError:
@@ -496,7 +500,7 @@ def _read_table(path):
     return table[:, 0]
 
 
-def _vertex_growth(path, values, mesh):
+def _vertex_growth(path: Path, values: np.ndarray, mesh: ngs.Mesh) -> ngs.GridFunction:
     values = np.asarray(values)
     if values.dtype.kind not in "biuf":
         raise _error(path, f"holds {values.dtype} data, not numbers")
@@ -517,7 +521,7 @@ def _vertex_growth(path, values, mesh):
     return gf
 
 
-def _check_positive(path, values, mesh):
+def _check_positive(path: Path, values: np.ndarray, mesh: ngs.Mesh) -> None:
     bad = _first_bad(values)
     if bad is not None:
         what = "is not finite" if not math.isfinite(values[bad]) else "is not > 0"
@@ -526,7 +530,8 @@ def _check_positive(path, values, mesh):
                            "be finite and > 0")
 
 
-def _stored_growth(path, arrays, mesh):
+def _stored_growth(path: Path, arrays: Mapping[str, np.ndarray],
+                   mesh: ngs.Mesh) -> ngs.GridFunction:
     required = ("format_version", "order", "dofs", "nv", "ne", "elements_sha256", "vertices",
                 "vertex_values", "element_values")
     missing = [key for key in required if key not in arrays]

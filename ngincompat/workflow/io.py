@@ -5,6 +5,8 @@ the final name (``os.replace`` is atomic on POSIX), so an interrupted run never 
 half-written result behind.
 """
 
+from __future__ import annotations
+
 import datetime
 import errno
 import functools
@@ -15,19 +17,24 @@ import platform
 import shlex
 import subprocess
 import sys
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ngincompat import config
 from ngincompat.atomic import atomic_path
 
+if TYPE_CHECKING:     # NGSolve is imported where VTK is written
+    import ngsolve as ngs
+
 #: The folder that holds the package ``ngincompat``: a git checkout's top level when the
 #: package runs from one (an editable install, PYTHONPATH), site-packages otherwise.
 SOURCE_ROOT = Path(__file__).resolve().parents[2]
 
 
-def versions():
+def versions() -> dict[str, str]:
     """Versions of the packages a result depends on."""
     import netgen
     import ngsolve
@@ -43,7 +50,7 @@ def versions():
     }
 
 
-def _git(*args, cwd):
+def _git(*args: str, cwd: Path) -> str | None:
     """The output of ``git args`` in ``cwd`` (stripped), or None if git fails or is absent.
     GIT_DIR and GIT_WORK_TREE of the caller's environment are not passed on: the question is
     about the checkout at ``cwd``."""
@@ -57,7 +64,7 @@ def _git(*args, cwd):
 
 
 @functools.lru_cache(maxsize=None)
-def git_state(root=SOURCE_ROOT):
+def git_state(root: str | os.PathLike = SOURCE_ROOT) -> dict[str, Any] | None:
     """``{"commit": sha, "dirty": bool}`` of the git checkout whose top level is ``root``,
     or None when ``root`` is not one (an installed package: a git repository around
     site-packages is not the package's) or git is not installed.
@@ -75,7 +82,7 @@ def git_state(root=SOURCE_ROOT):
     return {"commit": commit, "dirty": bool(status)}
 
 
-def run_record():
+def run_record() -> dict[str, Any]:
     """Where, when and how a result was produced: the date (ISO 8601, UTC), the host and
     platform, the NGSolve settings in force (:func:`ngincompat.config.settings`: threads,
     heap), the full command line (the interpreter's, ``sys.orig_argv``, as one shell line)
@@ -96,7 +103,7 @@ def run_record():
     return record
 
 
-def jsonable(value):
+def jsonable(value: Any) -> Any:
     """``value`` with arrays as lists, numpy scalars as Python ones, NaN and inf as None."""
     if isinstance(value, dict):
         return {str(k): jsonable(v) for k, v in value.items()}
@@ -116,18 +123,19 @@ def jsonable(value):
     return value
 
 
-def write_json(path, data):
+def write_json(path: str | os.PathLike, data: Any) -> Path:
     """Write ``data`` as JSON atomically; NaN and inf become null, arrays become lists."""
     with atomic_path(path) as tmp:
         tmp.write_text(json.dumps(jsonable(data), indent=2, sort_keys=False) + "\n")
     return Path(path)
 
 
-def read_json(path):
+def read_json(path: str | os.PathLike) -> Any:
     return json.loads(Path(path).read_text())
 
 
-def write_vtk(path, mesh, fields, subdivision=1):
+def write_vtk(path: str | os.PathLike, mesh: ngs.Mesh,
+              fields: Mapping[str, ngs.CoefficientFunction], subdivision: int = 1) -> Path:
     """Write CoefficientFunctions as a VTK unstructured grid (``path`` ends in ``.vtu``).
 
     Parameters
@@ -158,7 +166,8 @@ def write_vtk(path, mesh, fields, subdivision=1):
     return path
 
 
-def complete(path, ending, final=None):
+def complete(path: str | os.PathLike, ending: bytes,
+             final: str | os.PathLike | None = None) -> None:
     """Raise an OSError unless the file ``path`` ends in ``ending`` (white space aside); the
     message names ``final``, the name the file is written for (default ``path``).
 
@@ -176,7 +185,7 @@ def complete(path, ending, final=None):
         raise incomplete(final or path)
 
 
-def incomplete(final):
+def incomplete(final: str | os.PathLike) -> OSError:
     """The error for a file its writer left incomplete (as on a full disk), naming the file
     by its final name."""
     final = Path(final)
@@ -184,7 +193,8 @@ def incomplete(final):
                                  "full?)", str(final))
 
 
-def write_pvd(path, datasets):
+def write_pvd(path: str | os.PathLike,
+              datasets: Iterable[tuple[float, str] | tuple[float, str, int]]) -> Path:
     """Write a ParaView collection (``path`` ends in ``.pvd``) atomically: a time series of
     VTK files given as (time, file name relative to the collection's folder), or as (time,
     file name, part) where a time has one file per part of a distributed mesh."""
@@ -199,7 +209,9 @@ def write_pvd(path, datasets):
     return Path(path)
 
 
-def write_vtk_parallel(stem, mesh, fields, subdivision=1):
+def write_vtk_parallel(stem: str | os.PathLike, mesh: ngs.Mesh,
+                       fields: Mapping[str, ngs.CoefficientFunction],
+                       subdivision: int = 1) -> list[str]:
     """Write CoefficientFunctions on a distributed mesh: every rank writes its part; the
     collection ``stem.pvd`` names the parts. Collective: call on every rank.
 
@@ -224,7 +236,7 @@ def write_vtk_parallel(stem, mesh, fields, subdivision=1):
     return comm.bcast(names, root=0)
 
 
-def provenance():
+def provenance() -> dict[str, Any]:
     """What produced a result: package versions, the command line and the
     :func:`run_record` (date, host, threads, git commit)."""
     return {"versions": versions(), "argv": list(sys.argv), "provenance": run_record()}

@@ -14,15 +14,24 @@ Every error is a :class:`~ngincompat.errors.ParameterError` that names the param
 (``mesh``), the file and the reason on one line.
 """
 
+from __future__ import annotations
+
 import contextlib
 import io
 import logging
+import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, TypeAlias
 
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat.errors import ParameterError
+
+if TYPE_CHECKING:     # read where a file is
+    import meshio
+    import netgen.meshing
 
 log = logging.getLogger(__name__)
 
@@ -31,7 +40,7 @@ MESHIO_FORMATS = {".msh": "gmsh", ".vtu": "vtu", ".vtk": "vtk", ".inp": "abaqus"
                   ".mesh": "medit"}
 
 
-def read(path, suffix):
+def read(path: Path, suffix: str) -> ngs.Mesh:
     """Read a volume mesh file of a meshio format into NGSolve.
 
     Parameters
@@ -48,7 +57,7 @@ def read(path, suffix):
     return ngs.Mesh(_read_meshio(path, MESHIO_FORMATS[suffix]))
 
 
-def file_error(path, reason, name="mesh"):
+def file_error(path: str | os.PathLike, reason: str, name: str = "mesh") -> ParameterError:
     """The error for an input file: names the parameter, the file and the reason, one line."""
     text = str(path)
     if len(text) > PATH_QUOTE:      # its start and its file name, not thousands of characters
@@ -60,7 +69,7 @@ def file_error(path, reason, name="mesh"):
 PATH_QUOTE = 300
 
 
-def suffix_of(path, allowed):
+def suffix_of(path: str | os.PathLike, allowed: Iterable[str]) -> str | None:
     """The entry of ``allowed`` the file name ends with (case-insensitive), or None."""
     name = Path(path).name.lower()
     for ext in sorted(allowed, key=len, reverse=True):
@@ -69,13 +78,13 @@ def suffix_of(path, allowed):
     return None
 
 
-def one_line(exc):
+def one_line(exc: BaseException | str) -> str:
     """An exception's message on one line of at most 200 characters."""
     text = " ".join(str(exc).split()) or type(exc).__name__
     return text if len(text) <= 200 else text[:197] + "..."
 
 
-def point(p):
+def point(p: Iterable[float]) -> str:
     """Coordinates for a message: ``(x, y, z)``."""
     return "(" + ", ".join(f"{float(c):.6g}" for c in p) + ")"
 
@@ -111,7 +120,7 @@ _NETGEN_ORDER = {"tetra": [1, 0, 2, 3], "pyramid": [0, 1, 2, 3, 4],
                  "wedge": [0, 1, 2, 3, 4, 5], "hexahedron": list(range(8))}
 
 #: The faces of each volume cell type, corners in cyclic order.
-_FACES = {
+_FACES: dict[str, list[tuple[int, ...]]] = {
     "tetra": [(0, 1, 2), (0, 1, 3), (1, 2, 3), (0, 2, 3)],
     "pyramid": [(0, 1, 2, 3), (0, 1, 4), (1, 2, 4), (2, 3, 4), (3, 0, 4)],
     "wedge": [(0, 1, 2), (3, 4, 5), (0, 1, 4, 3), (1, 2, 5, 4), (2, 0, 3, 5)],
@@ -120,6 +129,9 @@ _FACES = {
 }
 
 _POLYGONS = {3: "triangles", 4: "quadrilaterals"}
+
+# the cells of one dimension: (first-order type, corners, tags) per block
+_Cells: TypeAlias = list[tuple[str, np.ndarray, np.ndarray]]
 
 #: Integer cell data that number the regions, looked for in this order: Gmsh's physical
 #: groups, MEDIT's references, VTK's entity ids. An only integer cell array is taken too,
@@ -138,7 +150,7 @@ _ALLOWED = ("a 3-D volume mesh of tetrahedra, hexahedra, prisms (wedges) or pyra
             "triangles or quadrilaterals on the boundary, is needed")
 
 
-def _read_meshio(path, file_format):
+def _read_meshio(path: Path, file_format: str) -> netgen.meshing.Mesh:
     """Read a mesh with meshio; check it and build its Netgen mesh (see :func:`read`)."""
     import meshio
 
@@ -157,7 +169,7 @@ def _read_meshio(path, file_format):
         raise file_error(path, f"is a {points.shape[1]}-D mesh: {_ALLOWED}")
     if not np.isfinite(points).all():
         raise file_error(path, "has node coordinates that are not finite")
-    notes = []
+    notes: list[str] = []
     tags, names = _cell_tags(path, data)
     volume, boundary = _cells(path, data, tags, notes)
     if not volume:
@@ -171,7 +183,8 @@ def _read_meshio(path, file_format):
     return ngmesh
 
 
-def _cell_tags(path, data):
+def _cell_tags(path: Path, data: meshio.Mesh
+               ) -> tuple[list[np.ndarray], dict[tuple[int, int], str]]:
     """The region tag of every cell (one integer array per cell block, 0: none) and the
     names of the tags, {(dimension, tag): name}."""
     integer = {key: value for key, value in data.cell_data.items()
@@ -200,8 +213,11 @@ def _cell_tags(path, data):
     return tags, names
 
 
-def _cells(path, data, tags, notes):
+def _cells(path: Path, data: meshio.Mesh, tags: list[np.ndarray],
+           notes: list[str]) -> tuple[_Cells, _Cells]:
     """The volume and the boundary cells, lists of (first-order type, corners, tags)."""
+    volume: _Cells
+    boundary: _Cells
     volume, boundary, second_order = [], [], set()
     for block, tag in zip(data.cells, tags, strict=True):
         kind = _FIRST_ORDER.get(block.type, block.type)
@@ -220,7 +236,7 @@ def _cells(path, data, tags, notes):
     return volume, boundary
 
 
-def _without_volume(points, boundary):
+def _without_volume(points: np.ndarray, boundary: _Cells) -> str:
     """Why a mesh without volume cells is refused."""
     if not boundary:
         return f"has no cells: {_ALLOWED}"
@@ -229,7 +245,7 @@ def _without_volume(points, boundary):
     return f"is a surface mesh (triangles and quadrilaterals only): {_ALLOWED}"
 
 
-def _corner_nodes(volume, boundary, npoints, notes):
+def _corner_nodes(volume: _Cells, boundary: _Cells, npoints: int, notes: list[str]) -> np.ndarray:
     """The nodes that are corners of volume cells, in file order; renumbers the cells."""
     used = np.zeros(npoints, dtype=bool)
     for _, corners, _ in volume:
@@ -245,9 +261,12 @@ def _corner_nodes(volume, boundary, npoints, notes):
     return corners
 
 
-def _oriented(path, points, kind, corners, tag):
+def _oriented(path: Path, points: np.ndarray, kind: str, corners: np.ndarray,
+              tag: np.ndarray) -> tuple[str, np.ndarray, np.ndarray]:
     """Refuse degenerate and tangled cells; turn the negatively oriented ones (a file
     convention, e.g. Netgen's own tetrahedra); give the corners in Netgen's order."""
+    det: list[np.ndarray] | np.ndarray
+    scale: list[np.ndarray] | np.ndarray
     det, scale = [], []
     for k, a, b, c in _CORNER_FRAMES[kind]:
         edges = points[corners[:, [a, b, c]]] - points[corners[:, [k]]]
@@ -268,7 +287,9 @@ def _oriented(path, points, kind, corners, tag):
     return kind, corners[:, _NETGEN_ORDER[kind]], tag
 
 
-def _netgen_mesh(path, points, volume, boundary, names, notes):
+def _netgen_mesh(path: Path, points: np.ndarray, volume: _Cells, boundary: _Cells,
+                 names: Mapping[tuple[int, int], str],
+                 notes: list[str]) -> netgen.meshing.Mesh:
     """The Netgen mesh: a material per volume tag, boundary elements per boundary tag and
     pair of regions (outer boundaries and interfaces), named by ``names``."""
     from netgen.meshing import FaceDescriptor
@@ -276,7 +297,7 @@ def _netgen_mesh(path, points, volume, boundary, names, notes):
 
     names, unnamed = dict(names), []
 
-    def name(dim, tag, prefix):
+    def name(dim: int, tag: int, prefix: str) -> str:
         if (dim, tag) not in names:
             names[dim, tag] = f"{prefix}{tag}" if tag else DEFAULT_NAME
             unnamed.append(names[dim, tag])
@@ -316,10 +337,14 @@ def _netgen_mesh(path, points, volume, boundary, names, notes):
     return ngmesh
 
 
-def _boundary_faces(path, points, volume, boundary, size, notes):
+def _boundary_faces(path: Path, points: np.ndarray, volume: _Cells, boundary: _Cells, size: int,
+                    notes: list[str]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The boundary faces with ``size`` corners: those of the file's boundary cells (one per
     face) and the outer faces of the volume cells without one (tag -1). Returns their corners,
     tags and the volume cells on each side (index into all volume cells; -1: none)."""
+    rows: list[np.ndarray] | np.ndarray
+    owner: list[np.ndarray] | np.ndarray
+    face: tuple[int, ...] | np.ndarray     # a cell's face, then each face's number
     rows, owner, start = [], [], 0
     for kind, corners, _ in volume:
         for face in _FACES[kind]:
@@ -366,7 +391,7 @@ def _boundary_faces(path, points, volume, boundary, size, notes):
     return faces, tags, cells[np.concatenate([bface, missing])]
 
 
-def _outward(points, faces, centre):
+def _outward(points: np.ndarray, faces: np.ndarray, centre: np.ndarray) -> np.ndarray:
     """The faces with their corners ordered so that the normal points away from ``centre``
     (the centre of the cell they bound; Netgen's boundary normal points out of domin)."""
     p = points[faces]

@@ -25,6 +25,7 @@ import socket
 import sys
 import tempfile
 import time
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 import ngsolve as ngs
@@ -59,7 +60,8 @@ RUN_FILES = ("fields*.vtu", "fields*.pvd", "*.png", "mesh.vol", "growth.npz",
              "checkpoint.npz")
 
 
-def prepare(out, overwrite: bool = False, resume: bool = False, run_files=()) -> Path:
+def prepare(out: str | os.PathLike, overwrite: bool = False, resume: bool = False,
+            run_files: Iterable[str] = ()) -> Path:
     """Check that ``out`` can take a run's files, before anything is computed.
 
     Parameters
@@ -83,6 +85,7 @@ def prepare(out, overwrite: bool = False, resume: bool = False, run_files=()) ->
     if not str(out).strip():
         raise ParameterError("--out '' is empty: give a folder")
     out = Path(out)
+    where: Path | str
     where = out.resolve()
     if str(where) in SYSTEM or any(Path(k) in where.parents for k in KERNEL):
         raise ParameterError(f"--out {out} is a system folder ({where}): give a folder of "
@@ -118,7 +121,7 @@ def prepare(out, overwrite: bool = False, resume: bool = False, run_files=()) ->
     return out
 
 
-def _check_writable(out):
+def _check_writable(out: Path) -> None:
     """Refuse a folder marked read-only (no write permission for anyone: root, whom the bits
     do not stop, is held to them too) or one a file cannot be created in (tried: a read-only
     file system, access control lists)."""
@@ -134,7 +137,7 @@ def _check_writable(out):
 
 
 @contextlib.contextmanager
-def folder(out, overwrite: bool = False, resume: bool = False):
+def folder(out: str | os.PathLike, overwrite: bool = False, resume: bool = False) -> Iterator[Path]:
     """:func:`prepare` the folder for the block (yielding its path) and :func:`release` it
     after."""
     out = prepare(out, overwrite=overwrite, resume=resume)
@@ -144,7 +147,7 @@ def folder(out, overwrite: bool = False, resume: bool = False):
         release(out)
 
 
-def release(out) -> None:
+def release(out: str | os.PathLike) -> None:
     """Let go of the folder :func:`prepare` took (nothing if this process does not hold it)."""
     path = Path(out) / LOCK
     holder = _holder(path)
@@ -156,7 +159,7 @@ def release(out) -> None:
         _remove_if_empty(folder)
 
 
-def _refuse_foreign(out: Path, patterns) -> None:
+def _refuse_foreign(out: Path, patterns: Iterable[str]) -> None:
     """Refuse a folder that holds files matching ``patterns`` though no run wrote them."""
     found = sorted({p.name for pattern in patterns for p in out.glob(pattern) if p.is_file()})
     if found:
@@ -267,7 +270,7 @@ def wanted(results: Results) -> set[str]:
     return set(Outputs(results.params.get("outputs", "none")))
 
 
-def write(results: Results, out, outputs: set[str] | None = None) -> Results:
+def write(results: Results, out: str | os.PathLike, outputs: set[str] | None = None) -> Results:
     """Write a run into the folder ``out``, as the scene's ``outputs`` ask.
 
     results.json always; ``fields.vtu`` (every field: scalars, vectors, and tensors as 9
@@ -311,7 +314,7 @@ def write(results: Results, out, outputs: set[str] | None = None) -> Results:
     return results
 
 
-def _discard(out: Path, names) -> None:
+def _discard(out: Path, names: Iterable[str]) -> None:
     """Remove the files ``names`` of a write that failed (a full disk, permissions taken
     away): without their results.json no run would own them, and the next run into the
     folder would refuse them as another's."""
@@ -404,7 +407,7 @@ def _write_frames_parallel(out: Path, results: Results, subdivision: int) -> lis
 VTK_ORDER = 4
 
 
-def interpolated(fields: dict, mesh, order: int, copy: bool = False) -> dict:
+def interpolated(fields: dict, mesh: ngs.Mesh, order: int, copy: bool = False) -> dict:
     """The fields for the VTK file: GridFunctions as they are (copies if ``copy``, so later
     changes of the state do not reach them: a frame of a time series), every other field as
     its element-wise (L2) interpolant of ``order``.
@@ -453,7 +456,7 @@ def field_units(fields: dict, units: dict) -> dict[str, str]:
     return out
 
 
-def read(out) -> Results:
+def read(out: str | os.PathLike) -> Results:
     """The :class:`Results` in ``out/results.json`` (profiles as arrays; no fields)."""
     path = Path(out)
     path = path / "results.json" if path.is_dir() else path

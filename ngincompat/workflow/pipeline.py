@@ -18,7 +18,9 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import os
 import time as _time
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
@@ -34,6 +36,7 @@ from ngincompat.errors import (
 )
 from ngincompat.fem import work
 from ngincompat.fem.solver import SolverHistory
+from ngincompat.fem.stages import Stage
 from ngincompat.progress import SILENT, Progress
 from ngincompat.workflow import output
 from ngincompat.workflow.results import DONE, INTERRUPTED, NOT_CONVERGED, Results
@@ -42,7 +45,7 @@ log = logging.getLogger(__name__)
 
 
 @contextlib.contextmanager
-def timed(timings: dict, phase: str):
+def timed(timings: dict, phase: str) -> Iterator[None]:
     """Add the wall time of the block to ``timings[phase]``."""
     start = _time.perf_counter()
     try:
@@ -81,8 +84,9 @@ class Case(Protocol):
         """Fields, metrics, profiles and figures of the solved state."""
 
 
-def solve_stages(stages, progress: Progress = SILENT, solution: Solution | None = None,
-                 after=None):
+def solve_stages(stages: Iterable[Stage], progress: Progress = SILENT,
+                 solution: Solution | None = None,
+                 after: Callable[[Stage], object] | None = None) -> Solution:
     """Run ``stages`` in order into ``solution``; stop at a failure or an interruption.
 
     A stage that does not converge leaves the last converged state and sets the status
@@ -113,7 +117,7 @@ def solve_stages(stages, progress: Progress = SILENT, solution: Solution | None 
     return solution
 
 
-def _warn(scene, results):
+def _warn(scene: Any, results: Results) -> None:
     """The scene's warnings on its results (:meth:`Scene.warnings`; none for a scene without
     indicators), each also logged (once: by rank 0 of a distributed run)."""
     check = getattr(scene, "warnings", None)
@@ -122,7 +126,7 @@ def _warn(scene, results):
         log.warning("%s: %s", scene.name, line)
 
 
-def _refuse_non_finite(solution, results):
+def _refuse_non_finite(solution: Solution, results: Results) -> None:
     """A run that reports a metric that is not a finite number has not computed what it
     reports: it is "not converged" (exit 3) and its error names those metrics, also after a
     stage that did not converge. The fields, figures and growth data of that state are not
@@ -138,7 +142,8 @@ def _refuse_non_finite(solution, results):
     results.error = solution.error
 
 
-def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT,
+def run(scene: Any, out: str | os.PathLike | None = None, *, overwrite: bool = False,
+        progress: Progress = SILENT,
         label: str | None = None) -> Results:
     """Build, solve and measure ``scene``; write its folder ``out`` if given.
 
@@ -184,7 +189,7 @@ def run(scene, out=None, *, overwrite: bool = False, progress: Progress = SILENT
         parallel.on_root(output.release, out)
 
 
-def _run(scene, out: Path | None, progress: Progress, label: str | None) -> Results:
+def _run(scene: Any, out: Path | None, progress: Progress, label: str | None) -> Results:
     """:func:`run` in a folder already prepared (or none)."""
     with progress.case(label or scene.name):
         timings: dict[str, float] = {}

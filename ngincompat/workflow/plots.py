@@ -14,10 +14,17 @@ oscillation.
 """
 
 import functools
+import os
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from itertools import cycle
+from typing import Any
 
 import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.collections import QuadMesh
 from matplotlib.figure import Figure
+from matplotlib.image import AxesImage
+from matplotlib.lines import Line2D
 
 from ngincompat.atomic import atomic_path
 from ngincompat.workflow import surface
@@ -25,8 +32,10 @@ from ngincompat.workflow.results import (
     DeformedFigure,
     MapsFigure,
     ProfileFigure,
+    Results,
     SurfaceFigure,
 )
+from ngincompat.workflow.results import Figure as FigureSpec
 from ngincompat.workflow.style import (
     MAP_CLIP,
     RELATIVE_FLOOR,
@@ -45,8 +54,10 @@ STYLES = (("-", None), ("--", "o"), (":", "s"), ("-.", "^"), ((0, (5, 1, 1, 1)),
           ((0, (1, 1)), "D"))
 
 
-def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_label="",
-                   floor=0.0, right_floor=0.0, vlines=None):
+def profile_figure(x: np.ndarray, curves: Mapping[str, np.ndarray], xlabel: str, ylabel: str,
+                   title: str | None = None, right: Mapping[str, np.ndarray] | None = None,
+                   right_label: str = "", floor: float = 0.0, right_floor: float = 0.0,
+                   vlines: Mapping[str, float] | None = None) -> Figure:
     """A matplotlib Figure of curves against one coordinate.
 
     Parameters
@@ -82,19 +93,22 @@ def profile_figure(x, curves, xlabel, ylabel, title=None, right=None, right_labe
         _floor(twin, right.values(), right_floor)
         _numbers(twin)
     if lines:
-        ax.legend(lines, [line.get_label() for line in lines], fontsize="small")
+        ax.legend(lines, [line.get_label() for line in lines],  # type: ignore[misc]
+                  fontsize="small")
     if title:
         ax.set_title(wrapped(title, fig.get_figwidth()), fontsize="medium")
     fig.tight_layout()
     return fig
 
 
-def _plot(ax, x, curves, styles, colours):
+def _plot(ax: Axes, x: np.ndarray, curves: Mapping[str, np.ndarray],
+          styles: Iterator[tuple[Any, str | None]],
+          colours: Sequence[str] | None) -> list[Line2D]:
     lines = []
     n = len(np.atleast_1d(x))
     for i, (label, values) in enumerate(curves.items()):
         style, marker = next(styles)
-        kwargs = {"color": colours[i % len(colours)]} if colours else {}
+        kwargs: dict[str, Any] = {"color": colours[i % len(colours)]} if colours else {}
         if n <= FEW:
             marker = marker or "o"
         (line,) = ax.plot(x, values, lw=2, ls=style, marker=marker,
@@ -104,7 +118,7 @@ def _plot(ax, x, curves, styles, colours):
     return lines
 
 
-def _numbers(ax):
+def _numbers(ax: Axes) -> None:
     """Tick labels of :func:`tick_format` on both linear axes (of the limits the data set
     now; :func:`_floor` may widen them later, which only lowers the digits needed)."""
     for axis, limits in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
@@ -112,7 +126,7 @@ def _numbers(ax):
             axis.set_major_formatter(tick_format(*limits))
 
 
-def _floor(ax, values, floor):
+def _floor(ax: Axes, values: Iterable[np.ndarray], floor: float) -> None:
     """Widen the y range of ``ax`` to at least ``floor`` and ``RELATIVE_FLOOR`` of the largest
     absolute value, around the data's middle."""
     values = list(values)
@@ -129,26 +143,27 @@ def _floor(ax, values, floor):
         ax.set_ylim(mid - floor / 2, mid + floor / 2)
 
 
-def draw(results, spec, path):
+def draw(results: Results, spec: FigureSpec, path: str | os.PathLike) -> None:
     """Write the figure ``spec`` (a :class:`~ngincompat.workflow.results.Figure`) of ``results``."""
     save(figure(results, spec), path)
 
 
-def figure(results, spec):
+def figure(results: Results, spec: FigureSpec) -> Figure:
     """The matplotlib Figure of ``spec`` drawn from the profiles of ``results``: by the
     drawing registered for its kind (:func:`drawn`)."""
     return drawn(spec, results.profiles[spec.profile], results.metrics)
 
 
 @functools.singledispatch
-def drawn(spec, profile, metrics):
+def drawn(spec: FigureSpec, profile: Mapping[str, np.ndarray],
+          metrics: Mapping[str, float]) -> Figure:
     """The matplotlib Figure of ``spec`` from its ``profile`` (and the run's ``metrics``),
     one drawing per kind of :class:`~ngincompat.workflow.results.Figure`."""
     raise TypeError(f"no drawing for a figure of kind {type(spec).__name__}")
 
 
 @drawn.register
-def _(spec: ProfileFigure, p, metrics):
+def _(spec: ProfileFigure, p: Mapping[str, np.ndarray], metrics: Mapping[str, float]) -> Figure:
     return profile_figure(p[spec.x], {label: p[k] for label, k in spec.curves.items()},
                           spec.xlabel, spec.ylabel, spec.title,
                           right={label: p[k] for label, k in spec.right.items()},
@@ -160,20 +175,20 @@ def _(spec: ProfileFigure, p, metrics):
 
 
 @drawn.register
-def _(spec: MapsFigure, p, metrics):
+def _(spec: MapsFigure, p: Mapping[str, np.ndarray], metrics: Mapping[str, float]) -> Figure:
     return maps_figure(p, spec.curves, spec.xlabel, spec.title,
                        {label: p[key] for label, key in spec.arrows.items()})
 
 
 @drawn.register
-def _(spec: DeformedFigure, p, metrics):
+def _(spec: DeformedFigure, p: Mapping[str, np.ndarray], metrics: Mapping[str, float]) -> Figure:
     panels = {label: (key, spec.deform[label]) for label, key in spec.curves.items()}
     return deformed_figure({"": p}, panels, (spec.x, spec.y), spec.xlabel, spec.ylabel,
                            spec.title, floor=spec.floor)
 
 
 @drawn.register
-def _(spec: SurfaceFigure, p, metrics):
+def _(spec: SurfaceFigure, p: Mapping[str, np.ndarray], metrics: Mapping[str, float]) -> Figure:
     panels = [surface.Panel(label, p[key], signed=None, clip=MAP_CLIP,
                             u=p[spec.deform[label]] if label in spec.deform else None)
               for label, key in spec.curves.items()]
@@ -181,7 +196,8 @@ def _(spec: SurfaceFigure, p, metrics):
                                        spec.xlabel, view=spec.view)
 
 
-def maps_figure(profile, maps, label, title=None, arrows=None):
+def maps_figure(profile: Mapping[str, np.ndarray], maps: Mapping[str, str], label: str,
+                title: str | None = None, arrows: Mapping[str, np.ndarray] | None = None) -> Figure:
     """Colour maps of 2-D fields on planar sections, each with its colour bar.
 
     Parameters
@@ -225,7 +241,7 @@ QUIVER = 20
 QUIVER_FLOOR = 0.2
 
 
-def _quiver(ax, u, v, vectors):
+def _quiver(ax: Axes, u: np.ndarray, v: np.ndarray, vectors: np.ndarray) -> None:
     """The in-plane vector field ``vectors`` (rows, columns, 2) on the grid ``u`` x ``v``
     as arrows on :data:`QUIVER` x :data:`QUIVER` of its points, all scaled by one factor
     (the longest 7 % of the wider axis), those below :data:`QUIVER_FLOOR` of the
@@ -245,7 +261,9 @@ def _quiver(ax, u, v, vectors):
               headwidth=3.5, pivot="middle")
 
 
-def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
+def deformed_figure(rows: Mapping[str, Mapping[str, np.ndarray]],
+                    panels: Mapping[str, tuple[str, str]], axes: tuple[str, str], xlabel: str,
+                    ylabel: str, title: str | None = None, floor: float = 0.0) -> Figure:
     """Fields on the deformed shape: one row per body, one column per field (Fig. 7 a-c).
 
     Parameters
@@ -299,7 +317,7 @@ def deformed_figure(rows, panels, axes, xlabel, ylabel, title=None, floor=0.0):
     return fig
 
 
-def _deformed_aspect(profile, axes, disp):
+def _deformed_aspect(profile: Mapping[str, np.ndarray], axes: tuple[str, str], disp: str) -> float:
     """Height over width of the grid of ``profile`` moved by its displacement ``disp``: the
     deformed body (a fold, a released bilayer) can be taller than the reference one."""
     U, V = np.meshgrid(profile[axes[0]], profile[axes[1]])
@@ -308,12 +326,13 @@ def _deformed_aspect(profile, axes, disp):
     return (np.nanmax(y) - np.nanmin(y)) / max(np.nanmax(x) - np.nanmin(x), 1e-300)
 
 
-def _panel(fig, ax, image, title, xlabel, ylabel=None):
+def _panel(fig: Figure, ax: Axes, image: AxesImage | QuadMesh, title: str, xlabel: str,
+           ylabel: str | None = None) -> None:
     """A colour map's colour bar (three-digit ticks; an arrow at an end beyond which values
     lie), title (broken into lines as wide as the axes, clear of the colour bar's arrow) and
     axis labels."""
     fig.colorbar(image, ax=ax, shrink=0.85, format=tick_format(*image.get_clim()),
-                 extend=extend(image.get_array(), image.norm))
+                 extend=extend(image.get_array(), image.norm))  # type: ignore[arg-type]
     ax.set_title(wrapped(title, ax.get_position().width * fig.get_figwidth(), 10),
                  fontsize="medium")
     ax.set_xlabel(xlabel, fontsize="small")
@@ -322,13 +341,17 @@ def _panel(fig, ax, image, title, xlabel, ylabel=None):
     ax.tick_params(labelsize="small")
 
 
-def profiles(path, s, curves, xlabel, ylabel, title=None, floor=0.0):
+def profiles(path: str | os.PathLike, s: np.ndarray, curves: Mapping[str, np.ndarray],
+             xlabel: str, ylabel: str, title: str | None = None, floor: float = 0.0) -> None:
     """Several curves against one coordinate on one axis; ``curves`` maps label -> values."""
     save(profile_figure(s, curves, xlabel, ylabel, title, floor=floor), path)
 
 
-def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False, markevery=1,
-                  vlines=None, colours=None):
+def curves_figure(curves: Mapping[str, Sequence[Sequence[float] | np.ndarray]], xlabel: str,
+                  ylabel: str, title: str | None = None, logx: bool = False,
+                  logy: bool = False, markevery: int = 1,
+                  vlines: Mapping[str, float] | None = None,
+                  colours: Sequence[str] | None = None) -> Figure:
     """A matplotlib Figure of curves with their own abscissae, each with markers.
 
     Parameters
@@ -349,8 +372,9 @@ def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False, ma
     """
     fig = Figure(figsize=(5.4, 3.8), dpi=120)
     ax = fig.subplots()
+    x: Sequence[float] | np.ndarray | float     # a curve's abscissae, then a line's
     for i, ((label, (x, y)), (style, marker)) in enumerate(zip(curves.items(), cycle(STYLES))):
-        kwargs = {"color": colours[i]} if colours else {}
+        kwargs: dict[str, Any] = {"color": colours[i]} if colours else {}
         ax.plot(x, y, ls=style, marker=marker or "o", lw=2, label=label or None,
                 markevery=markevery, markersize=4, **kwargs)
     for (label, x), colour in zip((vlines or {}).items(), cycle(("0.3", "tab:red"))):
@@ -370,7 +394,8 @@ def curves_figure(curves, xlabel, ylabel, title=None, logx=False, logy=False, ma
     return fig
 
 
-def error_against_time(path, curves, title=None):
+def error_against_time(path: str | os.PathLike, curves: Mapping[str, Sequence[Sequence[float]]],
+                       title: str | None = None) -> None:
     """Error against run time on log-log axes; ``curves`` maps a label to (time, error) pairs."""
     curves = {label: ([p[0] for p in pts], [max(p[1], 1e-16) for p in pts])
               for label, pts in curves.items()}
@@ -378,7 +403,7 @@ def error_against_time(path, curves, title=None):
                        logy=True), path)
 
 
-def save(fig, path):
+def save(fig: Figure, path: str | os.PathLike) -> None:
     """Write a figure as PNG, atomically."""
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format="png")

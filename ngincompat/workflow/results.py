@@ -333,7 +333,7 @@ class Results:
     @classmethod
     def from_dict(cls, data: dict) -> Results:
         """The record of :meth:`to_dict` (profiles as arrays; fields are not restored)."""
-        def number(v):
+        def number(v: float | None) -> float:
             return math.nan if v is None else float(v)
 
         return cls(

@@ -15,7 +15,7 @@ from matplotlib.ticker import FormatStrFormatter
 RELATIVE_FLOOR = 1e-4
 
 
-def tick_format(lo, hi):
+def tick_format(lo: float, hi: float) -> FormatStrFormatter:
     """Tick labels for the range [lo, hi]: enough significant digits to tell ticks a tenth
     of the range apart (three at least), no offset or multiplier printed over the axis."""
     big = max(abs(lo), abs(hi))
@@ -25,7 +25,7 @@ def tick_format(lo, hi):
     return FormatStrFormatter(f"%.{digits}g")
 
 
-def wrapped(title, width_inches, fontsize=10):
+def wrapped(title: str, width_inches: float, fontsize: float = 10) -> str:
     """``title`` broken into lines that fit ``width_inches`` at ``fontsize`` points, never
     inside a formula $...$ (an average character is taken as 0.62 of the font size, a
     margin for wide ones)."""
@@ -48,7 +48,8 @@ MAP_CLIP = 0.5
 PEAK = 0.25
 
 
-def colour_scale(values, signed=None, floor=0.0, clip=0.0):
+def colour_scale(values: np.ndarray, signed: bool | None = None, floor: float = 0.0,
+                 clip: float = 0.0) -> tuple[colors.Normalize, str]:
     """(norm, colour map name) of a field map.
 
     Parameters
@@ -88,7 +89,7 @@ def colour_scale(values, signed=None, floor=0.0, clip=0.0):
     return colors.Normalize(lo, hi), "viridis"
 
 
-def extend(values, norm):
+def extend(values: np.ndarray, norm: colors.Norm) -> str:
     """The ``extend`` of the colour bar of ``values`` drawn with ``norm``: an arrow at each
     end beyond which values lie (a scale of :func:`colour_scale` that clipped them)."""
     data = np.ma.compressed(np.ma.masked_invalid(np.asarray(values, dtype=float)))

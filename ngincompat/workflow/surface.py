@@ -22,6 +22,7 @@ field's unit, and axes in the length unit.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import ngsolve as ngs
@@ -30,6 +31,7 @@ from matplotlib import cm
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+from mpl_toolkits.mplot3d.axes3d import Axes3D
 
 from ngincompat.workflow.style import colour_scale, extend, tick_format, wrapped
 
@@ -65,7 +67,7 @@ class Panel:
     arrows: object = None
 
 
-def boundary_triangles(mesh, subdivision: int):
+def boundary_triangles(mesh: ngs.Mesh, subdivision: int) -> np.ndarray:
     """Corners of the boundary's triangles, each face cut into ``subdivision**2`` triangles.
 
     Returns an array of shape (n, 3, 3): n triangles, three corners, three coordinates."""
@@ -87,7 +89,8 @@ def boundary_triangles(mesh, subdivision: int):
     return np.concatenate(out) if out else np.zeros((0, 3, 3))
 
 
-def evaluate(mesh, cfs, points):
+def evaluate(mesh: ngs.Mesh, cfs: Sequence[ngs.CoefficientFunction],
+             points: np.ndarray) -> list[np.ndarray]:
     """Values of ``cfs`` (a list of CoefficientFunctions) at ``points`` (n, 3); NaN where the
     mesh does not hold the point. A point on the boundary is found from inside: moved by
     1e-7 of the body's size towards the centre of the points."""
@@ -107,8 +110,10 @@ def evaluate(mesh, cfs, points):
     return values
 
 
-def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
-                   subdivision=None, scale=1.0):
+def surface_figure(mesh: ngs.Mesh, u: ngs.CoefficientFunction | None, panels: Sequence[Panel],
+                   title: str, unit: str, view: tuple[float, float] = (25, -60),
+                   ncols: int | None = None,
+                   subdivision: int | None = None, scale: float = 1.0) -> Figure:
     """A figure of colour maps on the deformed boundary, one panel per field.
 
     Parameters
@@ -137,7 +142,7 @@ def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
     shifts = list(dict.fromkeys(p.u if p.u is not None else u for p in panels))
     values = evaluate(mesh, [p.field for p in panels], points)
     real = [d for d in shifts if d is not None]
-    moved = {None: tri}
+    moved: dict[object, np.ndarray] = {None: tri}
     for d, v in zip(real, evaluate(mesh, real, points) if real else [], strict=True):
         moved[d] = np.where(np.isfinite(v), points + scale * v, points).reshape(tri.shape)
     shapes = [moved[p.u if p.u is not None else u] for p in panels]
@@ -147,7 +152,8 @@ def surface_figure(mesh, u, panels, title, unit, view=(25, -60), ncols=None,
                    view, ncols, arrows)
 
 
-def _arrows(mesh, tri, shape, vectors, view):
+def _arrows(mesh: ngs.Mesh, tri: np.ndarray, shape: np.ndarray, vectors: ngs.CoefficientFunction,
+            view: tuple[float, float]) -> tuple[np.ndarray, np.ndarray]:
     """Where and which arrows a panel draws: the vector field ``vectors`` at the centres of
     up to :data:`ARROWS` of the triangles ``tri`` (reference, (m, 3, 3)) whose deformed
     ``shape`` faces the camera at ``view`` (:data:`FACING`; outward: away from the body's
@@ -168,7 +174,9 @@ def _arrows(mesh, tri, shape, vectors, view):
     return centres[chosen][keep], values[keep]
 
 
-def triangulated_figure(points, triangles, panels, title, unit, view=(10, 90), ncols=None):
+def triangulated_figure(points: np.ndarray, triangles: np.ndarray, panels: Sequence[Panel],
+                        title: str, unit: str, view: tuple[float, float] = (10, 90),
+                        ncols: int | None = None) -> Figure:
     """A figure of colour maps on a triangulated surface, one panel per field.
 
     Parameters
@@ -189,7 +197,9 @@ def triangulated_figure(points, triangles, panels, title, unit, view=(10, 90), n
     return _figure(panels, values, shapes, title, unit, view, ncols)
 
 
-def _figure(panels, values, shapes, title, unit, view, ncols, arrows=None):
+def _figure(panels: Sequence[Panel], values: Sequence[np.ndarray], shapes: Sequence[np.ndarray],
+            title: str, unit: str, view: tuple[float, float], ncols: int | None,
+            arrows: Sequence[tuple[np.ndarray, np.ndarray] | None] | None = None) -> Figure:
     """The panels' maps: ``values`` (m, 3) at the corners of the triangles ``shapes``
     (m, 3, 3) of each panel, in balanced rows of at most ``ncols`` (default four); each
     panel's ``arrows`` (positions and vectors, or None) drawn over its map."""
@@ -227,7 +237,8 @@ def _figure(panels, values, shapes, title, unit, view, ncols, arrows=None):
         ax.tick_params(labelsize="x-small", pad=0)
         ax.set_title(wrapped(panel.title, 3.2), fontsize="medium")
         bar = fig.colorbar(mappable, ax=ax, shrink=0.7, pad=0.16,
-                           format=tick_format(norm.vmin, norm.vmax), extend=extend(face, norm))
+                           format=tick_format(norm.vmin, norm.vmax),  # type: ignore[arg-type]
+                           extend=extend(face, norm))
         bar.ax.tick_params(labelsize="small")
     fig.suptitle(title, fontsize="large")
     fig.subplots_adjust(left=0.05, right=0.95, bottom=0.03, top=0.86 if nrows == 1 else 0.92,
@@ -235,7 +246,7 @@ def _figure(panels, values, shapes, title, unit, view, ncols, arrows=None):
     return fig
 
 
-def _draw_arrows(ax, at, vectors, longest):
+def _draw_arrows(ax: Axes3D, at: np.ndarray, vectors: np.ndarray, longest: float) -> None:
     """Arrows of ``vectors`` at the points ``at`` on the 3-D axes ``ax``, all scaled by one
     factor, the longest ``longest`` long; drawn over the surface (the points face the
     camera)."""

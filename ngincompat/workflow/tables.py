@@ -10,13 +10,15 @@ from __future__ import annotations
 import csv
 import io as _io
 import os
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from ngincompat.atomic import atomic_path
 from ngincompat.workflow import io
 
 
-def columns_of(rows, first=()) -> list[str]:
+def columns_of(rows: Iterable[Mapping[str, Any]], first: Iterable[str] = ()) -> list[str]:
     """Every key of ``rows`` in order of first appearance, ``first`` leading."""
     keys = list(first)
     for row in rows:
@@ -30,7 +32,7 @@ def header(column: str, units: dict | None) -> str:
     return f"{column} [{unit}]" if unit else column
 
 
-def cell(value, digits: int = 4) -> str:
+def cell(value: object, digits: int = 4) -> str:
     """A markdown cell: floats with ``digits`` significant digits, None as empty."""
     if value is None:
         return ""
@@ -39,7 +41,8 @@ def cell(value, digits: int = 4) -> str:
     return str(value)
 
 
-def markdown(rows, columns=None, units=None, digits: int = 4) -> str:
+def markdown(rows: Sequence[Mapping[str, Any]], columns: Sequence[str] | None = None,
+             units: dict | None = None, digits: int = 4) -> str:
     """The rows as a markdown table."""
     columns = columns or columns_of(rows)
     lines = ["| " + " | ".join(header(c, units) for c in columns) + " |",
@@ -49,7 +52,8 @@ def markdown(rows, columns=None, units=None, digits: int = 4) -> str:
     return "\n".join(lines)
 
 
-def csv_text(rows, columns=None, units=None) -> str:
+def csv_text(rows: Sequence[Mapping[str, Any]], columns: Sequence[str] | None = None,
+             units: dict | None = None) -> str:
     """The rows as CSV (header with units)."""
     columns = columns or columns_of(rows)
     buffer = _io.StringIO()
@@ -60,7 +64,9 @@ def csv_text(rows, columns=None, units=None) -> str:
     return buffer.getvalue()
 
 
-def write(out, name: str, rows, columns=None, units=None, **record) -> list[str]:
+def write(out: str | os.PathLike, name: str, rows: Sequence[Mapping[str, Any]],
+          columns: Sequence[str] | None = None, units: dict | None = None,
+          **record: Any) -> list[str]:
     """Write ``name.md``, ``name.csv`` and ``name.json`` into ``out`` atomically.
 
     ``record`` goes into the JSON beside the rows, columns, units and provenance (e.g. the
@@ -76,7 +82,7 @@ def write(out, name: str, rows, columns=None, units=None, **record) -> list[str]
     return [f"{name}.md", f"{name}.csv", f"{name}.json"]
 
 
-def write_markdown(path, text: str) -> Path:
+def write_markdown(path: str | os.PathLike, text: str) -> Path:
     """Write markdown ``text`` (a table a study formats itself) to ``path`` atomically, for
     the documentation pages that include it."""
     with atomic_path(Path(path)) as tmp:
@@ -84,7 +90,8 @@ def write_markdown(path, text: str) -> Path:
     return Path(path)
 
 
-def write_made_by(out, command: str, seconds: float, cpu_seconds: float, loads) -> Path:
+def write_made_by(out: str | os.PathLike, command: str, seconds: float, cpu_seconds: float,
+                  loads: Sequence[float]) -> Path:
     """Write ``made_by.md`` into ``out``: one paragraph saying which command wrote the files
     of the folder, when, from which commit and versions, in how much wall and CPU time, and
     at which load of the machine (``loads``: the 1-minute load averages at the start and at

@@ -7,6 +7,8 @@ separate process before it is used to curve the mesh. Errors are those of
 :mod:`ngincompat.workflow.meshfiles`: one line naming ``mesh``, the file and the reason.
 """
 
+from __future__ import annotations
+
 import gzip
 import hashlib
 import logging
@@ -14,11 +16,15 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat.workflow.meshfiles import file_error, one_line, point
+
+if TYPE_CHECKING:     # read where a file is
+    import netgen.meshing
 
 log = logging.getLogger(__name__)
 
@@ -29,7 +35,7 @@ EXTENSIONS = (".vol", ".vol.gz")
 _GEOMETRY_PROBE_TIMEOUT = 60
 
 
-def read(path, curve=False):
+def read(path: Path, curve: bool = False) -> ngs.Mesh:
     """Read a ``.vol`` / ``.vol.gz`` file.
 
     Parameters
@@ -57,7 +63,7 @@ _VOL_CHECKED = {
 }
 
 
-def _read_vol_text(path):
+def _read_vol_text(path: Path) -> str:
     try:
         if path.name.lower().endswith(".gz"):
             with gzip.open(path, "rt", encoding="utf-8") as f:
@@ -71,7 +77,7 @@ def _read_vol_text(path):
         raise file_error(path, f"cannot be read: {one_line(exc)}") from None
 
 
-def _check_vol(path, text):
+def _check_vol(path: Path, text: str) -> tuple[str, str]:
     """Check the mesh part of a .vol file; return (mesh part, geometry part).
 
     Netgen's reader does not report a damaged file: it crashes, hangs, or returns an empty
@@ -83,7 +89,7 @@ def _check_vol(path, text):
     n = len(lines)
     i = 0
 
-    def next_data(i):
+    def next_data(i: int) -> int:
         while i < n and (not lines[i].strip() or lines[i].lstrip().startswith("#")):
             i += 1
         return i
@@ -153,7 +159,7 @@ def _check_vol(path, text):
     return "\n".join(lines[:end]) + "\n", "\n".join(lines[end:])
 
 
-def _check_point_rows(path, rows):
+def _check_point_rows(path: Path, rows: list[str]) -> None:
     try:
         xyz = np.array(" ".join(rows).split(), dtype=float)
     except ValueError as exc:
@@ -165,7 +171,7 @@ def _check_point_rows(path, rows):
         raise file_error(path, "is damaged: section 'points' has coordinates that are not finite")
 
 
-def _check_element_rows(path, section, rows, first):
+def _check_element_rows(path: Path, section: str, rows: list[str], first: int) -> int:
     """Check rows ``... np p1 .. pnp ...`` (np at column ``first``); return the largest p."""
     # Fast path: integer rows of one width (e.g. all tetrahedra); otherwise row by row.
     try:
@@ -193,7 +199,7 @@ def _check_element_rows(path, section, rows, first):
     return largest
 
 
-def _read_vol(path, curve):
+def _read_vol(path: Path, curve: bool) -> netgen.meshing.Mesh:
     from netgen.meshing import Mesh as NetgenMesh
 
     text = _read_vol_text(path)
@@ -235,7 +241,7 @@ if type(m.GetGeometry()).__name__ == "NetgenGeometry":
 _GEOMETRIES_READ: set[str] = set()
 
 
-def _probe_geometry(path, geometry_part):
+def _probe_geometry(path: Path, geometry_part: str) -> None:
     """Read the geometry part of a .vol file in a separate process (it may crash or hang)."""
     digest = hashlib.sha256(geometry_part.encode()).hexdigest()
     if digest in _GEOMETRIES_READ:
@@ -262,7 +268,7 @@ def _probe_geometry(path, geometry_part):
     _GEOMETRIES_READ.add(digest)
 
 
-def _checked_vol_mesh(path, ngmesh):
+def _checked_vol_mesh(path: Path, ngmesh: netgen.meshing.Mesh) -> ngs.Mesh:
     """The ngsolve.Mesh of a .vol file whose nodes are all corners of volume elements."""
     mesh = ngs.Mesh(ngmesh)
     npoints = len(ngmesh.Points())

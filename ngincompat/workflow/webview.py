@@ -39,8 +39,11 @@ from __future__ import annotations
 import html
 import importlib.util
 import json
+import os
+from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -86,7 +89,10 @@ def viewer_script() -> str:
     return path.read_text(encoding="utf-8")
 
 
-def scene(mesh, field, deformation=None, *, order=2, camera=None, clipping=None, zoom=1.0):
+def scene(mesh: ngs.Mesh, field: ngs.CoefficientFunction,
+          deformation: ngs.CoefficientFunction | None = None, *,
+          order: int = 2, camera: Sequence[float] | None = None,
+          clipping: Sequence[float] | None = None, zoom: float = 1.0) -> dict[str, Any]:
     """The webgui scene (a dict of JSON data) of the scalar ``field`` on ``mesh``.
 
     Parameters
@@ -133,7 +139,8 @@ def scene(mesh, field, deformation=None, *, order=2, camera=None, clipping=None,
     return data
 
 
-def colour_range(mesh, field):
+def colour_range(mesh: ngs.Mesh,
+                 field: ngs.CoefficientFunction) -> tuple[float, float] | tuple[None, None]:
     """(low, high) of the colour bar of ``field`` on the boundary of ``mesh`` where peaks at
     a few points (a singular edge, a crease tip) would wash the rest out
     (:func:`~ngincompat.workflow.style.colour_scale` with
@@ -145,10 +152,11 @@ def colour_range(mesh, field):
     norm, _ = colour_scale(values, signed=False, clip=MAP_CLIP)
     if values.size == 0 or (norm.vmin <= values.min() and norm.vmax >= values.max()):
         return None, None
-    return float(norm.vmin), float(norm.vmax)
+    # (colour_scale gives the norm its limits)
+    return float(norm.vmin), float(norm.vmax)  # type: ignore[arg-type]
 
 
-def page(data, title, caption="") -> str:
+def page(data: Mapping[str, Any], title: str, caption: str = "") -> str:
     """The HTML page of the scene ``data`` (:func:`scene`) with the webgui script inlined;
     ``title``: the field and its unit, ``caption``: what is shown (plain text)."""
     # "</" never closes the script inside the data
@@ -167,7 +175,7 @@ def page(data, title, caption="") -> str:
         "{preserveDrawingBuffer: true});</script></body></html>")
 
 
-def write(path, data, title, caption=""):
+def write(path: str | os.PathLike, data: Mapping[str, Any], title: str, caption: str = "") -> Path:
     """Write the page of the scene ``data`` to ``path``, atomically; returns the path."""
     path = Path(path)
     with atomic_path(path) as tmp:
