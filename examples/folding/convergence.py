@@ -87,8 +87,8 @@ def main(argv=None):
         label, _, folder = level.partition("=")
         levels[label] = {p.parent.name: json.loads(p.read_text())
                          for p in sorted(Path(folder).glob("*/results.json"))}
-    units = {name: FoldingScene.metric_unit(name) for name in MEASURES}
-    units["crease_day"] = FoldingScene.unit_of("time")
+    units = {name: FoldingScene.metric_unit(name) if name in FoldingScene.metrics
+             else FoldingScene.unit_of("time") for name in MEASURES}     # the crease day
     rows = rows_of(levels, units)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)

@@ -1,5 +1,4 @@
-"""Distributed runs: the cube on 3 MPI ranks (2 subdomains) against the serial run, and
-Newton with an iterative linear solver against the direct one."""
+"""ngincompat.parallel: MPI runs against serial ones; every reduction the identity in serial."""
 
 import json
 import os
@@ -8,9 +7,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 
+from geometries import cube
+from ngincompat import parallel
 from ngincompat.scenes.cube import CubeScene
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -97,25 +99,6 @@ def test_distributed_run_writes_results_once_and_a_parallel_vtk(runs):
     pvd = (out / "fields.pvd").read_text()
     assert "fields_proc1.vtu" in pvd and "fields_proc2.vtu" in pvd
     assert not list(out.glob("fields.vtu")) and not list(out.glob(".*tmp*"))
-
-
-@pytest.mark.parametrize("linear_solver", ["cg", "gmres"])
-def test_newton_with_bddc_matches_the_direct_solver(linear_solver):
-    settings = {**SETTINGS, "outputs": "none"}
-    direct = CubeScene(**settings).run()
-    iterative = CubeScene(**settings, linear_solver=linear_solver).run()
-    assert iterative.metrics["strain_energy"] == pytest.approx(
-        direct.metrics["strain_energy"], rel=1e-10)
-    steps = iterative.solver["growth"].steps
-    assert [len(s.linear_iterations) for s in steps] == [s.iterations for s in steps]
-    assert all(n >= 3 for s in steps for n in s.linear_iterations)
-    assert iterative.newton_iterations == direct.newton_iterations
-
-
-def test_linear_solver_is_checked():
-    from ngincompat.errors import ParameterError
-    with pytest.raises(ParameterError, match="linear_solver"):
-        CubeScene(linear_solver="mumps")
 
 
 def test_a_scene_that_does_not_distribute_refuses_mpi(tmp_path):
@@ -223,3 +206,80 @@ def test_distributed_fsaverage_matches_serial(tmp_path, monkeypatch):
     assert p["cortex_elements_across_median"] == pytest.approx(2.0, abs=0.05)
     assert p["volume_surface_deviation"] < 1e-10
     assert s["gray_volume_loss"] > 10 * s["white_volume_loss"] > 0
+
+
+# ---------------------------------------------------------------- serial runs
+
+
+@pytest.fixture
+def serial(monkeypatch):
+    """A run launched without MPI: no launcher's variables, the world asked for anew."""
+    for variable in parallel._SIZE_VARIABLES:
+        monkeypatch.delenv(variable, raising=False)
+    parallel.world.cache_clear()
+    yield
+    parallel.world.cache_clear()
+
+
+def test_a_run_without_a_launcher_or_on_one_rank_is_serial(serial, monkeypatch):
+    assert parallel.world() is None and parallel.is_root()
+    parallel.world.cache_clear()
+    monkeypatch.setenv("PMI_SIZE", "1")
+    monkeypatch.setenv("OMPI_COMM_WORLD_SIZE", "one")        # not a number: ignored
+    assert parallel.world() is None and parallel.is_root()
+
+
+def test_several_ranks_without_mpi4py_is_an_error_naming_the_extra(serial, monkeypatch):
+    monkeypatch.setenv("OMPI_COMM_WORLD_SIZE", "4")
+    monkeypatch.setitem(sys.modules, "mpi4py", None)         # import mpi4py fails
+    with pytest.raises(ImportError, match=r"several MPI ranks.*pip install 'ngincompat\[mpi\]'"):
+        parallel.world()
+
+
+def test_in_a_serial_run_every_reduction_is_the_identity(serial):
+    """The sums and maxima over the ranks are the rank's own number (as float), the merged
+    point values and gathered rows are the arrays given, the counts the mesh's."""
+    mesh = cube(maxh=0.5)
+    assert not parallel.distributed(mesh)
+    assert parallel.total(mesh, 3) == 3.0 and isinstance(parallel.total(mesh, 3), float)
+    assert parallel.maximum(mesh, -np.inf) == -np.inf
+    values = np.array([1.0, np.nan, 2.0])
+    assert parallel.first_found(mesh, values) is values
+    rows = np.arange(6.0).reshape(3, 2)
+    assert parallel.gather_rows(mesh, rows) is rows
+    assert parallel.counts(mesh) == (8, 27)
+
+
+def test_in_a_serial_run_the_mesh_is_built_once_and_whole(serial):
+    built = []
+
+    def build():
+        built.append(cube(maxh=0.5))
+        return built[-1]
+
+    mesh = parallel.distribute(build)
+    assert mesh is built[0] and len(built) == 1
+
+
+def test_a_geometry_is_meshed_and_curved_in_a_serial_run(serial):
+    """The unit ball of maxh 0.5: curved to order 3, its volume is 4 pi / 3 to 1e-3; straight,
+    the inscribed polyhedron's is visibly smaller."""
+    from netgen.occ import OCCGeometry, Pnt, Sphere
+
+    geometry = OCCGeometry(Sphere(Pnt(0, 0, 0), 1.0))
+    curved = parallel.distribute_geometry(geometry, maxh=0.5, curve_order=3)
+    straight = parallel.distribute_geometry(geometry, maxh=0.5)
+    assert ngs.Integrate(1, curved) == pytest.approx(4 / 3 * np.pi, rel=1e-3)
+    assert ngs.Integrate(1, straight) < 0.98 * 4 / 3 * np.pi
+    assert curved.ne == straight.ne > 0
+
+
+def test_on_root_returns_the_result_or_raises_the_error_of_the_call(serial):
+    assert parallel.on_root(divmod, 7, 2) == (3, 1)
+    assert parallel.on_root(int, "ff", base=16) == 255
+
+    def fails(path):
+        raise FileNotFoundError(path)
+
+    with pytest.raises(FileNotFoundError, match="nowhere"):
+        parallel.on_root(fails, "nowhere")

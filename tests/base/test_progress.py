@@ -1,6 +1,7 @@
 """Progress reports: named cases, stages and steps, plain lines when not on a terminal."""
 
 import io
+import re
 import time
 
 import pytest
@@ -104,7 +105,9 @@ def test_a_case_silent_for_still_seconds_says_it_is_still_computing(monkeypatch,
     lines = stream.getvalue().splitlines()
     assert stream.getvalue() == ended
     still = [k for k, line in enumerate(lines) if "still computing" in line]
-    assert still and lines[still[0]].startswith("[big] still computing (0 s since: meshing ...")
+    # the seconds it counts depend on the machine's load: the line's form and what it names
+    assert still and re.match(r"\[big\] still computing \(\d+ s since: meshing \.\.\.",
+                              lines[still[0]])
     assert all(k < next(i for i, line in enumerate(lines) if "growth" in line) for k in still)
 
 

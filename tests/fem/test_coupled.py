@@ -1,5 +1,4 @@
-"""Mechanically coupled growth: growth laws (eq. 45-46), implicit Euler (eq. 48) and the
-consistent tangent (eq. 49)."""
+"""ngincompat.fem.coupled: coupled growth by implicit Euler, its tangent, supports and terms."""
 
 import os
 import shutil
@@ -127,32 +126,6 @@ def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent(caplog):
         assert "compiling to C++ failed" not in caplog.text
 
 
-def test_growth_saturates_at_theta_max():
-    law = HillLaw(k=5.0, K=0.05, n=2, theta_crit=1.0, theta_max=1.3)
-    problem, growth = _stretched_bar(law, stretch=1.5)
-    solve_coupled(problem, t_end=3.0, dt=0.5)
-    pts = problem.mesh(0.5, 0.5, 0.5)
-    assert growth.theta(pts) == pytest.approx(1.3, abs=2e-2)
-    assert growth.theta(pts) <= 1.3 + 1e-2
-
-
-def test_no_growth_below_the_critical_stretch():
-    problem, growth = _stretched_bar(StrainDrivenLaw(tau=1.0, theta_max=2.0, theta_crit=1.3))
-    solve_coupled(problem, t_end=1.0, dt=0.5)
-    assert ngs.Integrate(growth.theta, problem.mesh) == pytest.approx(1.0, abs=1e-12)
-
-
-@pytest.mark.parametrize("law, name", [
-    (lambda: StrainDrivenLaw(tau=0, theta_max=2), "tau"),
-    (lambda: StrainDrivenLaw(tau=1, theta_max=0.9), "theta_max"),
-    (lambda: HillLaw(k=-1, K=0.1), "k"),
-    (lambda: HillLaw(k=1, K=0.1, n=0.5), "n"),
-])
-def test_growth_laws_reject_bad_parameters(law, name):
-    with pytest.raises(ParameterError, match=f"^{name} = "):
-        law()
-
-
 def test_the_growth_term_names_the_registered_kinds():
     """An unknown kind is refused with the registry's kinds; a kind given as its class works
     like its name; a kind that needs a direction refuses to go without."""
@@ -210,50 +183,6 @@ def test_G_of_a_computed_growth_field_meets_its_target():
     assert _computed_growth_G_error(0.25, 2, 3) > 1e-3
     coarse, fine = _computed_growth_G_error(0.5, 2, 3), _computed_growth_G_error(0.25, 2, 3)
     assert fine < 0.3 * coarse
-
-
-def test_a_march_ends_where_on_step_says_so():
-    """on_step returning True (an instability detected) ends the march there, converged."""
-    problem, _ = _stretched_bar(LAW)
-    seen = []
-
-    def on_step(t):
-        seen.append(t)
-        return t >= 0.5
-
-    history = solve_coupled(problem, t_end=2.0, dt=0.25, on_step=on_step)
-    assert history.converged and history.t_reached == pytest.approx(0.5)
-    assert seen == pytest.approx([0.25, 0.5])
-
-
-def test_a_step_doubles_after_at_most_step_up_newton_iterations():
-    """The adaptive march doubles the next step (up to max_step) after a step that took at
-    most ``step_up`` Newton iterations, and keeps it otherwise."""
-    def steps(**options):
-        problem, _ = _stretched_bar(LAW)
-        history = solve_coupled(problem, t_end=2.0, dt=0.25,
-                                options=NewtonOptions(max_iter=20, **options))
-        assert history.converged and all(s.iterations > 1 for s in history.steps)
-        return [s.dt for s in history.steps]
-
-    assert steps(step_up=0) == pytest.approx([0.25] * 8)
-    assert steps(step_up=20) == pytest.approx([0.25, 0.5, 1.0, 0.25])
-    assert steps(step_up=20, max_step=0.5) == pytest.approx([0.25, 0.5, 0.5, 0.5, 0.25])
-
-
-@pytest.mark.parametrize("hold", [0, 1, 3])
-def test_after_a_cut_step_hold_converged_steps_keep_the_step(hold):
-    """A step of 0.8 needs 5 Newton iterations to 1e-12, one of 0.4 needs 4: with at most 4
-    the first step fails and is halved; the next ``step_hold`` converged steps keep 0.4, the
-    one after them doubles it (``step_up`` = 4)."""
-    problem, _ = _stretched_bar(LAW)
-    solve_coupled(problem, t_end=0.01, dt=0.01, options=NewtonOptions(max_iter=20))
-    history = solve_coupled(problem, t_start=0.01, t_end=0.01 + 0.8 * (hold + 2), dt=0.8,
-                            options=NewtonOptions(max_iter=4, rtol=1e-12, step_hold=hold))
-    steps = [(s.dt, s.converged) for s in history.steps]
-    assert history.converged and steps[0] == (pytest.approx(0.8), False)
-    assert steps[1:hold + 3] == [(pytest.approx(0.4), True)] * (hold + 1) + [
-        (pytest.approx(0.8), True)]
 
 
 def test_viscous_regularisation_lags_and_a_frozen_step_removes_it():

@@ -63,24 +63,12 @@ def test_largest_principal_value_in_closed_form(unit_cube_hex):
         assert got == pytest.approx(largest, rel=1e-7)
 
 
-def test_maximum_skips_undefined_points_only(unit_cube_hex):
-    """A NaN at the vertex X = 0 (a cone point of 1 / R) is left out; NaN everywhere stays
-    NaN."""
-    R = ngs.sqrt(ngs.x * ngs.x + ngs.y * ngs.y + ngs.z * ngs.z)
-    assert sampling.maximum(ngs.x / R, unit_cube_hex) == pytest.approx(1.0)
-    assert np.isnan(sampling.maximum(ngs.sqrt(-1 - ngs.x), unit_cube_hex))
-
-
 def test_sample_line_includes_boundary_points(unit_cube_hex):
     s, values = postprocess.sample_line(unit_cube_hex, {"x": ngs.x, "v": ngs.CF((ngs.x, 1, 2))},
                                         (0, 0.5, 0.5), (1, 0.5, 0.5), n=11)
     np.testing.assert_allclose(s, np.linspace(0, 1, 11))
     np.testing.assert_allclose(values["x"], np.linspace(0, 1, 11), atol=1e-8)
     assert values["v"].shape == (11, 3)
-
-
-def test_maximum_over_element_points(unit_cube_hex):
-    assert sampling.maximum(ngs.x * ngs.y, unit_cube_hex) == pytest.approx(1.0)
 
 
 def test_sample_plane_returns_a_prescribed_linear_field_exactly(unit_cube_tet):
@@ -98,9 +86,3 @@ def test_sample_plane_returns_a_prescribed_linear_field_exactly(unit_cube_tet):
     outside = postprocess.sample_plane(unit_cube_tet, {"f": f}, (0, 0.5, 0), (1, 0, 0),
                                        (0, 0, 1), [0.5, 1.5], [0.5])["f"]
     assert np.isfinite(outside[0, 0]) and np.isnan(outside[0, 1])
-
-
-def test_argmax_finds_the_value_and_the_point(unit_cube_hex):
-    value, where = sampling.argmax(ngs.x * ngs.y - ngs.z, unit_cube_hex)
-    assert value == pytest.approx(1.0)
-    np.testing.assert_allclose(where, (1, 1, 0), atol=1e-12)

@@ -1,14 +1,17 @@
-"""The mechanics problem: oracles, consistency, boundary conditions."""
+"""ngincompat.fem.problem: oracles, consistency, supports and pins, the mixed pair's inf-sup."""
 
 import ngsolve as ngs
 import numpy as np
 import pytest
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 from conftest import cube_problem
 
-from geometries import cube
+from geometries import bilayer, cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem import postprocess
-from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.fem.problem import GrowthMechanics, bubbles, displacement_space, rigid_pins
 from ngincompat.fem.stepping import solve_growth
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics.growth import IsotropicGrowth, TensorGrowth
@@ -190,3 +193,81 @@ def test_pins_remove_exactly_the_rigid_motions_left_free(symmetry, dirichlet, co
         gf.Set(cf)
         motions.append(gf.vec.FV().NumPy()[~free])
     assert np.linalg.matrix_rank(np.array(motions).T, tol=1e-8) == 6
+
+
+@pytest.mark.parametrize("symmetry, pins", [({}, 3), ({"left": "x"}, 1),
+                                            ({"left": "x", "bottom": "y"}, 0)])
+def test_a_section_is_pinned_against_the_rigid_motions_its_supports_leave(symmetry, pins):
+    """Of the three rigid motions of a section (two translations, the rotation about X3)
+    a roller end leaves the vertical translation, a roller bottom besides it none."""
+    mesh = bilayer(length=1.0, height=0.5, cortex=0.1, maxh=0.25)
+    space = displacement_space(mesh, 2, symmetry=symmetry)
+    assert len(rigid_pins(mesh, space)) == pins
+
+
+def test_a_section_has_no_third_axis_to_hold():
+    mesh = bilayer(length=1.0, height=0.5, cortex=0.1, maxh=0.25)
+    with pytest.raises(ParameterError, match="symmetry axis = 'z'.*x or y"):
+        displacement_space(mesh, 2, symmetry={"left": "z"})
+
+# ---------------------------------------------------------------- the mixed formulation's pair
+# Its discrete inf-sup constant on the traction-free unit cube, computed from the matrices
+# (the smallest non-zero eigenvalue of B A^-1 B^T q = beta^2 M q, A the H1 inner product of
+# the displacements, B the divergence against the pressures, M the pressures' mass matrix).
+
+
+def _matrix(form):
+    rows, cols, values = form.mat.COO()
+    return sp.csr_matrix((values.NumPy(), (rows.NumPy(), cols.NumPy())),
+                         shape=(form.mat.height, form.mat.width))
+
+
+def inf_sup(displacements, pressures):
+    u, v = displacements.TnT()
+    p, q = pressures.TnT()
+    a = ngs.BilinearForm((ngs.InnerProduct(ngs.Grad(u), ngs.Grad(v)) + u * v) * ngs.dx)
+    b = ngs.BilinearForm(trialspace=displacements, testspace=pressures)
+    b += ngs.div(u) * q * ngs.dx
+    m = ngs.BilinearForm(p * q * ngs.dx)
+    A, B, M = (_matrix(f.Assemble()) for f in (a, b, m))
+    S = B @ spla.splu(A.tocsc()).solve(B.T.toarray())
+    values = sla.eigh((S + S.T) / 2, M.toarray(), eigvals_only=True)
+    return float(np.sqrt(values[values > 1e-10 * values.max()].min()))
+
+
+@pytest.mark.parametrize("order", [2, 3])
+def test_the_bubbles_make_the_pair_on_tetrahedra_inf_sup_stable(order):
+    """Without them the constant falls with the mesh size (order 2: 0.15 at maxh 0.5, 0.036 at
+    0.35, 6e-4 at 0.25); with them it stays above 0.5 (0.64, 0.57, 0.55)."""
+    coarse, fine = (cube(maxh=h, elements="tet") for h in (0.5, 0.35))
+    plain = [inf_sup(displacement_space(mesh, order), ngs.L2(mesh, order=order - 1))
+             for mesh in (coarse, fine)]
+    enriched = [inf_sup(displacement_space(mesh, order, enrichment=bubbles(mesh, order,
+                                                                           "mixed")),
+                        ngs.L2(mesh, order=order - 1)) for mesh in (coarse, fine)]
+    assert plain[1] < 0.5 * plain[0] and plain[1] < 0.05
+    assert min(enriched) > 0.4 and enriched[1] > 0.8 * enriched[0]
+
+
+def test_bubbles_only_for_the_mixed_formulation_below_order_4_on_tetrahedra(unit_cube_hex,
+                                                                           unit_cube_tet):
+    assert bubbles(unit_cube_tet, 2, "mixed") == {"orderface": 3, "orderinner": 4}
+    assert bubbles(unit_cube_tet, 4, "mixed") == {}
+    assert bubbles(unit_cube_tet, 2, "displacement") == {}
+    assert bubbles(unit_cube_hex, 2, "mixed") == {}
+
+
+def test_a_material_with_moduli_per_region_passes_the_formulation_check():
+    """Regional has no single mu or nu (each scene checks its regions' own): the check asks
+    nothing of them for the displacement form and refuses the mixed one, which needs a bulk
+    split; a material with one nu is still held to the displacement form's limit."""
+    from ngincompat.fem.problem import check_formulation
+    from ngincompat.mechanics.materials import Regional
+    mesh = bilayer(length=1.0, height=0.5, cortex=0.1, maxh=0.25)
+    material = Regional(mesh, {"cortex": NeoHookean.from_nu(3.0, 0.45),
+                               "subcortex": NeoHookean.from_nu(1.0, 0.45)})
+    check_formulation(material, "displacement", 2)
+    with pytest.raises(ParameterError, match="mixed needs a bulk split"):
+        check_formulation(material, "mixed", 2)
+    with pytest.raises(ParameterError, match="nu"):
+        check_formulation(NeoHookean.from_nu(1.0, 0.499999), "displacement", 2)

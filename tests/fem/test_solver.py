@@ -1,6 +1,4 @@
-"""The robust Newton solver on the growing cube: quadratic convergence, the full growth step,
-step cutting that keeps the last converged state, tangent reuse; the symmetric part of a
-sparse matrix (the preconditioner of "symmetric-gmres")."""
+"""ngincompat.fem.solver: Newton's convergence, line searches, stalls, the linear solvers."""
 
 import ngsolve as ngs
 import numpy as np
@@ -17,7 +15,7 @@ from ngincompat.fem.solver import (
     _stalled,
 )
 from ngincompat.fem.stepping import solve_growth
-from ngincompat.fem.symmetric import SymmetricPart
+from ngincompat.scenes.cube import CubeScene
 
 
 def _orders(residuals):
@@ -121,26 +119,6 @@ def test_one_newton_step_is_taken_as_far_as_it_is_acceptable():
             assert alpha == 0.0 and moved == 0.0 and "acceptable" in record.reason
 
 
-def test_failed_step_is_cut_and_last_converged_state_is_kept():
-    """With too few Newton iterations allowed, steps are cut; below min_step the solver raises
-    and the displacement and time hold the last converged state."""
-    problem, time = cube_problem(a=1.0, order=2)
-    options = NewtonOptions(max_iter=2, min_step=0.2, predictor=False)
-    with pytest.raises(ConvergenceError) as err:
-        solve_growth(problem, time, options)
-    history = err.value.history
-    assert [s.converged for s in history.steps].count(False) >= 2
-    t_ok = err.value.t_converged
-    assert time.Get() == pytest.approx(t_ok)
-    assert t_ok == pytest.approx(history.t_reached)
-    # the kept state is an equilibrium at t_ok: its residual is tiny
-    r = problem.u.vec.CreateVector()
-    problem.form.Apply(problem.u.vec, r)
-    free = problem.freedofs
-    worst = max(abs(r[i]) for i in range(len(r)) if free[i])
-    assert worst < 1e-8
-
-
 def test_an_infinite_residual_at_the_start_is_no_convergence():
     """A growth so steep that the first residual overflows (theta = 1 + 1e300 X1 t) never
     counts as converged: the tolerance max(rtol r0, atol) is infinite there, and inf <= inf
@@ -164,63 +142,6 @@ def test_reused_tangents_reach_the_same_state_with_fewer_assemblies():
     assert h_full.tangent_assemblies == h_full.newton_iterations
     assert h_reuse.tangent_assemblies < h_full.tangent_assemblies
     assert e_reuse == pytest.approx(e_full, rel=1e-9)
-
-
-def _dense(matrix):
-    rows, cols, values = matrix.COO()
-    dense = np.zeros((matrix.height, matrix.width))
-    dense[np.asarray(rows), np.asarray(cols)] = np.asarray(values)
-    return dense
-
-
-def test_symmetric_part_averages_a_matrix_with_its_transpose():
-    """(A + A^T) / 2 on A's pattern, for every matrix of that pattern; a pattern that is not
-    structurally symmetric is refused."""
-    rows, cols = [0, 0, 1, 1, 1, 2, 2], [0, 1, 0, 1, 2, 1, 2]
-    first = ngs.la.SparseMatrixd.CreateFromCOO(rows, cols, [4.0, 1.0, 3.0, 5.0, 7.0, -2.0, 6.0],
-                                               3, 3)
-    second = ngs.la.SparseMatrixd.CreateFromCOO(rows, cols, [1.0, 0.0, 2.0, 1.0, -1.0, 3.0, 1.0],
-                                                3, 3)
-    part = SymmetricPart(first)
-    for matrix in (first, second):
-        expected = (_dense(matrix) + _dense(matrix).T) / 2
-        assert np.allclose(_dense(part.of(matrix)), expected, rtol=0, atol=1e-15)
-    assert _dense(part.of(first))[0, 1] == 2.0 and _dense(part.of(first))[1, 2] == 2.5
-    lopsided = ngs.la.SparseMatrixd.CreateFromCOO([0, 0, 1], [0, 1, 1], [1.0, 1.0, 1.0], 2, 2)
-    with pytest.raises(ParameterError, match="structurally symmetric"):
-        SymmetricPart(lopsided)
-
-
-def test_superlu_inverse_solves_as_umfpack_does_on_the_free_dofs(unit_cube_tet):
-    """SuperLUInverse (the coupled problems' direct solver) of a non-symmetric matrix gives
-    UMFPACK's solution on the free dofs and zero on the others."""
-    from ngincompat.fem.sparse_lu import SuperLUInverse
-    fes = ngs.H1(unit_cube_tet, order=2, dirichlet="left")
-    u, v = fes.TnT()
-    form = ngs.BilinearForm(fes)
-    form += (ngs.grad(u) * ngs.grad(v) + ngs.x * u.Deriv()[0] * v) * ngs.dx
-    form.Assemble()
-    rhs = form.mat.CreateColVector()
-    rhs.FV().NumPy()[:] = np.random.default_rng(1).standard_normal(fes.ndof)
-    ours, theirs = rhs.CreateVector(), rhs.CreateVector()
-    ours.data = SuperLUInverse(form.mat, fes.FreeDofs()) * rhs
-    theirs.data = form.mat.Inverse(fes.FreeDofs(), inverse="umfpack") * rhs
-    fixed = ~np.array(list(fes.FreeDofs()), dtype=bool)
-    assert fixed.any() and np.all(ours.FV().NumPy()[fixed] == 0)
-    assert np.allclose(ours.FV().NumPy(), theirs.FV().NumPy(), rtol=1e-10, atol=1e-12)
-
-
-def test_symmetric_part_follows_a_matrix_of_another_pattern():
-    """A matrix whose pattern grew (a contact pair coupling new dofs) gets its own (A + A^T)
-    / 2, not the old pattern's."""
-    first = ngs.la.SparseMatrixd.CreateFromCOO([0, 1, 2], [0, 1, 2], [1.0, 2.0, 3.0], 3, 3)
-    grown = ngs.la.SparseMatrixd.CreateFromCOO([0, 0, 1, 2, 2], [0, 2, 1, 0, 2],
-                                               [1.0, 4.0, 2.0, 2.0, 3.0], 3, 3)
-    part = SymmetricPart(first)
-    assert np.allclose(_dense(part.of(first)), np.diag([1.0, 2.0, 3.0]))
-    expected = (_dense(grown) + _dense(grown).T) / 2
-    assert np.allclose(_dense(part.of(grown)), expected, rtol=0, atol=1e-15)
-    assert _dense(part.of(grown))[0, 2] == 3.0
 
 
 #: Residual norms of two steps of the folding bilayer's march at 65.7 days (curved axons):
@@ -259,3 +180,25 @@ def test_a_residual_that_stops_falling_at_round_off_is_converged():
     assert at and at[0] == 4
     for residuals in (CONVERGING, SLOW, CYCLING):
         assert not any(_at_roundoff(residuals[:k + 1]) for k in range(1, len(residuals)))
+
+
+#: The cube of the distributed runs (tests/base/test_parallel.py): 3 hexahedra per edge.
+CUBE = {"order": 2, "maxh": 0.34, "elements": "hex", "outputs": "none"}
+
+
+@pytest.mark.parametrize("linear_solver", ["cg", "gmres"])
+def test_newton_with_bddc_matches_the_direct_solver(linear_solver):
+    settings = CUBE
+    direct = CubeScene(**settings).run()
+    iterative = CubeScene(**settings, linear_solver=linear_solver).run()
+    assert iterative.metrics["strain_energy"] == pytest.approx(
+        direct.metrics["strain_energy"], rel=1e-10)
+    steps = iterative.solver["growth"].steps
+    assert [len(s.linear_iterations) for s in steps] == [s.iterations for s in steps]
+    assert all(n >= 3 for s in steps for n in s.linear_iterations)
+    assert iterative.newton_iterations == direct.newton_iterations
+
+
+def test_linear_solver_is_checked():
+    with pytest.raises(ParameterError, match="linear_solver"):
+        CubeScene(linear_solver="mumps")

@@ -1,5 +1,4 @@
-"""Curvature of the growth metric: exact path against closed forms, Kröner's linearisation,
-the paper's cylinder; the discrete (Regge) path against the exact one."""
+"""ngincompat.incompatibility.curvature: the growth metric's exact curvature, scenes' reports."""
 
 import json
 
@@ -9,7 +8,6 @@ import pytest
 from conftest import l2_norm
 
 from geometries import cube
-from ngincompat import config
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import operators as inc
 from ngincompat.incompatibility.operators import grad_scalar
@@ -131,77 +129,6 @@ def test_kroner_linearisation_is_second_order(cube_tet):
     rates = [np.log2(a[0] / b[0]) for a, b in zip(defects[:-1], defects[1:], strict=True)]
     assert all(abs(r - 1) < 0.1 for r in rates), rates
     assert defects[-1][0] < 0.05 * defects[-1][1]
-
-
-# ---------------------------------------------------------------- discrete (Regge) path
-
-@pytest.fixture(scope="module")
-def smooth_disc():
-    """The disc geometry with smooth area growth theta = 1 + (X1^2 + X2^2)/4 about e3, and
-    its exact curvature."""
-    from geometries import disc
-    from ngincompat.mechanics.growth import AreaGrowth
-    config.ensure_heap(10**8)
-    Fg = AreaGrowth(1 + (ngs.x * ngs.x + ngs.y * ngs.y) / 4, fields.constant("e3")).Fg
-    return disc(maxh=0.5, curve_order=2).ngmesh, cv.growth_curvature(Fg)
-
-
-def _rel(a, b, mesh):
-    return l2_norm(a - b, mesh, order=6) / l2_norm(b, mesh, order=6)
-
-
-def test_regge_path_converges_to_exact_under_h_and_p(smooth_disc):
-    from ngincompat.incompatibility import regge
-    ngmesh, exact = smooth_disc
-    coarse = ngs.Mesh(ngmesh)
-    coarse.Curve(2)
-    errors = {k: _rel(regge.discrete_curvature(exact.metric, coarse, k).einstein,
-                      exact.einstein, coarse) for k in (1, 2)}
-    # p: one degree more, several times smaller (measured 0.71 -> 0.087)
-    assert errors[2] < 0.2 * errors[1]
-    # h: uniform refinement at k = 2 (measured rate about 2; loose check > 1)
-    ngmesh.Refine()
-    fine = ngs.Mesh(ngmesh)
-    fine.Curve(2)
-    fine_error = _rel(regge.discrete_curvature(exact.metric, fine, 2).einstein,
-                      exact.einstein, fine)
-    assert fine_error < 0.5 * errors[2]
-    # the scalar curvature of the lift against the exact S
-    assert _rel(regge.discrete_curvature(exact.metric, fine, 2).scalar, exact.scalar,
-                fine) < 0.1
-
-
-def test_regge_pairing_and_interior_terms(smooth_disc):
-    # the distributional Einstein tensor against a smooth test field vanishing on the
-    # boundary: close to the exact pairing, and the facet and edge terms matter (the
-    # element term alone is off by much more)
-    from geometries import disc
-    from ngincompat.incompatibility import regge
-    _, exact = smooth_disc
-    mesh = disc(maxh=0.5, curve_order=2)
-    g = exact.metric
-    r2 = ngs.x * ngs.x + ngs.y * ngs.y
-    phi = (1 - r2) * ngs.z * (0.5 - ngs.z) * ngs.CF((1, 0.3, 0.2, 0.3, 2, 0.1, 0.2, 0.1, 1),
-                                                    dims=(3, 3))
-    density = ngs.sqrt(ngs.Det(g)) * ngs.Inv(g) * exact.einstein * ngs.Inv(g)
-    reference = ngs.Integrate(ngs.InnerProduct(density, phi), mesh, order=8)
-    G = regge.DistributionalEinstein.of(regge.regge_interpolant(g, mesh, 2))
-    full = G.apply(phi)
-    volume_only = ngs.Integrate(ngs.InnerProduct(G.volume, phi), mesh)
-    assert abs(full - reference) < 1e-3 * abs(reference)
-    assert abs(volume_only - reference) > 10 * abs(full - reference)
-
-
-def test_regge_path_on_the_flat_cylinder():
-    # the paper's cylinder: the discrete curvature converges to zero under p
-    from geometries import cylinder
-    from ngincompat.incompatibility import regge
-    mesh = cylinder(maxh=0.5, curve_order=2)
-    g = cv.growth_metric(FiberGrowth(1 + ngs.y / 4, fields.constant("e1")).Fg)
-    discrete = [regge.discrete_curvature(g, mesh, k) for k in (1, 2)]
-    norms = [l2_norm(cv.einstein_norm(d.einstein, d.gh), mesh, order=6) for d in discrete]
-    assert norms[1] < 0.05 * norms[0]
-    assert norms[1] < 5e-3
 
 
 # ---------------------------------------------------------------- scenes

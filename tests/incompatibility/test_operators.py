@@ -1,4 +1,4 @@
-"""Curl (eq. 7), G (eq. 10, 12), Burgers vectors (eq. 11) and the closed forms of section 2.3."""
+"""ngincompat.incompatibility.operators: Curl, G, Burgers vectors and the closed forms of 2.3."""
 
 import ngsolve as ngs
 import numpy as np

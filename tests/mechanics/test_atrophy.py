@@ -1,7 +1,9 @@
-"""The atrophy law (ngincompat.mechanics.atrophy) against the closed-form solution of its ODE."""
+"""ngincompat.mechanics.atrophy: the atrophy law against the closed-form solution of its ODE."""
 
+import ngsolve as ngs
 import numpy as np
 import pytest
+from conftest import random_points, values_at
 
 from ngincompat.errors import ParameterError
 from ngincompat.fem.transport import logistic, logistic_integral
@@ -52,3 +54,28 @@ def test_bad_input_names_the_parameter():
     with pytest.raises(ParameterError, match="rate_white.*pass theta_min"):
         AtrophyLaw(4.0, 0.7, "rate_white").check_step(0.1)
     AtrophyLaw(2.9, 0.7).check_step(0.1)
+
+
+def test_steps_at_frozen_c_compose_into_the_exposure():
+    """theta^{n+1} = theta_min + (theta^n - theta_min) exp(-G dt c^{n+1} / (1 - theta_min)),
+    step after step from theta = 1, is theta of the summed exposure, whatever the steps."""
+    law = AtrophyLaw(0.05, 0.6)
+    rng = np.random.default_rng(3)
+    dts, cs = rng.uniform(0.1, 3.0, 20), rng.uniform(-0.2, 1.3, 20)
+    theta, exposure = 1.0, 0.0
+    for dt, c in zip(dts, cs, strict=True):
+        theta = 0.6 + (theta - 0.6) * np.exp(-0.05 * dt * np.clip(c, 0, 1) / 0.4)
+        exposure += exposure_increment(c, dt)
+    assert law.theta(exposure) == pytest.approx(theta, rel=1e-14)
+    assert law.theta(0.0) == 1.0
+
+
+def test_theta_of_a_field_is_the_same_law(unit_cube_hex):
+    """With ``exp=ngsolve.exp`` the exposure may be a CoefficientFunction: the values are the
+    numpy law's."""
+    law = AtrophyLaw(0.03, 0.7)
+    exposure = 10 * ngs.x + 5 * ngs.y * ngs.z
+    points = random_points(6)
+    got = values_at(law.theta(exposure, exp=ngs.exp), unit_cube_hex, points)[:, 0]
+    expected = law.theta(10 * points[:, 0] + 5 * points[:, 1] * points[:, 2])
+    np.testing.assert_allclose(got, expected, rtol=1e-14)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import random_points, values_at
 
-from geometries import bilayer, cube
+from geometries import cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
 from ngincompat.fem.problem import GrowthMechanics
@@ -265,44 +265,3 @@ def test_non_positive_theta_is_an_error_that_names_where(unit_cube_hex):
     # at the first check time in it, 19/128: theta = 1 - 2 sin(3 pi / 16)
     with pytest.raises(ParameterError, match=r"theta = -0.1111 at .*, t = 0.148438:"):
         check_positive(1 + 2 * ngs.sin(8 * ngs.pi * time), unit_cube_hex, time)
-
-
-def test_bilayer_axon_orientations(unit_cube_hex):
-    """Straight axons are normal to the interface; curved ones fan out from the focus below
-    the middle; concentric ones are orthogonal to the curved ones and to e2 (in-plane)."""
-    pts = random_points(12)
-    straight = values_at(fields.axons("straight").cf, unit_cube_hex, pts)
-    np.testing.assert_allclose(straight, np.tile([0, 0, 1.0], (12, 1)))
-    curved = values_at(fields.axons("curved", interface=0.95, length=1.0).cf, unit_cube_hex, pts)
-    concentric = values_at(fields.axons("concentric", interface=0.95, length=1.0).cf,
-                           unit_cube_hex, pts)
-    np.testing.assert_allclose(np.linalg.norm(curved, axis=1), 1, rtol=1e-12)
-    np.testing.assert_allclose(np.sum(curved * concentric, axis=1), 0, atol=1e-12)
-    np.testing.assert_allclose(concentric[:, 1], 0, atol=1e-12)
-    focus = np.array([0.5, 0.0, 0.95 - 3.0])
-    d = pts - focus
-    d[:, 1] = 0
-    np.testing.assert_allclose(curved, d / np.linalg.norm(d, axis=1)[:, None], rtol=1e-12)
-    with pytest.raises(ParameterError, match="axons = 'wavy'"):
-        fields.axons("wavy")
-
-
-def test_bilayer_axon_orientations_on_the_section():
-    """On the section of a body in plane strain (X2 vertical, X3 out of plane): straight
-    axons are e2, curved ones fan out in the plane from the focus below the middle,
-    concentric ones are orthogonal to them and in the plane; another vertical is refused."""
-    mesh = bilayer(length=1.0, height=1.0, cortex=0.05, maxh=0.2)
-    pts = random_points(12)[:, :2] * 0.9 + 0.05
-    points = mesh(pts[:, 0], pts[:, 1])
-    kw = dict(interface=0.95, length=1.0, vertical="e2")
-    straight, curved, concentric = (
-        np.asarray(fields.axons(kind, **kw).cf(points))
-        for kind in ("straight", "curved", "concentric"))
-    np.testing.assert_allclose(straight, np.tile([0, 1.0, 0], (12, 1)))
-    d = np.column_stack([pts - [0.5, 0.95 - 3.0], np.zeros(12)])
-    np.testing.assert_allclose(curved, d / np.linalg.norm(d, axis=1)[:, None], rtol=1e-12)
-    np.testing.assert_allclose(np.sum(curved * concentric, axis=1), 0, atol=1e-12)
-    np.testing.assert_allclose(np.linalg.norm(concentric, axis=1), 1, rtol=1e-12)
-    np.testing.assert_allclose(concentric[:, 2], 0, atol=1e-12)
-    with pytest.raises(ParameterError, match="vertical = 'e1'"):
-        fields.axons("curved", vertical="e1")

@@ -1,23 +1,24 @@
-"""A body in plane strain solved on its section (a two-dimensional mesh, the displacement
-(u1, u2), :func:`ngincompat.mechanics.kinematics.displacement_gradient` embedding its
-gradient with F33 = 1) against the same body as a three-dimensional slab of tetrahedra held
-by u3 = 0 on both faces: an independent discretisation of the same solution."""
+"""ngincompat.mechanics.kinematics: F = Fe Fg and its measures, and the section in plane strain."""
 
 import ngsolve as ngs
 import numpy as np
 import pytest
+from conftest import random_points, values_at
 from netgen.occ import Glue, OCCGeometry, WorkPlane, X, Y, Z
 
 from geometries import bilayer
-from ngincompat.errors import ParameterError
 from ngincompat.fem.coupled import CoupledProblem
-from ngincompat.fem.problem import displacement_space, rigid_pins
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stepping import solve_coupled
 from ngincompat.fem.terms import GrowthEnergy
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw
 from ngincompat.mechanics.materials import NeoHookean, Regional
+
+# A body in plane strain solved on its section (a two-dimensional mesh, the displacement
+# (u1, u2), displacement_gradient embedding its gradient with F33 = 1) against the same body
+# as a three-dimensional slab of tetrahedra held by u3 = 0 on both faces: an independent
+# discretisation of the same solution.
 
 LENGTH, HEIGHT, CORTEX, DEPTH = 1.0, 0.5, 0.1, 0.05
 
@@ -90,17 +91,79 @@ def test_the_embedded_gradient_has_a_zero_third_row_and_column(both):
     assert np.asarray(F(section.mesh(0.5, 0.45))).reshape(3, 3)[2, 2] == 1.0
 
 
-@pytest.mark.parametrize("symmetry, pins", [({}, 3), ({"left": "x"}, 1),
-                                            ({"left": "x", "bottom": "y"}, 0)])
-def test_a_section_is_pinned_against_the_rigid_motions_its_supports_leave(symmetry, pins):
-    """Of the three rigid motions of a section (two translations, the rotation about X3)
-    a roller end leaves the vertical translation, a roller bottom besides it none."""
-    mesh = bilayer(length=LENGTH, height=HEIGHT, cortex=CORTEX, maxh=0.25)
-    space = displacement_space(mesh, 2, symmetry=symmetry)
-    assert len(rigid_pins(mesh, space)) == pins
+#: A homogeneous deformation gradient H = Grad u and a growth tensor (any invertible one).
+H = np.array([[0.10, -0.05, 0.02], [0.03, -0.08, 0.04], [-0.06, 0.01, 0.12]])
+FG = np.array([[1.2, 0.1, 0.0], [0.0, 0.9, 0.05], [0.1, 0.0, 1.1]])
 
 
-def test_a_section_has_no_third_axis_to_hold():
-    mesh = bilayer(length=LENGTH, height=HEIGHT, cortex=CORTEX, maxh=0.25)
-    with pytest.raises(ParameterError, match="symmetry axis = 'z'.*x or y"):
-        displacement_space(mesh, 2, symmetry={"left": "z"})
+def _matrix_cf(m):
+    return ngs.CF(tuple(np.asarray(m, float).ravel()), dims=(3, 3))
+
+
+def test_the_split_of_a_homogeneous_deformation_in_closed_form(unit_cube_tet):
+    """u = H X: Grad u = H, F = I + H, Fe = F Fg^-1 (eq. 1), J = det F (eq. 2), and
+    Fe Fg = F, Je Jg = J, at every point."""
+    u = ngs.GridFunction(ngs.VectorH1(unit_cube_tet, order=1))
+    u.Set(_matrix_cf(H) * ngs.CF((ngs.x, ngs.y, ngs.z)))
+    F = kinematics.deformation_gradient(u)
+    Fe = kinematics.elastic_part(F, _matrix_cf(FG))
+    points = random_points(5)
+    F_expected = np.eye(3) + H
+    np.testing.assert_allclose(values_at(kinematics.displacement_gradient(u), unit_cube_tet,
+                                         points).reshape(-1, 3, 3), np.broadcast_to(H, (5, 3, 3)),
+                               atol=1e-13)
+    np.testing.assert_allclose(values_at(Fe, unit_cube_tet, points).reshape(-1, 3, 3),
+                               np.broadcast_to(F_expected @ np.linalg.inv(FG), (5, 3, 3)),
+                               atol=1e-13)
+    np.testing.assert_allclose(values_at(kinematics.jacobian(F), unit_cube_tet, points)[:, 0],
+                               np.linalg.det(F_expected), rtol=1e-13)
+    Je = values_at(kinematics.jacobian(Fe), unit_cube_tet, points)[:, 0]
+    np.testing.assert_allclose(Je * np.linalg.det(FG), np.linalg.det(F_expected), rtol=1e-13)
+
+
+def test_a_nonlinear_displacement_has_its_exact_gradient(unit_cube_tet):
+    """u quadratic in X, interpolated exactly at order 2: Grad u is its Jacobian matrix."""
+    x, y, z = ngs.x, ngs.y, ngs.z
+    u = ngs.GridFunction(ngs.VectorH1(unit_cube_tet, order=2))
+    u.Set(ngs.CF((0.1 * x * y, 0.2 * z * z - 0.1 * x, 0.05 * x * x + 0.3 * y * z)))
+    points = random_points(6, seed=2)
+    got = values_at(kinematics.deformation_gradient(u), unit_cube_tet, points).reshape(-1, 3, 3)
+    for (px, py, pz), F in zip(points, got, strict=True):
+        expected = np.eye(3) + np.array([[0.1 * py, 0.1 * px, 0.0],
+                                         [-0.1, 0.0, 0.4 * pz],
+                                         [0.1 * px, 0.3 * pz, 0.3 * py]])
+        np.testing.assert_allclose(F, expected, atol=1e-12)
+
+
+def test_the_component_form_is_the_vector_form(unit_cube_tet):
+    """F from three scalar fields u_i (row i of Grad u is grad u_i) equals F of the vector
+    field (u_1, u_2, u_3)."""
+    x, y, z = ngs.x, ngs.y, ngs.z
+    exact = (0.1 * x * y, 0.2 * z * z - 0.1 * x, 0.05 * x * x + 0.3 * y * z)
+    vector = ngs.GridFunction(ngs.VectorH1(unit_cube_tet, order=2))
+    vector.Set(ngs.CF(exact))
+    components = []
+    for ui in exact:
+        gf = ngs.GridFunction(ngs.H1(unit_cube_tet, order=2))
+        gf.Set(ui)
+        components.append(gf)
+    F_components = kinematics.component_deformation_gradient(components)
+    F_vector = kinematics.deformation_gradient(vector)
+    diff = F_components - F_vector
+    assert ngs.Integrate(ngs.InnerProduct(diff, diff), unit_cube_tet) < 1e-24
+    assert ngs.Integrate(ngs.InnerProduct(F_vector, F_vector), unit_cube_tet) > 3
+
+
+def test_a_section_in_plane_strain_has_f33_one_and_its_determinant_in_the_plane():
+    """u = (a X1 + b X2, c X1 + d X2) on a section: F = [[1 + a, b, 0], [c, 1 + d, 0],
+    [0, 0, 1]] and J = (1 + a)(1 + d) - b c."""
+    a, b, c, d = 0.1, -0.2, 0.05, 0.3
+    mesh = bilayer(length=1.0, height=0.5, cortex=0.1, maxh=0.25)
+    u = ngs.GridFunction(ngs.VectorH1(mesh, order=1))
+    u.Set(ngs.CF((a * ngs.x + b * ngs.y, c * ngs.x + d * ngs.y)))
+    F = kinematics.deformation_gradient(u)
+    assert tuple(F.dims) == (3, 3)
+    point = mesh(0.3, 0.2)
+    np.testing.assert_allclose(np.asarray(F(point)).reshape(3, 3),
+                               [[1 + a, b, 0], [c, 1 + d, 0], [0, 0, 1]], atol=1e-13)
+    assert kinematics.jacobian(F)(point) == pytest.approx((1 + a) * (1 + d) - b * c, rel=1e-13)

@@ -48,3 +48,28 @@ def test_the_tests_mirror_the_layers_and_no_folder_shadows_a_package():
     assert not folders & {"ngincompat", "geometries"}
     assert all(any(p.glob("test_*.py")) for p in (ROOT / "tests").iterdir()
                if p.name in folders)
+
+
+def mirror(module):
+    """The test module of a module: ngincompat/<dir>/<m>.py -> tests/<dir>/test_<m>.py, the
+    top-level modules in tests/base (cli.py in tests/cli), geometries/<m>.py in
+    tests/geometry."""
+    rel = module.relative_to(ROOT)
+    package, *inner, name = rel.parts
+    name = name.removesuffix(".py")
+    if package == "geometries":
+        folder = ("geometry",)
+    elif not inner:
+        folder = ("cli",) if name == "cli" else ("base",)
+    else:
+        folder = tuple(inner)
+    return ROOT.joinpath("tests", *folder, f"test_{name}.py")
+
+
+@pytest.mark.parametrize("path", [p for p in _modules()
+                                  if p.name != "__init__.py" and not p.name.startswith("_")],
+                         ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_module_has_its_test_module(path):
+    test = mirror(path)
+    assert test.is_file(), f"{path.relative_to(ROOT)} has no {test.relative_to(ROOT)}"
+    assert "def test_" in test.read_text()

@@ -37,6 +37,23 @@ def build_command():
     return shlex.split(sphinx.split(".venv/bin/python", 1)[1])
 
 
+#: A test module named in prose: ``tests/<folders>/test_<name>.py``.
+CITED_TEST = re.compile(r"tests/[\w/]*test_\w+\.py")
+
+
+def test_every_test_module_the_docs_and_the_code_cite_exists():
+    """The pages, the README, the package's docstrings, the tests and the examples
+    send readers to test modules as evidence: each named one exists (the tests mirror the
+    package, and a move must carry its citations along)."""
+    texts = [ROOT / "README.md", *sorted(DOCS.glob("*.md")), *sorted(DOCS.glob("*/*.md")),
+             *sorted((ROOT / "ngincompat").rglob("*.py")), *sorted((ROOT / "tests").rglob("*.py")),
+             *sorted((ROOT / "examples").rglob("*.py"))]
+    cited = {(m, p.relative_to(ROOT).as_posix()) for p in texts
+             for m in CITED_TEST.findall(p.read_text(encoding="utf-8"))}
+    assert len(cited) > 20
+    assert sorted((m, where) for m, where in cited if not (ROOT / m).is_file()) == []
+
+
 def test_make_docs_builds_offline_with_warnings_as_errors():
     command = build_command()
     assert command[:2] == ["-m", "sphinx"]

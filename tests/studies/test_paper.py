@@ -159,3 +159,13 @@ def test_sigterm_to_a_paper_job_with_workers_ends_it_cleanly(tmp_path):
     assert records and set(records.values()) <= {"done", "interrupted"}, err
     rows = json.loads((out / "summary.json").read_text())["rows"]    # what has ended
     assert {r["case"]: r["status"] for r in rows} == records
+
+
+@pytest.mark.parametrize("only", ["", " , "])
+def test_the_paper_job_with_an_empty_section_list_is_refused(only, tmp_path, capsys):
+    """--only '' ran every section, silently."""
+    out = tmp_path / "paper"
+    assert main(["paper", "--only", only, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--only" in err[0] and "names no section" in err[0], err
+    assert not out.exists()

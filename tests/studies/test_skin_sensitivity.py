@@ -5,7 +5,7 @@ reading, the rows are judged by the report's own rules, and an unknown choice is
 import math
 
 import pytest
-from studies.test_findings import skin
+from studies.findings.test_skin import skin
 
 from geometries import FOOTPRINTS, footprint_size
 from ngincompat.errors import ParameterError

@@ -4,14 +4,12 @@ fields given as data."""
 import gzip
 import itertools
 import json
-import logging
 
 import meshio
 import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import random_points, values_at
-from netgen import occ
 from netgen.csg import CSGeometry, OrthoBrick, Pnt
 from netgen.geom2d import unit_square
 
@@ -124,14 +122,13 @@ BOX_NAMES = {"soft": (100001, 3), "stiff": (100002, 3),
              **{f"face{k}": (k, 2) for k in range(1, 12)}}
 
 
-@pytest.fixture(scope="module")
-def box_files(tmp_path_factory):
+def write_box_files(folder):
     """Two unit cubes side by side meshed by Netgen (regions soft and stiff, 11 faces with
-    the interface), as ``.vol`` and in the formats read through meshio: the Gmsh 2 file
-    exactly as ``ngmesh.Export(..., "Gmsh2 Format")`` writes it (no physical names) and,
-    written by meshio from it, Gmsh 4.1 ASCII and binary (named), Gmsh 2.2 binary, VTU,
-    VTK, Abaqus (element sets soft and stiff) and MEDIT."""
-    folder = tmp_path_factory.mktemp("box")
+    the interface), as ``.vol`` and in the formats read through meshio, into ``folder``: the
+    Gmsh 2 file exactly as ``ngmesh.Export(..., "Gmsh2 Format")`` writes it (no physical
+    names) and, written by meshio from it, Gmsh 4.1 ASCII and binary (named), Gmsh 2.2
+    binary, VTU, VTK, Abaqus (element sets soft and stiff) and MEDIT (the fixture
+    ``box_files`` of tests/workflow/conftest.py)."""
     geo = CSGeometry()
     geo.Add(OrthoBrick(Pnt(0, 0, 0), Pnt(1, 1, 1)).mat("soft").bc("outer"))
     geo.Add(OrthoBrick(Pnt(1, 0, 0), Pnt(2, 1, 1)).mat("stiff").bc("outer"))
@@ -152,26 +149,6 @@ def box_files(tmp_path_factory):
             for name, tag in (("soft", 100001), ("stiff", 100002))}
     meshio.write(folder / "box.inp", meshio.Mesh(mesh.points, mesh.cells, cell_sets=sets))
     return folder
-
-
-def measures(mesh):
-    """What a mesh is for a run: vertices, element count, volume per region, area per face
-    descriptor (in their order), and the divergence theorem for X with ngsolve's normal."""
-    def areas(k):
-        mask = ngs.BitArray(len(mesh.GetBoundaries()))
-        mask.Clear()
-        mask.Set(k)
-        return ngs.Integrate(1, mesh, ngs.BND, definedon=ngs.Region(mesh, ngs.BND, mask))
-
-    return {
-        "vertices": np.array([v.point for v in mesh.vertices]),
-        "ne": mesh.ne,
-        "regions": [ngs.Integrate(1, mesh, definedon=mesh.Materials(f"^{m}$"))
-                    for m in dict.fromkeys(mesh.GetMaterials())],
-        "faces": [areas(k) for k in range(len(mesh.GetBoundaries()))],
-        "flux": ngs.Integrate(ngs.specialcf.normal(3) * ngs.CF((ngs.x, ngs.y, ngs.z)), mesh,
-                              ngs.BND),
-    }
 
 
 @pytest.fixture(scope="module")
@@ -207,25 +184,6 @@ def test_describe_mesh(cube_vol):
     assert set(d["fingerprint"]) == {"nv", "ne", "elements_sha256", "vertices_sha256"}
 
 
-def test_gmsh_box_regions_and_boundaries(tmp_path):
-    path = tmp_path / "box.msh"
-    ntets, nodes = write_box_msh(path, n=(2, 2, 2), size=(2.0, 1.0, 1.0))
-    mesh = inputs.load_mesh(path)
-    assert mesh.ne == ntets == 48 and mesh.nv == 27
-    # vertices in the order of $Nodes: the order of per-vertex user data
-    np.testing.assert_array_equal([v.point for v in mesh.vertices], nodes)
-    assert set(mesh.GetMaterials()) == {"soft", "stiff"}
-    assert set(mesh.GetBoundaries()) == {"fixed", "loaded", "sides"}
-    assert ngs.Integrate(1, mesh) == pytest.approx(2.0, rel=1e-12)
-    assert ngs.Integrate(1, mesh, definedon=mesh.Materials("stiff")) == pytest.approx(1.0)
-    area = {b: ngs.Integrate(1, mesh, ngs.BND, definedon=mesh.Boundaries(b))
-            for b in ("fixed", "loaded", "sides")}
-    assert area == pytest.approx({"fixed": 1.0, "loaded": 1.0, "sides": 8.0})
-    # boundary normals point outwards: the divergence theorem for X gives 3 |body|
-    n = ngs.specialcf.normal(3)
-    assert ngs.Integrate(n * ngs.CF((ngs.x, ngs.y, ngs.z)), mesh, ngs.BND) == pytest.approx(6)
-
-
 def test_curved_vol_reads_back_curved_and_recurves_with_its_geometry(tmp_path):
     mesh = cylinder(maxh=0.5, curve_order=1)
     straight_volume = ngs.Integrate(1, mesh)
@@ -248,84 +206,6 @@ def test_curved_vol_reads_back_curved_and_recurves_with_its_geometry(tmp_path):
     write_box_msh(tmp_path / "box.msh")
     with pytest.raises(ParameterError, match=r"box\.msh.*no geometry"):
         inputs.load_mesh(tmp_path / "box.msh", curve_order=2)
-
-
-def test_every_format_gives_the_mesh_of_the_vol_file(box_files, caplog):
-    """The independent check of the conversion: the same vertices in the same order, and the
-    same volume per region, area per face and boundary normals as Netgen's own .vol file."""
-    reference = measures(inputs.load_mesh(box_files / "box.vol"))
-    assert sum(reference["regions"]) == pytest.approx(2.0, rel=1e-12)
-    assert reference["flux"] == pytest.approx(3 * 2.0 + 1.0, rel=1e-12)   # + the interface
-    faces = tuple(f"face{k}" for k in range(1, 12))
-    unnamed = (("region100001", "region100002"), tuple(f"boundary{k}" for k in range(1, 12)))
-    expected_names = {
-        "netgen2.msh": unnamed, "binary22.msh": unnamed, "box.vtu": unnamed,
-        "box.vtk": unnamed, "box.mesh": unnamed,
-        "ascii4.msh": (("soft", "stiff"), faces), "binary4.msh": (("soft", "stiff"), faces),
-        "box.inp": (("soft", "stiff"), ("default",) * 3),
-    }
-    for name, (materials, boundaries) in expected_names.items():
-        caplog.clear()
-        with caplog.at_level(logging.WARNING):
-            mesh = inputs.load_mesh(box_files / name)
-        got = measures(mesh)
-        np.testing.assert_array_equal(got["vertices"], reference["vertices"], err_msg=name)
-        assert got["ne"] == reference["ne"], name
-        assert got["regions"] == pytest.approx(reference["regions"], rel=1e-12), name
-        assert got["flux"] == pytest.approx(reference["flux"], rel=1e-12), name
-        assert (mesh.GetMaterials(), mesh.GetBoundaries()) == (materials, boundaries), name
-        if name == "box.inp":           # Abaqus: element sets, the triangles carry no tags
-            assert sum(got["faces"]) == pytest.approx(sum(reference["faces"]), rel=1e-12)
-        else:
-            assert got["faces"] == pytest.approx(reference["faces"], rel=1e-12), name
-        assert ("without a name" in caplog.text) == (boundaries != faces), name
-
-
-def test_hexahedra_and_prisms_in_either_orientation(tmp_path):
-    """Cells of both orientations (file conventions differ) are turned to Netgen's: positive
-    Jacobians, outward normals; outer faces without boundary cells are added as 'default'."""
-    nodes = np.array([(x, y, z) for z in range(2) for y in range(2) for x in range(3)], float)
-    index = {tuple(p): k for k, p in enumerate(nodes)}
-    hexes = [[index[(i + dx, dy, dz)] for dz in (0, 1) for dx, dy in ((0, 0), (1, 0), (1, 1),
-                                                                     (0, 1))]
-             for i in range(2)]
-    wedges = [[h[0], h[1], h[2], h[4], h[5], h[6]] for h in hexes] + \
-             [[h[0], h[2], h[3], h[4], h[6], h[7]] for h in hexes]
-    mirrored = {"hexahedron": [0, 3, 2, 1, 4, 7, 6, 5], "wedge": [0, 2, 1, 3, 5, 4]}
-    jacobian = ngs.Det(ngs.specialcf.JacobianMatrix(3))
-    rules = {et: ngs.IntegrationRule([p], [1.0]) for et, p in
-             ((ngs.ET.HEX, (0.5, 0.5, 0.5)), (ngs.ET.PRISM, (1 / 3, 1 / 3, 0.5)))}
-    for kind, cells in (("hexahedron", hexes), ("wedge", wedges)):
-        cells = np.array(cells)
-        cells[1::2] = cells[1::2][:, mirrored[kind]]        # every other cell mirrored
-        meshio.write(tmp_path / f"{kind}.vtu", meshio.Mesh(nodes, [(kind, cells)]))
-        mesh = inputs.load_mesh(tmp_path / f"{kind}.vtu")
-        assert mesh.ne == len(cells) and set(mesh.GetBoundaries()) == {"default"}
-        assert ngs.Integrate(1, mesh) == pytest.approx(2.0, rel=1e-12)
-        assert min(jacobian(mesh.MapToAllElements(rules, ngs.VOL))) > 0
-        n = ngs.specialcf.normal(3)
-        assert ngs.Integrate(n * ngs.CF((ngs.x, ngs.y, ngs.z)), mesh, ngs.BND) == \
-            pytest.approx(6.0, rel=1e-12)
-
-
-def test_second_order_cells_are_read_with_their_corners(tmp_path, caplog):
-    ngmesh = occ.OCCGeometry(occ.Cylinder(occ.Pnt(0, 0, 0), occ.Z, r=1, h=1)).GenerateMesh(
-        maxh=0.6)
-    straight = ngs.Mesh(ngmesh.Copy())
-    ngmesh.SecondOrder()
-    ngmesh.Export(str(tmp_path / "cylinder.msh"), "Gmsh2 Format")
-    assert {c.type for c in meshio.read(tmp_path / "cylinder.msh").cells} == {"tetra10",
-                                                                             "triangle6"}
-    with caplog.at_level(logging.WARNING):
-        mesh = inputs.load_mesh(tmp_path / "cylinder.msh")
-    assert "second-order cells (tetra10, triangle6) are read with their corners only" in \
-        caplog.text
-    assert (mesh.nv, mesh.ne) == (straight.nv, straight.ne)
-    np.testing.assert_allclose([v.point for v in mesh.vertices],
-                               [v.point for v in straight.vertices], atol=5e-7)
-    volume = ngs.Integrate(1, mesh)
-    assert volume == pytest.approx(ngs.Integrate(1, straight), rel=1e-5)
-    assert ngs.Integrate(1, ngs.Mesh(ngmesh)) - volume > 0.05    # the curved cells' volume
 
 
 # --- the command line on mesh files ----------------------------------------------------------
@@ -569,3 +449,15 @@ def test_bad_growth_files_name_file_and_reason(tmp_path, cube_vol):
             inputs.load_growth(tmp_path / name, mesh)
         message = str(err.value)
         assert name in message and reason in message, message
+
+
+def test_a_5000_character_path_or_value_is_refused_with_a_short_message():
+    from ngincompat.scenes import CustomScene
+
+    for settings in ({"mesh": "/tmp/" + "a" * 5000 + ".msh"},
+                     {"theta_file": "/tmp/" + "b" * 5000 + ".npz"},
+                     {"maxh": "1" * 5000 + "x"}):
+        with pytest.raises(ParameterError) as info:
+            CustomScene.from_settings(settings)
+        key = next(iter(settings))
+        assert str(info.value).startswith(f"{key} = ") and len(str(info.value)) < 250

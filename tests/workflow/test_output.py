@@ -9,6 +9,7 @@ import sys
 
 import pytest
 
+from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.scenes import CubeScene
 from ngincompat.workflow import output
@@ -354,3 +355,18 @@ def test_vtk_holds_the_tensors_and_their_kinematics_agree(tmp_path):
     units = json.loads((tmp_path / "results.json").read_text())["field_units"]
     assert units["sigma"] == units["P"] == units["S11"] == "MPa"
     assert units["u"] == "mm" and units["G"] == "1/mm" and units["Fe"] == "-"
+
+
+def test_a_folder_marked_read_only_is_refused_even_as_root(tmp_path, capsys):
+    """As root, os.access says a chmod 555 folder is writable, and the run was written into
+    it; the documentation says read-only folders are refused."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        assert main(["run", "cube", "--out", str(folder), "-q"]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "read-only" in err[0], err
+        assert list(folder.iterdir()) == []
+    finally:
+        folder.chmod(0o755)

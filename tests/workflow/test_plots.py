@@ -112,14 +112,6 @@ def test_a_peak_of_the_deformed_figure_is_beyond_its_colour_bar_which_says_so():
     assert image.get_clim()[1] == 1000.0 and image.colorbar.extend == "neither"
 
 
-def test_long_titles_wrap_to_the_figure_and_keep_their_formulas():
-    title = r"(a) area growth $\vartheta^g$ of the skin, deflated, $\bar n_\phi$ plane [-]"
-    lines = plots.wrapped(title, 2.0).split("\n")
-    assert len(lines) > 1 and " ".join(lines) == title
-    assert all(line.count("$") % 2 == 0 for line in lines)        # no formula cut in two
-    assert all(len(line) <= 24 for line in lines if "$" not in line)
-
-
 def test_the_deformed_figure_keeps_every_label_inside_when_the_body_grows_taller():
     """A fold lifts the top above the reference grid (the preview bilayer: 0.6 cm tall, 0.8
     folded): the figure's height follows the deformed body, so no axis label is cut off at
@@ -144,7 +136,8 @@ def test_a_marked_metric_is_a_dashed_line_in_the_legend_and_a_missing_one_is_lef
     """The folding eigenvalue's curve marks the onset, theta_c where it crosses zero."""
     from types import SimpleNamespace
 
-    from ngincompat.scenes.folding import FoldingScene, figures
+    from ngincompat.scenes.folding import FoldingScene
+    from ngincompat.scenes.folding.figures import figures
     spec = next(f for f in figures(FoldingScene(), {"depth": {}, "section": {}})
                 if f.file == "eigenvalue.png")
     assert list(spec.marks.values()) == ["onset_growth"]

@@ -25,9 +25,9 @@ with what was measured of them: ``docs/measurements/folding.md``.
 """
 
 from ngincompat.scenes.folding.case import CREASE_STRETCH, FoldingCase
-from ngincompat.scenes.folding.figures import PANELS, figures, panels
+from ngincompat.scenes.folding.figures import PANELS, panels
 from ngincompat.scenes.folding.numerics import SNAP_STEP
 from ngincompat.scenes.folding.scene import AXONS, FoldingScene
 
 __all__ = ["AXONS", "CREASE_STRETCH", "PANELS", "SNAP_STEP", "FoldingCase", "FoldingScene",
-           "figures", "panels"]
+           "panels"]

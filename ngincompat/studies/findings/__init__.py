@@ -26,7 +26,7 @@ The verdicts:
   apart;
 - ``not run``: a case it needs did not finish, or what it compares did not act.
 
-Every rule can return every verdict it lists (``tests/studies/test_findings.py`` gives each
+Every rule can return every verdict it lists (``tests/studies/findings/`` gives each
 rule data for each); the documentation's validation page shows the rules as a table
 (``docs/_ext/finding_rules.py``).
 

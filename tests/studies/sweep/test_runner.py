@@ -1,8 +1,7 @@
-"""Running sweeps: failures as rows, resume, re-runs, Dask, exit codes of the command line.
+"""ngincompat.studies.sweep.runner: failures as rows, resume, re-runs, Dask, exit codes."""
 
-Every case is the cube at order 1 or 2 on one hexahedron (maxh = 1) without output files, a
-fraction of a second; most of the time goes into starting the worker processes.
-"""
+# Every case is the cube at order 1 or 2 on one hexahedron (maxh = 1) without output files, a
+# fraction of a second; most of the time goes into starting the worker processes.
 
 import concurrent.futures
 import json
@@ -18,7 +17,17 @@ from conftest import local_dask_cluster
 from ngincompat.cli import main
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.studies import corpus
-from ngincompat.studies.sweep import load_sweep, parse_sweep, read_table, run_case, run_sweep
+from ngincompat.studies import sweep as sweep_pkg
+from ngincompat.studies.sweep import (
+    load_sweep,
+    parse_sweep,
+    read_table,
+    run_case,
+    run_sweep,
+    runner,
+    spec,
+    table,
+)
 from ngincompat.studies.workers import interrupted
 from ngincompat.workflow import output
 from ngincompat.workflow.results import MeshInfo, Results
@@ -440,3 +449,46 @@ def test_dask_cluster_gives_the_same_table(failing, tmp_path):
         for key, value in loc.items():
             assert d[key] == (pytest.approx(value, rel=1e-9) if isinstance(value, float)
                               else value), key
+
+
+def _sweep(vary):
+    return {"scene": "cube", "fixed": {"maxh": 1.0, "order": 1}, "vary": vary}
+
+
+def test_the_table_costs_the_same_per_finished_case_however_many_cases(tmp_path,
+                                                                       monkeypatch):
+    """Rejected cases go through the same bookkeeping as run ones without running: the
+    table is written a fixed number of times and each case adds one journal line of the
+    same size, whether the sweep has 10 or 200 cases."""
+    writes, appended = [], []
+    real_write = table.write_table
+
+    def counting_write(out, tbl, record):
+        writes.append(len(tbl.rows))
+        return real_write(out, tbl, record)
+
+    real_open = open
+
+    def watching_open(path, mode="r", *args, **kwargs):
+        stream = real_open(path, mode, *args, **kwargs)
+        if str(path).endswith(table.JOURNAL):
+            write = stream.write
+            stream.write = lambda text: appended.append(len(text)) or write(text)
+        return stream
+
+    monkeypatch.setattr(runner, "write_table", counting_write)
+    monkeypatch.setattr(runner, "open", watching_open, raising=False)
+    per_case = {}
+    for n in (10, 200):
+        writes.clear(), appended.clear()
+        sweep = spec.parse_sweep(_sweep({"mu": [-1.0 - k / 1000 for k in range(n)]}))
+        report = sweep_pkg.run_sweep(sweep, tmp_path / f"s{n}", workers=1)
+        assert len(report.table.rows) == n and len(writes) == 2
+        assert len(appended) == n
+        per_case[n] = max(appended)
+        assert not (tmp_path / f"s{n}" / table.JOURNAL).exists()
+        rows = json.loads((tmp_path / f"s{n}" / table.RECORD).read_text())["rows"]
+        assert len(rows) == n
+    # the same line whatever the number of cases (a longer index and value at most); the
+    # whole table of 200 rows, as written before, is 200 times one
+    assert per_case[200] < 1.5 * per_case[10]

@@ -1,11 +1,11 @@
-"""Sweep files: parsing, validation up front (keys, parameters, metrics), ranges and cases."""
+"""ngincompat.studies.sweep.spec: sweep files parsed and checked up front, ranges, cases."""
 
 import pytest
 
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.scenes import CubeScene
-from ngincompat.studies.sweep import load_sweep, parse_sweep
+from ngincompat.studies.sweep import load_sweep, parse_sweep, spec
 
 
 def _write(path, text):
@@ -97,7 +97,7 @@ def test_a_case_builds_its_scene_or_names_the_bad_value():
 def test_example_sweep_files_are_valid(name):
     """The sweep files shipped in examples/ parse and expand to the documented case counts."""
     from pathlib import Path
-    path = Path(__file__).resolve().parents[2] / "examples" / "sweeps" / f"{name}.toml"
+    path = Path(__file__).resolve().parents[3] / "examples" / "sweeps" / f"{name}.toml"
     sweep = load_sweep(path)
     expected = {"cube_poisson": 10, "hemisphere_profiles": 12, "disc_fibers": 6}[name]
     assert len(sweep.cases()) == expected
@@ -146,3 +146,25 @@ def test_a_varied_parameter_set_on_the_command_line_is_one_line_before_any_case(
     assert len(err) == 1 and "nu cannot be set for every case" in err[0]
     assert "[vary] nu = [0.3, 0.4]" in err[0]
     assert not out.exists()
+
+
+# --- bounded plans -------------------------------------------------------------------------
+
+def _sweep(vary):
+    return {"scene": "cube", "fixed": {"maxh": 1.0, "order": 1}, "vary": vary}
+
+
+@pytest.mark.parametrize("vary, what", [
+    ({"nu": {"start": 0.1, "stop": 0.4, "num": 10 ** 12}}, "num"),
+    ({"steps": {"start": 1, "stop": 10 ** 12, "step": 1}}, "values"),
+    ({"mu": [1.0] * 1000, "nu": [0.3] * 1000, "a": [0.1] * 1000}, r"1e\+09 cases"),
+])
+def test_a_sweep_plan_is_bounded_before_anything_is_allocated(vary, what, monkeypatch):
+    def never(*args, **kwargs):
+        raise AssertionError("allocated the plan")
+
+    monkeypatch.setattr(spec.np, "linspace", never)
+    monkeypatch.setattr(spec.itertools, "product", never)
+    with pytest.raises(ParameterError, match=what) as info:
+        spec.parse_sweep(_sweep(vary))
+    assert "\n" not in str(info.value) and str(spec.MAX_CASES) in str(info.value)

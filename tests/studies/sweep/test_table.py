@@ -1,8 +1,7 @@
-"""The table of a sweep: written with units, read back, drawn with units on the axes.
+"""ngincompat.studies.sweep.table: written with units, read back, drawn with units on axes."""
 
-The table is made from outcomes directly (no case runs): the cube's order x nu, and the
-hemisphere's metrics for their units.
-"""
+# The table is made from outcomes directly (no case runs): the cube's order x nu, and the
+# hemisphere's metrics for their units.
 
 import pytest
 
