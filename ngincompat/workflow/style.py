@@ -48,6 +48,12 @@ MAP_CLIP = 0.5
 PEAK = 0.25
 
 
+def drawn(values: np.ndarray) -> np.ndarray:
+    """The values a map draws, flat: those neither masked nor NaN or infinite (a masked
+    entry keeps its mask, whatever value lies under it)."""
+    return np.ma.compressed(np.ma.masked_invalid(np.ma.asarray(values, dtype=float)))
+
+
 def colour_scale(values: np.ndarray, signed: bool | None = None, floor: float = 0.0,
                  clip: float = 0.0) -> tuple[colors.Normalize, str]:
     """(norm, colour map name) of a field map.
@@ -69,8 +75,7 @@ def colour_scale(values: np.ndarray, signed: bool | None = None, floor: float = 
         rest; at an end only where they are peaks there (beyond the clipped range by more
         than :data:`PEAK` times its width); 0: the scale spans all values.
     """
-    data = np.ma.filled(np.ma.masked_invalid(np.asarray(values, dtype=float)), np.nan).ravel()
-    data = data[np.isfinite(data)]
+    data = drawn(values)
     if data.size == 0:
         return colors.Normalize(0, 1), "viridis"
     lo, hi = float(data.min()), float(data.max())
@@ -92,7 +97,7 @@ def colour_scale(values: np.ndarray, signed: bool | None = None, floor: float = 
 def extend(values: np.ndarray, norm: colors.Norm) -> str:
     """The ``extend`` of the colour bar of ``values`` drawn with ``norm``: an arrow at each
     end beyond which values lie (a scale of :func:`colour_scale` that clipped them)."""
-    data = np.ma.compressed(np.ma.masked_invalid(np.asarray(values, dtype=float)))
+    data = drawn(values)
     below = bool(data.size and data.min() < norm.vmin)
     above = bool(data.size and data.max() > norm.vmax)
     return {(False, False): "neither", (True, False): "min", (False, True): "max",

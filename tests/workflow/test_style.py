@@ -96,3 +96,13 @@ def test_an_empty_title_is_left_as_it_is_and_a_short_one_on_one_line():
     assert style.wrapped("a short title", 6.0) == "a short title"
     # a narrow figure still takes 20 characters a line
     assert all(len(line) <= 20 for line in style.wrapped("word " * 20, 0.1).split("\n"))
+
+
+def test_a_masked_entry_does_not_set_the_scale_whatever_lies_under_it():
+    """A masked 100 among 1 and 2 is not drawn: the scale and its arrows are those of 1-2."""
+    from ngincompat.workflow.style import colour_scale, drawn, extend
+    values = np.ma.array([1.0, 2.0, 100.0, np.nan], mask=[False, False, True, False])
+    assert list(drawn(values)) == [1.0, 2.0]
+    norm, _ = colour_scale(values, signed=False)
+    assert norm.vmax < 100 and norm.vmax >= 2.0
+    assert extend(values, norm) == "neither"
