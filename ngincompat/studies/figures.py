@@ -53,7 +53,7 @@ FIELDS = {
     # the released stress on the released patch
     "skin": ("6", (55, -70), (
         (r"(a) area growth $\vartheta^g$, end of hold [-]", "theta", False, "u_end_of_hold"),
-        (r"(b) |b| on $e_3$, end of hold [1/{L}]", "|b|", False, "u_end_of_hold"),
+        (r"(b) |b| on $e_3$, end of hold [1/{L}]", "|b_e3|", False, "u_end_of_hold"),
         (r"(c) max principal stress, released [{S}]", "sigma_max_released", True,
          "u_released"))),
 }

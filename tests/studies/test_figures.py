@@ -121,3 +121,14 @@ def test_sections_without_their_runs_draw_nothing(tmp_path):
     figures.section_figures(tmp_path, by_number["3.1"], {"cube": _results({})})
     figures.section_figures(tmp_path, by_number["3.2"], {})
     assert list(tmp_path.iterdir()) == []
+
+
+def test_every_burgers_panel_draws_the_vectors_of_its_plane():
+    """A panel of |b| names the norm of a plane's b (``|b_<plane>|``), whose vector field
+    ``b_<plane>`` every scene's incompatibility writes and the panel draws as arrows; the
+    largest over the planes, ``|b|``, has no vector field, and its panel would draw none."""
+    keys = [key for _, _, panels in figures.FIELDS.values() for _, key, _, _ in panels
+            if key.startswith("|b")]
+    assert len(keys) >= 7
+    for key in keys:
+        assert key != "|b|" and figures._vector(key).startswith("b_"), key
