@@ -72,13 +72,20 @@ import subprocess
 import sys
 import tempfile
 import time as _time
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ngincompat import config
 from ngincompat.errors import require
 from ngincompat.workflow import io, tables
+
+if TYPE_CHECKING:     # NGSolve is imported where a case runs
+    import ngsolve as ngs
+
+    from ngincompat.fem.problem import GrowthMechanics
 
 log = logging.getLogger(__name__)
 
@@ -101,24 +108,26 @@ TIMEOUT = 3600.0
 MEMORY_LIMIT = 16.0
 
 
-def mechanics(maxh, order, solver=None):
+def mechanics(maxh: float, order: int, solver: str | None = None) -> "GrowthMechanics":
     """The cube scene's mechanics problem (condensed) at t = 1, as the scene's case builds
     it for ``solver`` (one of :data:`SOLVERS`: BDDC needs the energy form on VectorH1)."""
     from ngincompat.scenes import CubeScene
 
-    case = CubeScene(maxh=maxh, order=order, elements="hex").build()
+    # the scene's size guards give way to the benchmark's own limits of time and memory
+    case = CubeScene(maxh=maxh, order=order, elements="hex", max_dofs=10**10,
+                     max_elements=10**9).build()
     case.time.Set(1.0)
     return case.mechanics("cg" if solver == "bddc" else "direct")
 
 
-def first_state(problem):
+def first_state(problem: "GrowthMechanics") -> np.ndarray:
     """Set u to the compatible displacement of the growth at the current time (the start of
     the first Newton iteration of a solve); returns u as an array."""
     problem.u.vec.data = problem.compatible_displacement(problem.growth_load())
     return problem.u.vec.FV().NumPy().copy()
 
 
-def peak_mib():
+def peak_mib() -> float:
     """Peak resident set size of this process so far [MiB].
 
     Linux's ``VmHWM`` (/proc/self/status) belongs to the process image: ru_maxrss is not
@@ -135,7 +144,9 @@ def peak_mib():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
-def newton_step(problem, solver, tol=CG_TOL, maxiter=CG_MAXITER, row=None):
+def newton_step(problem: "GrowthMechanics", solver: str, tol: float = CG_TOL,
+                maxiter: int = CG_MAXITER, row: dict[str, Any] | None = None
+                ) -> tuple["ngs.BaseVector", dict[str, Any]]:
     """Assemble the tangent at the problem's state and solve K du = r once with ``solver``
     (``problem`` as :func:`mechanics` builds it for that solver).
 
@@ -194,7 +205,7 @@ def newton_step(problem, solver, tol=CG_TOL, maxiter=CG_MAXITER, row=None):
     return du, row
 
 
-def pardiso_status():
+def pardiso_status() -> tuple[bool, str]:
     """(True, "") if NGSolve factorises with inverse="pardiso" here, else (False, its reason)."""
     import ngsolve as ngs
 
@@ -210,7 +221,7 @@ def pardiso_status():
 # The case processes
 
 
-def run_task(path):
+def run_task(path: str | os.PathLike) -> None:
     """Entry of a case's process (``python -m ngincompat.studies.scaling TASK.json``).
 
     The task file, written by :func:`run_process`, holds ``maxh``, ``order``, ``solver``
@@ -223,7 +234,7 @@ def run_task(path):
         Path("/proc/self/oom_score_adj").write_text("1000")
     from pyngcore import GetNumThreads
 
-    row = {"load": os.getloadavg()[0]}
+    row: dict[str, Any] = {"load": os.getloadavg()[0]}
     config.configure(threads=int(os.environ.get("NGS_NUM_THREADS") or os.cpu_count() or 1))
     start = _time.perf_counter()
     try:
@@ -249,7 +260,7 @@ def run_task(path):
     io.write_json(task["result"], row)
 
 
-def _rss_mib(pid):
+def _rss_mib(pid: int) -> float:
     """Current resident set size of process ``pid`` [MiB]; 0 once it has exited."""
     try:
         status = Path(f"/proc/{pid}/status").read_text()
@@ -261,7 +272,8 @@ def _rss_mib(pid):
     return 0.0
 
 
-def watch(cmd, timeout, memory_limit, poll=0.1):
+def watch(cmd: Sequence[str], timeout: float, memory_limit: float,
+          poll: float = 0.1) -> tuple[int, str | None, float, float, str]:
     """Run ``cmd``, killing it when it runs longer than ``timeout`` seconds or its resident
     set grows beyond ``memory_limit`` GiB.
 
@@ -291,7 +303,8 @@ def watch(cmd, timeout, memory_limit, poll=0.1):
                 err.read())
 
 
-def run_process(maxh, order, solver, state, timeout, memory_limit):
+def run_process(maxh: float, order: int, solver: str | None, state: str | os.PathLike,
+                timeout: float, memory_limit: float) -> dict[str, Any]:
     """Run one case (``solver`` None: the compatible displacement into ``state``) in its own
     process; returns its row.
 
@@ -326,17 +339,18 @@ def run_process(maxh, order, solver, state, timeout, memory_limit):
 # The grid
 
 
-def cells_per_edge(maxh):
+def cells_per_edge(maxh: float) -> int:
     """Hexahedra per edge of the unit cube at ``maxh``, as :func:`geometries.cube` makes them."""
     return max(1, math.ceil(1 / maxh - 1e-9))
 
 
-def ndof_estimate(maxh, order):
+def ndof_estimate(maxh: float, order: int) -> int:
     """ndof of the cube's hexahedral mesh: 3 (order n + 1)^3 for n cells per edge."""
     return 3 * (order * cells_per_edge(maxh) + 1) ** 3
 
 
-def make_grid(maxhs=None, orders=None, quick=False):
+def make_grid(maxhs: Sequence[float] | None = None, orders: Collection[int] | None = None,
+              quick: bool = False) -> list[tuple[float, int]]:
     """The (maxh, order) cases by increasing size.
 
     Without ``maxhs`` the default grid (:data:`GRID`, or :data:`QUICK_GRID` with ``quick``),
@@ -358,8 +372,10 @@ def make_grid(maxhs=None, orders=None, quick=False):
     return sorted(pairs, key=lambda pair: (ndof_estimate(*pair), pair[1]))
 
 
-def run_grid(grid, solvers=SOLVERS, timeout=TIMEOUT, memory_limit=MEMORY_LIMIT,
-             on_row=None):
+def run_grid(grid: Iterable[tuple[float, int]], solvers: Sequence[str] = SOLVERS,
+             timeout: float = TIMEOUT, memory_limit: float = MEMORY_LIMIT,
+             on_row: Callable[[list[dict[str, Any]]], object] | None = None
+             ) -> tuple[list[dict[str, Any]], tuple[bool, str]]:
     """Run every solver on every (maxh, order) of ``grid``, each in its own process.
 
     Returns the rows (one per case and solver, in grid order) and the pardiso status. A solver
@@ -371,7 +387,7 @@ def run_grid(grid, solvers=SOLVERS, timeout=TIMEOUT, memory_limit=MEMORY_LIMIT,
     require(timeout > 0, "timeout", timeout, "> 0 s")
     require(memory_limit > 0, "memory limit", memory_limit, "> 0 GiB")
     pardiso = pardiso_status()
-    limited = {}  # solver -> ndof where it hit a limit
+    limited: dict[str, int] = {}  # solver -> ndof where it hit a limit
     rows = []
     with tempfile.TemporaryDirectory() as scratch:
         for maxh, order in grid:
@@ -411,7 +427,7 @@ UNITS = {"assembly_s": "s", "setup_s": "s", "solve_s": "s", "total_s": "s", "res
          "peak_mib": "MiB"}
 
 
-def _note(row):
+def _note(row: Mapping[str, Any]) -> str:
     """Why a row has no measurements, or its error."""
     if row["status"] == "skipped" and row["solver"] == "pardiso":
         return "skipped: not available (below)"
@@ -420,21 +436,21 @@ def _note(row):
     return row.get("error", "").replace("|", "/")
 
 
-def format_rows(rows):
+def format_rows(rows: Iterable[Mapping[str, Any]]) -> str:
     """The full markdown table: one line per case and solver."""
     return tables.markdown([{**r, "note": _note(r)} for r in rows], list(COLUMNS), UNITS)
 
 
-def format_summary(rows):
+def format_summary(rows: Sequence[Mapping[str, Any]]) -> str:
     """Per (mesh, order): total seconds / peak MiB of each solver, the fastest and the
     leanest one among those that succeeded."""
     solvers = [s for s in SOLVERS if any(r["solver"] == s for r in rows)]
-    cases = {}
+    cases: dict[tuple[int, int], dict[str, Mapping[str, Any]]] = {}
     for r in rows:
         cases.setdefault((r["ndof"], r["order"]), {})[r["solver"]] = r
     summary = []
     for (ndof, order), by_solver in cases.items():
-        line = {"ndof": ndof, "order": order}
+        line: dict[str, Any] = {"ndof": ndof, "order": order}
         for s, r in by_solver.items():
             if r["status"] == "ok":
                 line[s] = f"{r['total_s']:.2f} s / {r['peak_mib']:.0f} MiB"
@@ -449,8 +465,9 @@ def format_summary(rows):
     return tables.markdown(summary, ["ndof", "order", *solvers, "fastest", "least memory"])
 
 
-def main(maxhs=None, orders=None, quick=False, solvers=None, timeout=TIMEOUT,
-         memory_limit=MEMORY_LIMIT, out=None):
+def main(maxhs: Sequence[float] | None = None, orders: Collection[int] | None = None,
+         quick: bool = False, solvers: Iterable[str] | None = None, timeout: float = TIMEOUT,
+         memory_limit: float = MEMORY_LIMIT, out: str | os.PathLike | None = None) -> list[str]:
     """Run the benchmark (``ngincompat bench scaling``); returns the lines to print.
 
     Parameters
@@ -480,7 +497,8 @@ def main(maxhs=None, orders=None, quick=False, solvers=None, timeout=TIMEOUT,
     settings = {"grid": grid, "solvers": solvers, "timeout_s": timeout,
                 "memory_limit_gib": memory_limit, "cg_tol": CG_TOL}
 
-    def save(rows, pardiso=None, complete=False):
+    def save(rows: list[dict[str, Any]], pardiso: dict[str, Any] | None = None,
+             complete: bool = False) -> None:
         if path is not None:
             io.write_json(path, {**settings, "complete": complete, "pardiso": pardiso,
                                  "rows": rows, **io.provenance()})
@@ -497,8 +515,9 @@ def main(maxhs=None, orders=None, quick=False, solvers=None, timeout=TIMEOUT,
         lines.append(f"pardiso skipped: {pardiso[1]}")
     lines.append(f"{len(rows)} rows in {_time.perf_counter() - start:.0f} s")
     if path is not None:
-        tables.write_markdown(Path(out) / "scaling.md", lines[2])
-        tables.write_markdown(Path(out) / "scaling_rows.md", lines[0])
+        # out: given, as path is
+        tables.write_markdown(Path(out) / "scaling.md", lines[2])  # type: ignore[arg-type]
+        tables.write_markdown(Path(out) / "scaling_rows.md", lines[0])  # type: ignore[arg-type]
         lines.append(f"written to {path} (and scaling.md, scaling_rows.md)")
     return lines
 
