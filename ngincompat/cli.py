@@ -19,6 +19,9 @@ import signal
 import sys
 import threading
 import time
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from types import FrameType, ModuleType
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from ngincompat import config, names, parallel
 from ngincompat.errors import (
@@ -27,8 +30,12 @@ from ngincompat.errors import (
     InterruptedBeforeComputing,
     ParameterError,
 )
-from ngincompat.parameters import OUTPUTS, PRESETS, Outputs
+from ngincompat.parameters import OUTPUTS, PRESETS, Outputs, Parameter
 from ngincompat.progress import Progress
+
+if TYPE_CHECKING:     # imported where a command needs them (they import NGSolve)
+    from ngincompat.scenes.base import Scene
+    from ngincompat.workflow.results import Results
 
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_NOT_WRITTEN = 0, 2, 3, 4, 5
 EXIT_INTERRUPTED = 130
@@ -38,7 +45,7 @@ EXIT_INTERRUPTED = 130
 NOT_WRITTEN = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EFBIG, errno.EACCES, errno.EPERM)
 
 
-def _settings(pairs, option="--set"):
+def _settings(pairs: Iterable[str] | None, option: str = "--set") -> dict[str, str]:
     out = {}
     for pair in pairs or ():
         key, sep, value = pair.partition("=")
@@ -53,7 +60,7 @@ def _settings(pairs, option="--set"):
 OUTPUT_NAMES = ("incompatibility", "mechanics", *OUTPUTS)
 
 
-def _outputs(text):
+def _outputs(text: str) -> dict[str, Any]:
     """--outputs LIST -> the scene settings ``mechanics`` and ``outputs``.
 
     incompatibility (G, b, Curl Fg) is always computed; mechanics adds the solve, stresses and
@@ -70,7 +77,7 @@ def _outputs(text):
     return {"mechanics": "mechanics" in items, "outputs": str(Outputs(items & set(OUTPUTS)))}
 
 
-def _cmd_list(args):
+def _cmd_list(args: argparse.Namespace) -> int:
     from ngincompat.scenes import SCENES
     for name, cls in SCENES.items():
         print(f"{name:10s} {cls.summary}")
@@ -83,13 +90,13 @@ def _cmd_list(args):
     return 0
 
 
-def preset_line(cls, preset):
+def preset_line(cls: "type[Scene]", preset: str) -> str:
     """The settings of ``preset`` of the scene ``cls`` as ``key=value`` (for ``list -v``)."""
     settings = cls.typed_settings(cls.preset_settings(preset))
     return " ".join(f"{k}={v}" for k, v in settings.items()) or "the defaults above"
 
 
-def parameter_line(cls, key, p):
+def parameter_line(cls: "type[Scene]", key: str, p: Parameter) -> str:
     """``key (type, default value unit): allowed values`` of the parameter ``p`` of the
     scene ``cls``, for ``list -v``."""
     default = p.to_json(p.default)
@@ -101,7 +108,7 @@ def parameter_line(cls, key, p):
     return f"{key} ({p.kind.name}, default {default}{unit}): allowed {p.allowed()}"
 
 
-def _cmd_run(args):
+def _cmd_run(args: argparse.Namespace) -> int:
     from ngincompat.scenes import get_scene
     cls = get_scene(args.scene)
     settings = _settings(args.set)
@@ -125,7 +132,7 @@ def _cmd_run(args):
     return EXIT_OK
 
 
-def _print_run(results, out):
+def _print_run(results: "Results", out: str) -> None:
     """The summary lines of a run: size, solver, time, metrics with the scene's units."""
     print(results.summary())
     print("\n".join(results.metric_lines()))
@@ -133,7 +140,7 @@ def _print_run(results, out):
           + ", ".join(f"{q} {u}" for q, u in results.units.items()) + ")")
 
 
-def _status_code(rows):
+def _status_code(rows: Iterable[Mapping[str, Any]]) -> int:
     """3 if a row did not converge, 130 if one was interrupted, else 0."""
     statuses = {row["status"] for row in rows}
     if "interrupted" in statuses:
@@ -141,7 +148,7 @@ def _status_code(rows):
     return EXIT_NOT_CONVERGED if statuses - {"done"} else EXIT_OK
 
 
-def _cmd_paper(args):
+def _cmd_paper(args: argparse.Namespace) -> int:
     from ngincompat.studies import paper
     only = None if args.only is None else [n.strip() for n in args.only.split(",") if n.strip()]
     if only == []:          # an empty list is a mistake, not "every section"
@@ -156,7 +163,7 @@ def _cmd_paper(args):
     return _status_code(rows)
 
 
-def _cmd_expansion(args):
+def _cmd_expansion(args: argparse.Namespace) -> int:
     from ngincompat.studies import expansion
     rows = expansion.run_all(args.out, footprints=args.footprints,
                              progress=Progress(quiet=args.quiet), overwrite=args.overwrite,
@@ -166,7 +173,7 @@ def _cmd_expansion(args):
     return _status_code(rows)
 
 
-def _cmd_folding(args):
+def _cmd_folding(args: argparse.Namespace) -> int:
     from ngincompat.studies import folding
     rows, _ = folding.run_all(args.out, axons=args.axons, progress=Progress(quiet=args.quiet),
                               overwrite=args.overwrite, **_settings(args.set))
@@ -176,7 +183,7 @@ def _cmd_folding(args):
     return _status_code(rows)
 
 
-def _cmd_bench(args):
+def _cmd_bench(args: argparse.Namespace) -> int:
     """Runs the benchmark ``args.case`` (its runner, ``args.run``, registered with its
     parser by :func:`_add_bench`) and records how the tables were made."""
     start, load = time.perf_counter(), os.getloadavg()[0]
@@ -196,7 +203,7 @@ def _cmd_bench(args):
     return EXIT_OK
 
 
-def _cmd_sweep_run(args):
+def _cmd_sweep_run(args: argparse.Namespace) -> int:
     from ngincompat.studies import sweep
     spec = sweep.load_sweep(args.file).with_settings(_settings(args.set))
     report = sweep.run_sweep(spec, args.out, workers=args.workers,
@@ -207,7 +214,7 @@ def _cmd_sweep_run(args):
     return EXIT_FAILED_CASES if report.failed else EXIT_OK
 
 
-def _cmd_sweep_plot(args):
+def _cmd_sweep_plot(args: argparse.Namespace) -> int:
     from ngincompat.studies import sweep
     path = sweep.plot_sweep(args.sweep_dir, args.metric, args.x, args.out, hue=args.hue,
                             where=_settings(args.where, "--where"), logx=args.logx,
@@ -216,7 +223,7 @@ def _cmd_sweep_plot(args):
     return EXIT_OK
 
 
-def _add_bench(sub):
+def _add_bench(sub: argparse._SubParsersAction) -> None:
     """``bench scenes | cube | accuracy | curvature | validation | skin | inputs | peer |
     stability | scaling`` and their options."""
     from ngincompat.studies.scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
@@ -224,7 +231,9 @@ def _add_bench(sub):
                                          "stress-test matrix, cost per Newton step")
     cases = bench.add_subparsers(dest="case", required=True)
 
-    def case(name, help, study, run, quick=None):
+    def case(name: str, help: str, study: str,
+             run: Callable[[argparse.Namespace, ModuleType], list[str]],
+             quick: str | None = None) -> argparse.ArgumentParser:
         """A benchmark's parser with --out, and --quick where ``quick`` says what it runs;
         ``run(args, module)`` runs it and returns its lines, ``module`` the study
         ``ngincompat.studies.<study>`` (imported only when the benchmark runs)."""
@@ -341,7 +350,7 @@ def _add_bench(sub):
                         f"(default {MEMORY_LIMIT:g})")
 
 
-def _add_sweep(sub):
+def _add_sweep(sub: argparse._SubParsersAction) -> None:
     """``sweep run`` and ``sweep plot``."""
     sweep = sub.add_parser("sweep", help="parameter sweeps: run a sweep file, plot its table")
     commands = sweep.add_subparsers(dest="sweep_command", required=True)
@@ -383,7 +392,9 @@ def _add_sweep(sub):
     p.set_defaults(func=_cmd_sweep_plot)
 
 
-def _add_variants(sub, command, help, scene, option, what, choices, func):
+def _add_variants(sub: argparse._SubParsersAction, command: str, help: str, scene: str,
+                  option: str, what: str, choices: Sequence[str],
+                  func: Callable[[argparse.Namespace], int]) -> None:
     """A driver that runs ``scene`` for every variant of ``option`` (``expansion``,
     ``folding``)."""
     p = sub.add_parser(command, help=help)
@@ -404,7 +415,7 @@ def _add_variants(sub, command, help, scene, option, what, choices, func):
 DEFAULT_FILES = "vtk,figures"
 
 
-def version_text():
+def version_text() -> str:
     """``ngincompat X.Y.Z`` and the NGSolve it runs on (``--version``)."""
     from ngincompat.config import VERSION
     try:
@@ -418,16 +429,18 @@ def version_text():
 class _Version(argparse.Action):
     """``--version``: prints :func:`version_text` and exits 0 (NGSolve imported only then)."""
 
-    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
-                 help="print the versions of ngincompat and NGSolve and exit"):
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS,
+                 default: Any = argparse.SUPPRESS,
+                 help: str = "print the versions of ngincompat and NGSolve and exit") -> None:
         super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
 
-    def __call__(self, parser, namespace, values, option_string=None):
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: str | Sequence[Any] | None, option_string: str | None = None) -> None:
         print(version_text())
         parser.exit()
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="ngincompat",
         description="Growth of soft tissue and the geometric incompatibility it leaves.")
@@ -493,7 +506,7 @@ def build_parser():
     return parser
 
 
-def main(argv=None):
+def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (see the module docstring)."""
     try:        # before the parser, whose choices import NGSolve
         config.check_environment()
@@ -504,7 +517,7 @@ def main(argv=None):
     try:
         args = parser.parse_args(argv)
     except SystemExit as exit:
-        return exit.code
+        return exit.code  # type: ignore[return-value]  # argparse's: 0 or 2
     # the arguments as given, for the records of what a command wrote
     args.argv = list(sys.argv[1:] if argv is None else argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
@@ -514,7 +527,7 @@ def main(argv=None):
 
 
 @contextlib.contextmanager
-def _terminate_as_interrupt():
+def _terminate_as_interrupt() -> Iterator[None]:
     """SIGTERM (``kill``, a batch system's stop) ends a run as Ctrl-C does: marked
     "interrupted", exit 130. A SIGINT the parent told the process to ignore (``command &`` in
     a script: POSIX has background jobs ignore it) stays ignored."""
@@ -523,7 +536,7 @@ def _terminate_as_interrupt():
         yield
         return
 
-    def interrupt(signum, frame):
+    def interrupt(signum: int, frame: FrameType | None) -> None:
         raise KeyboardInterrupt
 
     signal.signal(signal.SIGTERM, interrupt)
@@ -533,7 +546,7 @@ def _terminate_as_interrupt():
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
-def _dispatch(args):
+def _dispatch(args: argparse.Namespace) -> int:
     """Run the command of ``args``; every error the user can cause is an exit code."""
     try:
         return args.func(args)
@@ -564,7 +577,7 @@ def _dispatch(args):
         return EXIT_NOT_WRITTEN
 
 
-def run():
+def run() -> NoReturn:
     """The program ``ngincompat``: :func:`main` on the process's arguments."""
     sys.exit(main())
 

@@ -32,7 +32,7 @@ class ConvergenceError(NgincompatError):
         self.t_converged = t_converged
         #: The :class:`~ngincompat.workflow.results.Results` of the last converged state, once a
         #: pipeline has measured (and written) them.
-        self.results = None
+        self.results: Any = None
 
 
 class Interrupted(NgincompatError):
@@ -44,7 +44,7 @@ class Interrupted(NgincompatError):
         super().__init__(message)
         self.history = history
         self.t_converged = t_converged
-        self.results = None
+        self.results: Any = None
 
 
 class InterruptedBeforeComputing(Interrupted):

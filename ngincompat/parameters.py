@@ -45,8 +45,9 @@ import numbers
 import os
 import types
 import typing
+from collections.abc import Collection, Iterable
 from fractions import Fraction
-from typing import Literal
+from typing import Any, Literal, Self
 
 from ngincompat.errors import ParameterError, require, shown
 
@@ -79,10 +80,11 @@ class Outputs(frozenset):
 
     ALLOWED = f"a comma list of {', '.join(sorted(OUTPUTS))}, or none"
 
-    def __new__(cls, value=()):
+    def __new__(cls, value: str | Iterable[str] = ()) -> Self:
         if isinstance(value, str):
             text = value.strip()
-            names = [] if text in ("", "none") else [item.strip() for item in text.split(",")]
+            names: list[str | None] = ([] if text in ("", "none")
+                                       else [item.strip() for item in text.split(",")])
         elif isinstance(value, (list, tuple, set, frozenset)):
             names = list(value)
         else:
@@ -90,10 +92,10 @@ class Outputs(frozenset):
         require(all(name in OUTPUTS for name in names), "outputs", value, cls.ALLOWED)
         return super().__new__(cls, names)
 
-    def __str__(self):
+    def __str__(self) -> str:
         return ",".join(name for name in OUTPUTS if name in self) or "none"
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Outputs({str(self)!r})"
 
 
@@ -101,9 +103,10 @@ class Range:
     """An allowed range of numbers, from its text: ``"> 0"``, ``">= 1"``, ``"< 0.5"``,
     ``"<= 1"``, or an interval ``"(-1, 0.5)"``, ``"[0, 1/3]"``, ``"(0, 1]"``."""
 
-    def __init__(self, text):
+    def __init__(self, text: str) -> None:
         self.text = text.strip()
-        self.low = self.high = None
+        self.low: float | None = None
+        self.high: float | None = None
         self.low_open = self.high_open = False
         try:
             if self.text[:1] in "([" and self.text[-1:] in ")]":
@@ -123,25 +126,25 @@ class Range:
             raise ValueError(f"range {text!r}: expected '> a', '>= a', '< b', '<= b' or an "
                              "interval such as '(a, b]'") from None
 
-    def __contains__(self, x):
+    def __contains__(self, x: float) -> bool:
         if self.low is not None and not (x > self.low if self.low_open else x >= self.low):
             return False
         return self.high is None or (x < self.high if self.high_open else x <= self.high)
 
     @property
-    def bounded(self):
+    def bounded(self) -> bool:
         """Whether the range has both bounds (then its numbers are finite)."""
         return self.low is not None and self.high is not None
 
-    def words(self):
+    def words(self) -> str:
         """The range as the messages spell it: "> 0", "in (-1, 0.5)"."""
         return f"in {self.text}" if self.text[0] in "([" else self.text
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Range({self.text!r})"
 
 
-def _number(text):
+def _number(text: str) -> float:
     return float(Fraction(text.strip()))
 
 
@@ -171,16 +174,17 @@ class Param:
     range: str | None = None
     choices: typing.Collection[str] | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.range is not None:
             Range(self.range)             # a malformed range fails where it is declared
 
-    def __call__(self, default, *, help=None):
+    def __call__(self, default: Any, *, help: str | None = None) -> Any:
         decl = self if help is None else dataclasses.replace(self, help=help)
         return dataclasses.field(default=default, metadata={"param": decl})
 
 
-def param(default, help, unit="", *, range=None, choices=None):
+def param(default: Any, help: str, unit: str = "", *, range: str | None = None,
+          choices: Collection[str] | None = None) -> Any:
     """A parameter declared in one place: ``Param(help, unit, range, choices)(default)``."""
     return Param(help, unit, range, choices)(default)
 
@@ -193,20 +197,20 @@ class _Kind(abc.ABC):
     #: How a parse error names the type: "x = 'a' is not a valid <name>".
     name = ""
 
-    def __init__(self, range=None):
+    def __init__(self, range: str | None = None) -> None:
         self.range = Range(range) if range else None
 
     @abc.abstractmethod
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         """The typed value of ``raw`` (ValueError if ``raw`` is not of the type)."""
 
-    def valid(self, value):
+    def valid(self, value: Any) -> bool:
         return True
 
-    def allowed(self):
+    def allowed(self) -> str:
         return self.range.words() if self.range else f"a {self.name}"
 
-    def to_json(self, value):
+    def to_json(self, value: Any) -> Any:
         return value
 
 
@@ -224,21 +228,21 @@ TINY = 1e-300
 class _Float(_Kind):
     name = "float"
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         if isinstance(raw, str):
             return float(raw)
         if isinstance(raw, bool) or not isinstance(raw, numbers.Real):
             raise ValueError(raw)
         return float(raw)
 
-    def valid(self, value):
+    def valid(self, value: Any) -> bool:
         return (math.isfinite(value) and (self.range is None or value in self.range)
                 and (self.range is not None and self.range.high is not None
                      or value <= FLOAT_LIMIT)
                 and (self.range is not None and self.range.low is not None
                      or value >= -FLOAT_LIMIT))
 
-    def allowed(self):
+    def allowed(self) -> str:
         if self.range is None:
             return f"in [-{FLOAT_LIMIT:g}, {FLOAT_LIMIT:g}]"
         if self.range.bounded:
@@ -252,40 +256,40 @@ class _Float(_Kind):
 class _Int(_Kind):
     name = "int"
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         if isinstance(raw, str):
             return int(raw)
         if isinstance(raw, numbers.Integral) and not isinstance(raw, bool):
             return int(raw)
         if isinstance(raw, numbers.Real) and not isinstance(raw, bool) and float(raw).is_integer():
-            return int(raw)
+            return int(raw)  # type: ignore[call-overload]  # int() takes any Real
         raise ValueError(raw)
 
-    def valid(self, value):
+    def valid(self, value: Any) -> bool:
         return self.range is None or value in self.range
 
-    def allowed(self):
+    def allowed(self) -> str:
         return f"an integer {self.range.words()}" if self.range else "an integer"
 
 
 class _Bool(_Kind):
     name = "bool"
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         if isinstance(raw, str) and raw.strip().lower() in _TRUE + _FALSE:
             return raw.strip().lower() in _TRUE
         if isinstance(raw, bool) or getattr(getattr(raw, "dtype", None), "kind", "") == "b":
             return bool(raw)                                        # numpy's bool too
         raise ValueError(raw)
 
-    def allowed(self):
+    def allowed(self) -> str:
         return "true or false"
 
 
 class _Str(_Kind):
     name = "str"
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         if isinstance(raw, str):
             return raw
         if isinstance(raw, os.PathLike):
@@ -294,24 +298,24 @@ class _Str(_Kind):
             return str(raw)              # theta = 1 in a sweep file is the expression "1"
         raise ValueError(raw)
 
-    def allowed(self):
+    def allowed(self) -> str:
         return "a string"
 
 
 class _Choice(_Kind):
     name = "choice"
 
-    def __init__(self, choices):
+    def __init__(self, choices: Collection[str]) -> None:
         super().__init__()
         self.choices = choices
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         return raw                        # anything else is out of range, not malformed
 
-    def valid(self, value):
+    def valid(self, value: Any) -> bool:
         return isinstance(value, str) and value in self.choices
 
-    def allowed(self):
+    def allowed(self) -> str:
         names = list(self.choices)
         return " or ".join(names) if len(names) == 2 else ", ".join(names)
 
@@ -319,13 +323,13 @@ class _Choice(_Kind):
 class _Floats(_Kind):
     """A tuple of floats: ``length`` of them, or any number (``None``)."""
 
-    def __init__(self, length=None, range=None):
+    def __init__(self, length: int | None = None, range: str | None = None) -> None:
         super().__init__(range)
         self.length = length
         self.item = _Float(range)
         self.name = f"tuple of {length} floats" if length else "list of floats"
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         if isinstance(raw, str):
             items = [] if not raw.strip() else raw.split(",")
         elif isinstance(raw, (list, tuple)) or hasattr(raw, "tolist"):      # numpy arrays
@@ -334,59 +338,59 @@ class _Floats(_Kind):
             raise ValueError(raw)
         return tuple(self.item.parse(item) for item in items)
 
-    def valid(self, value):
+    def valid(self, value: Any) -> bool:
         return ((self.length is None or len(value) == self.length)
                 and all(self.item.valid(v) for v in value))
 
-    def allowed(self):
+    def allowed(self) -> str:
         what = (f"{_NUMBER_WORDS.get(self.length, self.length)} numbers" if self.length
                 else "a comma list of numbers")
         return f"{what} {self.item.allowed()}"
 
-    def to_json(self, value):
+    def to_json(self, value: Any) -> Any:
         return list(value)
 
 
 class _WordsOrFloats(_Kind):
     """One of some words, or a tuple of floats (``"uniform"`` or ``0,0,-5``)."""
 
-    def __init__(self, words, floats):
+    def __init__(self, words: Iterable[str], floats: _Kind) -> None:
         super().__init__()
         self.words, self.floats = tuple(words), floats
         self.name = f"{' or '.join(self.words)} or {floats.name}"
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         if isinstance(raw, str) and raw.strip() in self.words:
             return raw.strip()
         return self.floats.parse(raw)
 
-    def valid(self, value):
+    def valid(self, value: Any) -> bool:
         return value in self.words if isinstance(value, str) else self.floats.valid(value)
 
-    def allowed(self):
+    def allowed(self) -> str:
         return f"{' or '.join(self.words)}, or {self.floats.allowed()}"
 
-    def to_json(self, value):
+    def to_json(self, value: Any) -> Any:
         return value if isinstance(value, str) else self.floats.to_json(value)
 
 
 class _Outputs(_Kind):
     name = "outputs"
 
-    def parse(self, raw):
+    def parse(self, raw: Any) -> Any:
         return raw if isinstance(raw, Outputs) else Outputs(raw)
 
-    def allowed(self):
+    def allowed(self) -> str:
         return Outputs.ALLOWED
 
-    def to_json(self, value):
+    def to_json(self, value: Any) -> Any:
         return str(value)
 
 
-_SCALARS = {float: _Float, int: _Int, bool: _Bool, str: _Str}
+_SCALARS: dict[type, type[_Kind]] = {float: _Float, int: _Int, bool: _Bool, str: _Str}
 
 
-def _kind(annotation, decl):
+def _kind(annotation: Any, decl: Param) -> _Kind:
     """The :class:`_Kind` of a field from its annotation and declaration."""
     origin, args = typing.get_origin(annotation), typing.get_args(annotation)
     if decl.choices is not None:
@@ -423,24 +427,24 @@ class Parameter:
     kind: _Kind
 
     @property
-    def help(self):
+    def help(self) -> str:
         return self.decl.help
 
     @property
-    def unit(self):
+    def unit(self) -> str:
         return self.decl.unit
 
-    def allowed(self):
+    def allowed(self) -> str:
         """The allowed values in words, as the error messages give them."""
         return self.kind.allowed()
 
     @property
-    def takes_list(self):
+    def takes_list(self) -> bool:
         """Whether a value is a list (a tuple parameter: ``semi_axes = [8.5, 7.0, 6.0]`` in
         a sweep file, the same as ``"8.5,7.0,6.0"``)."""
         return isinstance(self.kind, (_Floats, _WordsOrFloats))
 
-    def convert(self, raw):
+    def convert(self, raw: Any) -> Any:
         """The typed value of ``raw`` (a string, a TOML value or a Python value), checked.
 
         Raises
@@ -464,7 +468,7 @@ class Parameter:
         require(self.kind.valid(value), self.name, value, self.allowed())
         return value
 
-    def to_json(self, value):
+    def to_json(self, value: Any) -> Any:
         """``value`` as results.json records it: tuples as lists, outputs as "vtk,figures";
         :meth:`convert` reads that form back."""
         return self.kind.to_json(value)
@@ -473,7 +477,7 @@ class Parameter:
 _CACHE: dict[type, dict[str, Parameter]] = {}
 
 
-def declarations(cls):
+def declarations(cls: type) -> dict[str, Parameter]:
     """name -> :class:`Parameter` of every field of the dataclass ``cls`` that was declared
     with :class:`Param`, in the fields' order."""
     if cls not in _CACHE:
@@ -485,13 +489,13 @@ def declarations(cls):
     return _CACHE[cls]
 
 
-def convert_fields(obj):
+def convert_fields(obj: object) -> None:
     """Convert every declared field of the frozen dataclass instance ``obj`` in place (see
     :meth:`Parameter.convert`), in the fields' order: the first bad value raises."""
     for name, parameter in declarations(type(obj)).items():
         object.__setattr__(obj, name, parameter.convert(getattr(obj, name)))
 
 
-def to_json(obj):
+def to_json(obj: object) -> dict[str, Any]:
     """The declared fields of ``obj`` as a JSON-ready dict (:meth:`Parameter.to_json`)."""
     return {name: p.to_json(getattr(obj, name)) for name, p in declarations(type(obj)).items()}

@@ -45,7 +45,8 @@ from ngincompat.progress import Progress
 class Stage(Protocol):
     """One part of a load history: inflation, a week of growth, a release, ..."""
 
-    name: str
+    @property
+    def name(self) -> str: ...
 
     def run(self, progress: Progress) -> SolverHistory:
         """March the stage to its end; raise ConvergenceError (state: last converged step)
@@ -156,7 +157,7 @@ class CoupledStage:
     start: Callable[[], object] | None = None
     options: NewtonOptions = field(default_factory=lambda: NewtonOptions(max_iter=20))
     checkpoint: Path | None = None
-    observe: Callable[[float], bool] | None = None
+    observe: Callable[[float], object] | None = None
     unit: str = ""
     _loaded: float = field(default=float("inf"), init=False, repr=False)
 

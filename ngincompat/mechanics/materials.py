@@ -89,6 +89,8 @@ class MaterialKind:
         def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
                             kappa: float = 0.0) -> Self: ...
 
+        def energy(self, Fe: CF, fibers: Sequence[CF] = ()) -> CF: ...
+
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         name = cls.__dict__.get("name")

@@ -4,6 +4,7 @@ parameters with ``run(out)``."""
 
 from ngincompat.errors import ParameterError
 from ngincompat.scenes.atrophy import AtrophyScene
+from ngincompat.scenes.base import Scene
 from ngincompat.scenes.cube import CubeScene
 from ngincompat.scenes.custom import CustomScene
 from ngincompat.scenes.cylinder import CylinderScene
@@ -18,7 +19,7 @@ SCENES = {cls.name: cls for cls in (CubeScene, HemisphereScene, DiscScene, Cylin
                                     AtrophyScene)}
 
 
-def get_scene(name):
+def get_scene(name: str) -> type[Scene]:
     """The scene class registered under ``name``."""
     if name not in SCENES:
         raise ParameterError(f"unknown scene {name!r}: allowed {', '.join(sorted(SCENES))}")

@@ -11,10 +11,13 @@ relate several parameters) in ``__post_init__``. ``scene.build()`` returns its c
 the :class:`~ngincompat.workflow.results.Results`, writing files only when ``out`` is given.
 """
 
+import os
 import sys
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar, Self
+
+import ngsolve as ngs
 
 from ngincompat import parallel
 from ngincompat.errors import ParameterError, require
@@ -22,6 +25,7 @@ from ngincompat.parameters import (
     PRESETS,
     Outputs,
     Param,
+    Parameter,
     convert_fields,
     declarations,
     param,
@@ -64,7 +68,7 @@ STEPS = Param("initial number of load steps (adaptive: cut on failure)", range=f
 MAX_TIME_STEPS = 10_000
 
 
-def check_time_steps(duration_name, duration, step_name, step):
+def check_time_steps(duration_name: str, duration: float, step_name: str, step: float) -> None:
     """Refuse a time step that takes more than :data:`MAX_TIME_STEPS` over the duration."""
     require(duration / step <= MAX_TIME_STEPS, step_name, step,
             f">= {duration_name} / {MAX_TIME_STEPS} = {duration / MAX_TIME_STEPS:g} (at most "
@@ -116,20 +120,20 @@ class Scene:
     # workstation's memory (the atrophy's paper preset: docs/measurements/paper-job.md)
     max_dofs: int = MAX_DOFS(500_000)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         # every value to its parameter's type and range; a subclass checks the relations
         # between parameters after calling this
         convert_fields(self)
         self.check_mesh_size()
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str] | None:
         """``(elements, shape)``: the estimated number of elements of the mesh :meth:`build`
         would make (:mod:`geometries.estimate`) and their shape, a key of
         :data:`UNKNOWNS_PER_ELEMENT`; None when it cannot be told before meshing (a mesh
         file)."""
         return None
 
-    def check_mesh_size(self):
+    def check_mesh_size(self) -> None:
         """Refuse, before meshing, a mesh estimated past ``max_elements`` elements or
         ``max_dofs`` unknowns (:data:`UNKNOWNS_PER_ELEMENT`), naming ``maxh``."""
         estimate = self.mesh_estimate()
@@ -145,7 +149,7 @@ class Scene:
                     f"{value:.2g} {what} at order {self.order}, more than {key} = {limit} "
                     f"(raise it with --set {key}=N if the machine has the memory)")
 
-    def unmeshable(self, error) -> str:
+    def unmeshable(self, error: BaseException) -> str:
         """The message for a geometry the mesher failed on (``error``, Netgen's), naming the
         scene's lengths: a body far thinner than its mesh size (a disc 1e-3 high with
         ``maxh`` 0.2) passes every range and stops the mesher."""
@@ -157,16 +161,16 @@ class Scene:
                 "than its mesh size cannot be meshed: make its thinnest dimension at least "
                 "about the mesh size, or the mesh sizes smaller")
 
-    def output_set(self):
+    def output_set(self) -> set[str]:
         """The optional files this run writes, as a set of names."""
         return set(self.outputs)
 
-    def build(self):
+    def build(self) -> pipeline.Case:
         """The scene's case (see :mod:`ngincompat.workflow.pipeline`)."""
         raise TypeError(f"{type(self).__name__} must define build()")
 
-    def run(self, out=None, *, overwrite: bool = False, progress: Progress = SILENT,
-            label: str | None = None) -> Results:
+    def run(self, out: str | os.PathLike | None = None, *, overwrite: bool = False,
+            progress: Progress = SILENT, label: str | None = None) -> Results:
         """Build, solve and measure the scene; write the folder ``out`` if given.
 
         See :func:`ngincompat.workflow.pipeline.run` (errors, interruption, what is written)."""
@@ -176,12 +180,12 @@ class Scene:
                 "mpiexec)")
         return pipeline.run(self, out, overwrite=overwrite, progress=progress, label=label)
 
-    def trust(self, results) -> list[str]:
+    def trust(self, results: Results) -> list[str]:
         """Warnings from the scene's settings and results beyond its :attr:`indicators` (none
         by default); see :mod:`ngincompat.scenes.trust`."""
         return []
 
-    def warnings(self, results) -> list[str]:
+    def warnings(self, results: Results) -> list[str]:
         """Every warning on ``results`` (:func:`ngincompat.scenes.trust.warnings`)."""
         return trust.warnings(self, results)
 
@@ -190,11 +194,11 @@ class Scene:
         parts = [f"{k}={getattr(self, k)}" for k in self.variant]
         return f"{self.name} ({', '.join(parts)})" if parts else self.name
 
-    def resumes(self, out) -> bool:
+    def resumes(self, out: str | os.PathLike) -> bool:
         """Whether this run continues one already in the folder ``out`` (no by default)."""
         return False
 
-    def record(self, mesh, order=None, **kwargs) -> Results:
+    def record(self, mesh: ngs.Mesh, order: int | None = None, **kwargs: Any) -> Results:
         """An empty :class:`Results` of this scene on ``mesh`` (an ngsolve.Mesh)."""
         ne, nv = parallel.counts(mesh)
         info = MeshInfo(ne=ne, nv=nv, order=self.order if order is None else order,
@@ -206,18 +210,18 @@ class Scene:
                        provenance=io.run_record(), domain=mesh, **kwargs)
 
     @classmethod
-    def declarations(cls):
+    def declarations(cls) -> dict[str, Parameter]:
         """name -> :class:`~ngincompat.parameters.Parameter` (type, default, help, unit,
         allowed range) of every parameter."""
         return declarations(cls)
 
     @classmethod
-    def parameters(cls):
+    def parameters(cls) -> dict[str, tuple[Any, str, str]]:
         """name -> (default, help, unit) of every parameter."""
         return {name: (p.default, p.help, p.unit) for name, p in cls.declarations().items()}
 
     @classmethod
-    def typed_settings(cls, settings):
+    def typed_settings(cls, settings: Mapping[str, Any]) -> dict[str, Any]:
         """A mapping of parameter names to strings or values with each value converted to
         its parameter's type and checked ("3" -> 3.0 for maxh), in the JSON-ready form
         results.json records (tuples as lists, outputs as "vtk,figures").
@@ -239,12 +243,12 @@ class Scene:
         return typed
 
     @classmethod
-    def preset_names(cls):
+    def preset_names(cls) -> tuple[str, ...]:
         """The presets of the scene, cheapest first (``default`` always among them)."""
         return tuple(n for n in PRESETS if n == "default" or n in cls.presets)
 
     @classmethod
-    def preset_settings(cls, preset):
+    def preset_settings(cls, preset: str) -> dict[str, Any]:
         """The settings of the named preset (``{}`` for ``default``).
 
         Raises
@@ -258,7 +262,7 @@ class Scene:
         return dict(cls.presets.get(preset, {}))
 
     @classmethod
-    def from_settings(cls, settings, preset="default"):
+    def from_settings(cls, settings: Mapping[str, Any], preset: str = "default") -> Self:
         """Build the scene from a mapping of parameter names to strings or values, over the
         settings of ``preset`` (the explicit settings win)."""
         return cls(**cls.typed_settings({**cls.preset_settings(preset), **settings}))
@@ -279,7 +283,7 @@ class Scene:
                 else "custom")
 
     @classmethod
-    def metric_unit(cls, metric):
+    def metric_unit(cls, metric: str) -> str:
         """The unit of ``metric`` in the scene's units ("-" for a ratio or a count), from
         the quantity it measures (:attr:`metrics`).
 
@@ -292,13 +296,13 @@ class Scene:
         return cls.unit_of(quantity) if quantity else "-"
 
     @classmethod
-    def unit_of(cls, unit):
+    def unit_of(cls, unit: str) -> str:
         """A parameter's unit spelled in the scene's units ("length" -> "mm")."""
         for quantity, symbol in cls.units.items():
             unit = unit.replace(quantity, symbol)
         return unit
 
-    def describe(self, skip=("outputs", "mechanics")):
+    def describe(self, skip: Collection[str] = ("outputs", "mechanics")) -> str:
         """The parameters with their values, units and help texts, one line each."""
         lines = []
         for name, (_, help_text, unit) in self.parameters().items():
@@ -307,7 +311,7 @@ class Scene:
                 lines.append(f"{name:14s} = {getattr(self, name)!s:14.14s} {unit:10s} {help_text}")
         return "\n".join(lines)
 
-    def settings(self):
+    def settings(self) -> dict[str, Any]:
         """The parameters as a JSON-ready dict (for results.json): tuples as lists, outputs
         as "vtk,figures"; :meth:`from_settings` reads it back (so does the string form of
         earlier results.json files, "8.5,7.0,6.0")."""

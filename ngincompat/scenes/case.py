@@ -9,9 +9,15 @@ the case keeps beside them (:meth:`SceneCase.keep`).
 """
 
 import abc
+from collections.abc import Iterable, Mapping
+from pathlib import Path
 from types import MappingProxyType
+from typing import Any
+
+import ngsolve as ngs
 
 from ngincompat.progress import Progress
+from ngincompat.scenes.base import Scene
 from ngincompat.workflow.pipeline import Solution
 from ngincompat.workflow.results import Results
 
@@ -28,11 +34,14 @@ class SceneCase(abc.ABC):
         The frames of the time series taken so far; none by default.
     """
 
-    noted = MappingProxyType({})
-    frames = ()
+    scene: Scene
+    mesh: ngs.Mesh
+    noted: Mapping[str, float] = MappingProxyType({})
+    frames: Iterable[tuple[float, dict[str, Any]]] = ()
 
     @abc.abstractmethod
-    def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
+    def solve(self, solution: Solution, progress: Progress,
+              workdir: Path | None = None) -> None:
         """Walk the stages into ``solution``."""
 
     @abc.abstractmethod

@@ -52,19 +52,19 @@ class CubeScene(prescribed.PrescribedScene):
     model: Literal["full", "quarter"] = param("full", "full cube, or quarter (mirror planes "
                                               "X2 = X3 = side / 2)")
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         require(self.a * self.side > -1, "a", self.a, "> -1 / side (theta stays positive)")
         require(self.quadrature != "symmetric" or self.elements == "tet", "quadrature",
                 self.quadrature, "gauss or auto with elements=hex (symmetric rules are for "
                 "tetrahedra: elements=tet)")
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str]:
         return (estimate.cube_elements(side=self.side, maxh=self.maxh, elements=self.elements,
                                        quarter=self.model == "quarter"),
                 self.elements)
 
-    def build(self):
+    def build(self) -> prescribed.PrescribedCase:
         """The mesh and the prescribed-growth case."""
         quarter = self.model == "quarter"
         mesh = parallel.distribute(lambda: cube(side=self.side, maxh=min(self.maxh, self.side),

@@ -5,14 +5,17 @@ The curvature itself is measured by :func:`ngincompat.incompatibility.curvature.
 reader sees.
 """
 
-from ngincompat.workflow.results import ProfileFigure
+from collections.abc import Mapping
+
+from ngincompat.scenes.base import Scene
+from ngincompat.workflow.results import ProfileFigure, Results
 
 #: Smallest range of the curvature axis of :func:`figure` [1/length^2]: the round-off of a
 #: flat metric is drawn flat.
 FIGURE_FLOOR = 1e-8
 
 
-def verdict(metrics):
+def verdict(metrics: Mapping[str, float]) -> str:
     """The one-line verdict on a run's curvature metrics: compatible when the measured
     ||Ein||_g does not exceed the estimate of its error."""
     value, error = metrics["einstein_norm_L2"], metrics["einstein_norm_L2_error"]
@@ -23,7 +26,7 @@ def verdict(metrics):
             f"its error {error:.3g})")
 
 
-def figure(scene, coord, burgers):
+def figure(scene: Scene, coord: str, burgers: dict[str, str]) -> ProfileFigure:
     """The figure ``curvature.png`` of a scene: |Ein(Cg)|_g (profile key ``einstein_norm_g``)
     along a line with coordinate ``coord``, beside the Burgers vectors ``burgers`` (legend
     label -> profile key) on the right axis."""
@@ -34,7 +37,7 @@ def figure(scene, coord, burgers):
                          right=burgers, right_label=f"|b| [1/{L}]", floor=FIGURE_FLOOR)
 
 
-def report(scene, results, coord, burgers):
+def report(scene: Scene, results: Results, coord: str, burgers: dict[str, str]) -> None:
     """Add the verdict (:func:`verdict`, when the curvature was measured) and the figure
     (:func:`figure`) to ``results``."""
     if "einstein_norm_L2" in results.metrics:

@@ -29,7 +29,7 @@ from ngincompat.incompatibility.operators import lattice_normals
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.expressions import parse_expression
 from ngincompat.mechanics.growth import KINDS, make_growth
-from ngincompat.mechanics.materials import MATERIALS, make_material
+from ngincompat.mechanics.materials import MATERIALS, MaterialKind, make_material
 from ngincompat.scenes import prescribed
 from ngincompat.scenes.base import param
 from ngincompat.scenes.material import Fibers
@@ -76,7 +76,7 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
     theta_file: str = param("", "growth field as data (.npz of a run's outputs=growth, or one "
                                 "value per vertex in .npz/.csv/.txt) instead of theta")
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         self.make_material()
         parse_expression(self.theta, name="theta")
@@ -92,18 +92,19 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
             require(self.theta == default["theta"], "theta", self.theta,
                     "left unset when the growth is given as data (theta_file = file)")
 
-    def make_material(self):
+    def make_material(self) -> MaterialKind:
         return make_material(self.material, self.mu, self.nu, self.k1, self.k2, self.kappa)
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str] | None:
         if self.mesh:
             return None
         # the cube builder's default elements are hexahedra
         shape = "hex" if self.geometry == "cube" else "tet"
-        return estimate.ESTIMATES[self.geometry](maxh=self.maxh), shape
+        return estimate.ESTIMATES[self.geometry](maxh=self.maxh), shape  # type: ignore[operator]
 
-    def build(self):
-        mesh = load_mesh(self.mesh) if self.mesh else SOLIDS[self.geometry](maxh=self.maxh)
+    def build(self) -> prescribed.PrescribedCase:
+        mesh = (load_mesh(self.mesh) if self.mesh
+                else SOLIDS[self.geometry](maxh=self.maxh))  # type: ignore[operator]
         time = ngs.Parameter(0.0)
         if self.theta_file:
             theta = ramped_growth(load_growth(self.theta_file, mesh), time)
@@ -128,7 +129,7 @@ class CustomScene(Fibers, prescribed.PrescribedScene):
             analytic=not self.theta_file, expression=None if self.theta_file else self.theta)
 
 
-def _check_file(name, path, extensions):
+def _check_file(name: str, path: str, extensions: tuple[str, ...]) -> None:
     """A file parameter names an existing file of an allowed kind (read later, in build)."""
     try:
         exists = Path(path).is_file()
@@ -139,6 +140,6 @@ def _check_file(name, path, extensions):
             "a file ending in " + ", ".join(extensions))
 
 
-def _bounding_box(mesh):
+def _bounding_box(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
     pts = np.array([v.point for v in mesh.vertices])
     return pts.min(axis=0), pts.max(axis=0)

@@ -1,6 +1,7 @@
 """The cylinder of section 3.4: fiber growth whose incompatibility is relieved by rotation."""
 
 from dataclasses import dataclass
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -8,6 +9,7 @@ import numpy as np
 from geometries import cylinder, estimate
 from ngincompat import sampling
 from ngincompat.fem import postprocess
+from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.growth import FiberGrowth
@@ -52,11 +54,11 @@ class CylinderScene(prescribed.PrescribedScene):
     a: float = param(0.25, "growth gradient a in theta = 1 + a X2 t", "1/length",
                      range="[-1000, 1000]")
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str]:
         return (estimate.cylinder_elements(area=self.area, length=self.length, maxh=self.maxh),
                 "tet")
 
-    def build(self):
+    def build(self) -> prescribed.PrescribedCase:
         mesh = cylinder(area=self.area, length=self.length, maxh=self.maxh,
                         curve_order=self.order)
         time = ngs.Parameter(0.0)
@@ -66,7 +68,7 @@ class CylinderScene(prescribed.PrescribedScene):
         radius = float(np.sqrt(self.area / np.pi))
         e = [fields.constant(k).cf for k in ("e1", "e2", "e3")]
 
-        def verify(problem, flds):
+        def verify(problem: GrowthMechanics | None, flds: dict[str, Any]) -> dict[str, float]:
             b = flds["b_e3"]
             expected = inc.burgers_fiber_magnitude(theta, inc.grad_scalar(theta), f0.cf)
             # relative to the largest |b| of eq. (27); absolute for a = 0, where b = 0 exactly

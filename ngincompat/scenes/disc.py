@@ -1,7 +1,7 @@
 """The disc of section 3.3: transversely isotropic area growth with GOH fibers."""
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -9,10 +9,11 @@ import numpy as np
 from geometries import disc, estimate
 from ngincompat import sampling
 from ngincompat.fem import postprocess
+from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics import fields
 from ngincompat.mechanics.growth import AreaGrowth
-from ngincompat.mechanics.materials import make_material
+from ngincompat.mechanics.materials import MaterialKind, make_material
 from ngincompat.scenes import prescribed
 from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, param
 from ngincompat.scenes.material import K1, K2, MU, Fibers
@@ -66,17 +67,17 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
     k1: float = K1(0.0023632)
     k2: float = K2(0.8393)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         self.make_material()
 
-    def make_material(self):
+    def make_material(self) -> MaterialKind:
         return make_material(self.material, self.mu, self.nu, self.k1, self.k2, self.kappa)
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str]:
         return estimate.disc_elements(R0=self.R0, height=self.height, maxh=self.maxh), "tet"
 
-    def build(self):
+    def build(self) -> prescribed.PrescribedCase:
         mesh = disc(R0=self.R0, height=self.height, maxh=self.maxh, curve_order=self.order)
         time = ngs.Parameter(0.0)
         R = ngs.sqrt(ngs.x * ngs.x + ngs.y * ngs.y)
@@ -88,7 +89,7 @@ class DiscScene(Fibers, prescribed.PrescribedScene):
         e_t = fields.circumferential("e3").cf
         mid = self.height / 2
 
-        def verify(problem, flds):
+        def verify(problem: GrowthMechanics | None, flds: dict[str, Any]) -> dict[str, float]:
             b = flds["b_e3"]
             b22 = inc.burgers_area_closed_form(theta, inc.grad_scalar(theta), N0.cf)
             # theta has a cone along the axis: the projected G is inaccurate in the first

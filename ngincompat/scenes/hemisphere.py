@@ -1,7 +1,8 @@
 """The hemisphere of section 3.2: isotropic growth driven by a radial field."""
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -10,8 +11,9 @@ from geometries import estimate, hemisphere
 from ngincompat import sampling
 from ngincompat.errors import require
 from ngincompat.fem import postprocess
+from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.mechanics.growth import IsotropicGrowth
-from ngincompat.references.radial import solve_radial
+from ngincompat.references.radial import RadialSolution, solve_radial
 from ngincompat.scenes import prescribed
 from ngincompat.scenes.base import LENGTH_FLOOR, MAXH, ORDER, STEPS, param
 from ngincompat.scenes.metrics import Metric, registry
@@ -78,17 +80,17 @@ class HemisphereScene(prescribed.PrescribedScene):
     model: Literal["full", "quarter"] = param("full", "full hemisphere, or quarter (mirror "
                                               "planes X1 = 0, X2 = 0)")
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         require(self.centre_maxh <= self.maxh, "centre_maxh", self.centre_maxh,
                 f"in (0, maxh = {self.maxh}]")
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str]:
         return (estimate.hemisphere_elements(R0=self.R0, maxh=self.maxh,
                                              centre_maxh=self.centre_maxh,
                                              quarter=self.model == "quarter"), "tet")
 
-    def build(self):
+    def build(self) -> prescribed.PrescribedCase:
         quarter = self.model == "quarter"
         mesh = hemisphere(R0=self.R0, maxh=self.maxh, curve_order=self.order,
                           centre_maxh=self.centre_maxh, quarter=quarter)
@@ -101,11 +103,13 @@ class HemisphereScene(prescribed.PrescribedScene):
         material = self.make_material()
         ray = np.ones(3) / np.sqrt(3)
 
-        def verify(problem, fields):
+        def verify(problem: GrowthMechanics | None, fields: dict[str, Any]) -> dict[str, float]:
             metrics = burgers_alignment(fields, basis, mesh)
             if metrics and problem is not None and self.flat_face == "symmetry":
-                reference = solve_radial(lambda r: 1 + f_np(r / self.R0) / 4, material.mu,
-                                         material.lam, R0=self.R0)
+                # the scene's material is neo-Hookean (PrescribedScene.make_material)
+                reference = solve_radial(lambda r: 1 + f_np(r / self.R0) / 4,
+                                         material.mu,  # type: ignore[attr-defined]
+                                         material.lam, R0=self.R0)  # type: ignore[attr-defined]
                 metrics.update(radial_errors(reference, fields, mesh, ray, self.R0))
             return metrics
         return prescribed.PrescribedCase(
@@ -123,7 +127,7 @@ class HemisphereScene(prescribed.PrescribedScene):
             verify=verify)
 
 
-def spherical_basis():
+def spherical_basis() -> dict[str, ngs.CoefficientFunction]:
     """Unit vectors e_r (radial), e_theta (circumferential, about e3) and e_phi (meridional)
     as CoefficientFunctions; undefined on the e3 axis (regularised there)."""
     X = ngs.CF((ngs.x, ngs.y, ngs.z))
@@ -133,7 +137,9 @@ def spherical_basis():
     return {"r": e_r, "theta": e_theta, "phi": ngs.Cross(e_theta, e_r)}
 
 
-def burgers_alignment(fields, basis, mesh):
+def burgers_alignment(fields: Mapping[str, ngs.CoefficientFunction],
+                      basis: Mapping[str, ngs.CoefficientFunction],
+                      mesh: ngs.Mesh) -> dict[str, float]:
     """How far b is from the directions of section 3.2, relative to the largest |b|: zero on
     radial planes, circumferential on the meridional plane, meridional on the circumferential
     plane (measured away from the e3 axis, where the basis is undefined). Empty where b
@@ -144,7 +150,7 @@ def burgers_alignment(fields, basis, mesh):
     if not scale > 0:
         return {}
 
-    def off(b, direction):
+    def off(b: ngs.CoefficientFunction, direction: ngs.CoefficientFunction) -> float:
         rest = b - ngs.InnerProduct(b, direction) * direction
         return sampling.maximum(away * ngs.Norm(rest), mesh) / scale
 
@@ -155,7 +161,9 @@ def burgers_alignment(fields, basis, mesh):
     }
 
 
-def radial_errors(reference, fields, mesh, ray, R0, radii=np.linspace(0.1, 0.95, 35)):
+def radial_errors(reference: RadialSolution, fields: Mapping[str, ngs.CoefficientFunction],
+                  mesh: ngs.Mesh, ray: np.ndarray, R0: float,
+                  radii: np.ndarray = np.linspace(0.1, 0.95, 35)) -> dict[str, float]:
     """Largest deviation of the Cauchy stresses from the 1-D radial solution along ``ray``,
     relative to the largest stress, for R / R0 in [0.1, 0.95] (the centre is a cone point of
     the linear and concave profiles)."""

@@ -9,8 +9,10 @@ section 2.3 where one exists, and with G from the elastic deformation (eq. 12) o
 body.
 """
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from pathlib import Path
+from typing import Any, Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -24,16 +26,17 @@ from ngincompat.fem.stages import PrescribedGrowthStage
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import operators as inc
 from ngincompat.incompatibility.measure import Incompatibility
-from ngincompat.mechanics.growth import check_positive
+from ngincompat.mechanics.growth import GrowthModel, check_positive
 from ngincompat.mechanics.kinematics import deformation_gradient
-from ngincompat.mechanics.materials import NeoHookean
+from ngincompat.mechanics.materials import Material, MaterialKind, NeoHookean
+from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
 from ngincompat.scenes.base import Scene, param
 from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.material import Elastic
 from ngincompat.scenes.metrics import CURVATURE, INCOMPATIBILITY, MECHANICS, Metric, registry
-from ngincompat.workflow.pipeline import solve_stages, timed
-from ngincompat.workflow.results import ProfileFigure
+from ngincompat.workflow.pipeline import Solution, solve_stages, timed
+from ngincompat.workflow.results import Figure, ProfileFigure, Results
 
 #: Contraction a reused tangent must achieve per Newton iteration. A reused iteration costs a
 #: residual and two triangular solves, about a thirtieth of assembling and factorising a fresh
@@ -85,10 +88,10 @@ class PrescribedCase(SceneCase):
         between the sampled points too (:func:`~ngincompat.mechanics.growth.check_positive`).
     """
 
-    scene: object
+    scene: "PrescribedScene"
     mesh: ngs.Mesh
-    growth: object
-    material: object
+    growth: GrowthModel
+    material: Material
     time: ngs.Parameter
     planes: dict
     line: tuple
@@ -96,12 +99,12 @@ class PrescribedCase(SceneCase):
     dirichlet: str = ""
     symmetry: dict = field(default_factory=dict)
     components: dict = field(default_factory=dict)
-    verify: object = None
+    verify: Callable[[GrowthMechanics | None, dict[str, Any]], dict[str, float]] | None = None
     mirror: int = 1
     analytic: bool = True
     expression: str | None = None
 
-    def mechanics(self, linear_solver=None):
+    def mechanics(self, linear_solver: str | None = None) -> GrowthMechanics:
         """The scene's mechanics problem (:class:`~ngincompat.fem.problem.GrowthMechanics`), at
         the growth time the case's ``time`` holds, for Newton's ``linear_solver`` (default
         the scene's): its energy form on the component spaces for a direct solver, on
@@ -113,11 +116,12 @@ class PrescribedCase(SceneCase):
                                symmetry=self.symmetry, formulation=scene.formulation,
                                components=solver == "direct", quadrature=scene.quadrature)
 
-    def solve(self, solution, progress, workdir=None):
+    def solve(self, solution: Solution, progress: Progress,
+              workdir: Path | None = None) -> None:
         """See :func:`_solve`."""
         _solve(self, solution, progress)
 
-    def measure(self, solution, progress):
+    def measure(self, solution: Solution, progress: Progress) -> Results:
         """See :func:`_measure`."""
         return _measure(self, solution, progress)
 
@@ -162,17 +166,17 @@ class PrescribedScene(Elastic, Scene):
             "the growth (eq. 10) of the solved body, relative to the latter: zero in exact "
             "arithmetic"))
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         # every parameter is checked before anything is computed
         check_formulation(self.make_material(), self.formulation, self.order)
         check_quadrature(self.quadrature, self.order)
 
-    def make_material(self):
+    def make_material(self) -> MaterialKind:
         """The scene's material (neo-Hookean from mu and nu unless a scene says otherwise)."""
         return NeoHookean.from_nu(self.mu, self.nu)
 
-    def trust(self, results):
+    def trust(self, results: Results) -> list[str]:
         """A warning when the displacement formulation runs at a Poisson's ratio where it
         locks (:data:`LOCKING_NU` at order 4 and above, :data:`LOW_ORDER_LOCKING_NU` below):
         its stress is too stiff there and Newton needs hundreds of iterations, while the mixed
@@ -188,7 +192,7 @@ class PrescribedScene(Elastic, Scene):
         return []
 
 
-def _solve(case, solution, progress):
+def _solve(case: PrescribedCase, solution: Solution, progress: Progress) -> None:
     """Check theta > 0, build the mechanics (unless the scene asks for incompatibility only)
     and apply the growth in one stage, "growth". Everything runs under NGSolve's TaskManager.
     """
@@ -212,7 +216,7 @@ def _solve(case, solution, progress):
                      solution)
 
 
-def _measure(case, solution, progress):
+def _measure(case: PrescribedCase, solution: Solution, progress: Progress) -> Results:
     """G and b (exact or projected path), stresses and the scene's checks, profiles, figures.
 
     A run that did not converge is measured in its last converged state."""
@@ -248,7 +252,8 @@ def _measure(case, solution, progress):
     return results
 
 
-def _curvature(case, measured, fields):
+def _curvature(case: PrescribedCase, measured: Incompatibility,
+               fields: dict[str, Any]) -> dict[str, float]:
     """The curvature of Cg: exact path for analytic growth; for growth given as data, the
     Regge path of degree 2 on the continuous interpolant of Fg that G is computed from
     (``measured.Fg_h``, the incompatibility's). Adds S and |Ein|_g to the fields, returns
@@ -260,7 +265,8 @@ def _curvature(case, measured, fields):
     return metrics
 
 
-def _mechanics(case, problem, fields):
+def _mechanics(case: PrescribedCase, problem: GrowthMechanics,
+               fields: dict[str, Any]) -> dict[str, float]:
     """Stress fields and metrics of the solved body; adds the fields, returns the metrics."""
     stress = postprocess.stresses(problem.energy_density, problem.u)
     F = deformation_gradient(problem.u)
@@ -280,17 +286,18 @@ def _mechanics(case, problem, fields):
                                                         case.mesh)}
 
 
-def _figures(scene, coord, case, mechanics):
+def _figures(scene: PrescribedScene, coord: str, case: PrescribedCase,
+             mechanics: bool) -> list[Figure]:
     """The profile figures of a scene, in its units, titled with its variant."""
     L, stress = scene.units["length"], scene.units["stress"]
     title = scene.title()
     xlabel = f"{coord} [{L}]"
     curl = {"Curl Fg : Curl Fg": "curlFg_sq"}
     curl_label = f"Curl $F^g$ : Curl $F^g$ [1/{L}$^2$]"
-    mu = case.material.mu
+    mu = case.material.mu  # type: ignore[attr-defined]  # neo-Hookean, GOH: both have mu
     if mechanics:
         # floors from the stress scale mu: 1e-3 mu for stresses, 1e-6 mu for energy densities
-        figures = [ProfileFigure("profile.png", coord, xlabel, {r"$\Psi$": "Psi"},
+        figures: list[Figure] = [ProfileFigure("profile.png", coord, xlabel, {r"$\Psi$": "Psi"},
                                  rf"$\Psi$ [{stress}]", f"{title}: energy and incompatibility",
                                  right=curl, right_label=curl_label, floor=1e-6 * mu)]
     else:
@@ -307,7 +314,8 @@ def _figures(scene, coord, case, mechanics):
     return figures
 
 
-def _incompatibility(scene, case, problem):
+def _incompatibility(scene: PrescribedScene, case: PrescribedCase, problem: GrowthMechanics | None
+                     ) -> tuple[Incompatibility, dict[str, Any], dict[str, float]]:
     """The measured incompatibility
     (:class:`~ngincompat.incompatibility.measure.Incompatibility`), its fields, and G's
     checks: the closed form where there is one, and G from the elastic deformation (eq. 12)
@@ -342,5 +350,5 @@ def _incompatibility(scene, case, problem):
     return measured, fields, metrics
 
 
-def _axis(start, end):
+def _axis(start: Sequence[float], end: Sequence[float]) -> int:
     return int(np.argmax(np.abs(np.asarray(end, float) - np.asarray(start, float))))

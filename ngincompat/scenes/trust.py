@@ -11,7 +11,11 @@ A run past a threshold still writes its results, with one line per indicator in
 """
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
+
+from ngincompat.workflow.results import Results
 
 #: Newton iterations per converged load or time step, on average over a run, above which the
 #: solve is flagged: well above what runs at the scenes' defaults take, well below a locking
@@ -28,7 +32,7 @@ class Indicator:
     limit: float
     meaning: str
 
-    def check(self, metrics):
+    def check(self, metrics: Mapping[str, float]) -> str | None:
         """The warning line, or None when the metric is within its limit (or not reported)."""
         value = metrics.get(self.metric)
         if value is None or not math.isfinite(value) or value <= self.limit:
@@ -36,7 +40,7 @@ class Indicator:
         return f"{self.metric} = {value:.3g} > {self.limit:g}: {self.meaning}"
 
 
-def solver_effort(results, limit=NEWTON_PER_STEP):
+def solver_effort(results: Results, limit: float = NEWTON_PER_STEP) -> str | None:
     """A warning when the run's converged steps took more than ``limit`` Newton iterations
     each on average (None otherwise)."""
     steps = [s for h in results.solver.values() for s in h.steps if s.converged]
@@ -50,7 +54,7 @@ def solver_effort(results, limit=NEWTON_PER_STEP):
             "formulation=mixed where the scene has it")
 
 
-def warnings(scene, results):
+def warnings(scene: Any, results: Results) -> list[str]:
     """Every warning of ``scene``'s indicators, its own checks and the solver effort."""
     found = [indicator.check(results.metrics) for indicator in scene.indicators]
     found += [*scene.trust(results), solver_effort(results)]

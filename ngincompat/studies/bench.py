@@ -17,10 +17,15 @@ the times are those of the computation. Every table is written by
 """
 
 import itertools
+import os
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any, Literal
 
 from ngincompat.scenes import CubeScene, get_scene
+from ngincompat.scenes.base import Scene
 from ngincompat.workflow import plots, tables
+from ngincompat.workflow.results import Results
 
 #: Converged strain energy of the cube [N mm]: order 6 on 4^3 hexahedra, 2.195334e-7, which
 #: agrees with the independent reference 2.19533e-7.
@@ -39,12 +44,14 @@ UNITS = {"maxh": CubeScene.units["length"], "solve_s": "s",
 RUNS = "runs"
 
 
-def _run(scene, out, label):
+def _run(scene: Scene, out: str | os.PathLike | None, label: str) -> Results:
     """Run ``scene`` into ``out/runs/label`` (nowhere without ``out``); returns its Results."""
     return scene.run(None if out is None else Path(out) / RUNS / label, overwrite=True)
 
 
-def cube_table(maxhs, orders, out=None, elements="hex"):
+def cube_table(maxhs: Iterable[float], orders: Iterable[int],
+               out: str | os.PathLike | None = None,
+               elements: Literal["hex", "tet"] = "hex") -> list[dict[str, Any]]:
     """Run the cube for every (maxh, order), coarsest mesh first, on ``elements`` (the
     paper's hexahedra by default; the scene's default is tetrahedra).
 
@@ -66,8 +73,9 @@ def cube_table(maxhs, orders, out=None, elements="hex"):
     """
     rows = []
     for maxh, order in itertools.product(sorted(maxhs, reverse=True), sorted(orders)):
-        r = _run(CubeScene(maxh=maxh, order=order, elements=elements, outputs="none"), out,
-                 f"cube_h{maxh:g}_p{order}")
+        r = _run(CubeScene(maxh=maxh, order=order, elements=elements,
+                           outputs="none"),  # type: ignore[arg-type]  # the scene converts it
+                 out, f"cube_h{maxh:g}_p{order}")
         rows.append({"maxh": maxh, "order": order, "ndof": r.mesh.ndof,
                      "newton": r.newton_iterations, "solve_s": r.solve_seconds,
                      "strain_energy": r.metrics["strain_energy"],
@@ -76,7 +84,9 @@ def cube_table(maxhs, orders, out=None, elements="hex"):
     return rows
 
 
-def cube_main(maxhs=(0.5, 0.25), orders=(2, 3, 4, 5), out=None, elements="hex"):
+def cube_main(maxhs: Iterable[float] = (0.5, 0.25), orders: Iterable[int] = (2, 3, 4, 5),
+              out: str | os.PathLike | None = None,
+              elements: Literal["hex", "tet"] = "hex") -> list[str]:
     """``ngincompat bench cube``: run :func:`cube_table`; returns the lines to print.
 
     With ``out`` the table is written as ``bench.md``, ``bench.csv`` and ``bench.json``.
@@ -96,7 +106,7 @@ def cube_main(maxhs=(0.5, 0.25), orders=(2, 3, 4, 5), out=None, elements="hex"):
 #: hexahedral cube with every lever for speed: a quarter model (two mirror planes) and the
 #: factorised tangent reused (the scenes' default); "cube-tet" the cube's default family,
 #: tetrahedra on the symmetric rule from order 6 (``quadrature=auto``), tangent reused.
-ACCURACY = {
+ACCURACY: dict[str, tuple[str, list[dict[str, Any]]]] = {
     "cube": ("cube", [dict(maxh=h, order=p, elements="hex", reuse_tangent=False)
                       for h in (1.0, 0.5, 0.25) for p in (2, 3, 4, 5)]),
     "cube-fast": ("cube", [dict(maxh=h, order=p, elements="hex", model="quarter",
@@ -108,7 +118,7 @@ ACCURACY = {
     "cylinder": ("cylinder", [dict(maxh=h, order=p) for h in (0.5, 0.25) for p in (2, 3, 4)]),
 }
 #: The corner of :data:`ACCURACY` that ``--quick`` runs (seconds; what the tests run).
-QUICK_ACCURACY = {
+QUICK_ACCURACY: dict[str, tuple[str, list[dict[str, Any]]]] = {
     "cube": ("cube", [dict(maxh=1.0, order=2, elements="hex", reuse_tangent=False),
                       dict(maxh=1.0, order=3, elements="hex", reuse_tangent=False)]),
     "cube-fast": ("cube", [dict(maxh=0.5, order=3, elements="hex", model="quarter",
@@ -122,7 +132,7 @@ ACCURACY_COLUMNS = ("case", "maxh", "order", "ndof", "newton", "tangents", "solv
 CHEAPEST_COLUMNS = ("case", "target", "setting", "solve_s")
 
 
-def error(scene, results):
+def error(scene: str, results: Results) -> float:
     """The error measure of a scene's :class:`~ngincompat.workflow.results.Results`: relative energy
     error against :data:`CUBE_ENERGY` (cube), largest Cauchy-stress error against the 1-D
     radial solution relative to the largest stress (hemisphere), strain energy over
@@ -136,7 +146,9 @@ def error(scene, results):
     return m["strain_energy"] / (p["mu"] * p["area"] * p["length"] * (p["a"] * p["length"]) ** 2)
 
 
-def accuracy_table(out=None, study=None):
+def accuracy_table(out: str | os.PathLike | None = None,
+                   study: Mapping[str, tuple[str, list[dict[str, Any]]]] | None = None
+                   ) -> list[dict[str, Any]]:
     """Run every setting of the accuracy ``study`` (default :data:`ACCURACY`); returns rows
     with the columns :data:`ACCURACY_COLUMNS`. With ``out`` each run writes its results.json
     into ``out/runs/<case>_<settings>``."""
@@ -145,7 +157,8 @@ def accuracy_table(out=None, study=None):
         for settings in grid:
             label = "_".join(f"{k}{v}" for k, v in settings.items()
                              if k in ("maxh", "centre_maxh", "order"))
-            r = _run(get_scene(name)(outputs="none", **settings), out, f"{case}_{label}")
+            r = _run(get_scene(name)(outputs="none",  # type: ignore[arg-type]  # converted
+                                     **settings), out, f"{case}_{label}")
             rows.append({"case": case, "maxh": settings["maxh"], "order": settings["order"],
                          "ndof": r.mesh.ndof, "newton": r.newton_iterations,
                          "tangents": sum(h.tangent_assemblies for h in r.solver.values()),
@@ -153,13 +166,14 @@ def accuracy_table(out=None, study=None):
     return rows
 
 
-def cheapest(rows, case, target):
+def cheapest(rows: Sequence[dict[str, Any]], case: str,
+             target: float) -> dict[str, Any] | None:
     """The fastest row of ``case`` whose error is at most ``target``, or None."""
     ok = [r for r in rows if r["case"] == case and r["error"] <= target]
     return min(ok, key=lambda r: r["solve_s"]) if ok else None
 
 
-def cheapest_rows(rows):
+def cheapest_rows(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """For every case and target of :data:`TARGETS`: the cheapest setting that meets it."""
     table = []
     for case in dict.fromkeys(r["case"] for r in rows):
@@ -172,7 +186,7 @@ def cheapest_rows(rows):
     return table
 
 
-def accuracy_main(out=None, quick=False):
+def accuracy_main(out: str | os.PathLike | None = None, quick: bool = False) -> list[str]:
     """``ngincompat bench accuracy``: run the study (``quick``: :data:`QUICK_ACCURACY`);
     returns the lines to print.
 

@@ -50,12 +50,17 @@ import threading
 import time
 import traceback
 from collections import Counter
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import IO, TYPE_CHECKING, Any
 
-from ngincompat.parameters import _Float, _Floats, _Int, _WordsOrFloats
+from ngincompat.parameters import _Float, _Floats, _Int, _Kind, _WordsOrFloats
 from ngincompat.progress import SILENT, Progress
 from ngincompat.workflow import tables
+
+if TYPE_CHECKING:     # the scenes are imported where a try is made (drive() runs without them)
+    from ngincompat.scenes.base import Scene
 
 #: Huge, non-finite, wrong, and tiny: a subnormal, and positive values far below any physical
 #: floor (each passed the "(0, x]" ranges once and broke deep in meshing, solving or
@@ -159,7 +164,7 @@ class Try:
     message: str = ""
 
 
-def boundary_values(kind):
+def boundary_values(kind: _Kind) -> list[str]:
     """The ends of a number kind's declared range as texts: each closed end and the nearest
     number past it, each open end and the nearest number inside it (for a float; for an
     integer, the end and the next integer past it)."""
@@ -186,14 +191,14 @@ def boundary_values(kind):
     return texts
 
 
-def numeric_parameters(cls):
+def numeric_parameters(cls: type[Scene]) -> list[str]:
     """The keys of a scene's numeric parameters (numbers, tuples of numbers, words or
     numbers)."""
     return [key for key, p in cls.declarations().items()
             if isinstance(p.kind, (_Float, _Int, _Floats, _WordsOrFloats))]
 
 
-def parameter_tries(scene, key, folder):
+def parameter_tries(scene: str, key: str, folder: str | os.PathLike) -> list[Try]:
     """The tries of one parameter of ``scene``, their runs in ``folder``/<k>."""
     from ngincompat.scenes import SCENES
 
@@ -212,7 +217,7 @@ def parameter_tries(scene, key, folder):
             for k, value in enumerate(values)]
 
 
-def environment_tries(folder):
+def environment_tries(folder: str | os.PathLike) -> list[Try]:
     """A try per value of each variable of :data:`ENVIRONMENT`."""
     return [Try("environment", name, value,
                 [*ENVIRONMENT_COMMAND, "--out", str(Path(folder) / f"{name}-{k}"), "-q"],
@@ -220,7 +225,7 @@ def environment_tries(folder):
             for name, values in ENVIRONMENT.items() for k, value in enumerate(values)]
 
 
-def paper_tries(folder):
+def paper_tries(folder: str | os.PathLike) -> list[Try]:
     """A try per value of each option of :data:`PAPER_OPTIONS`."""
     tries = []
     for option, values in PAPER_OPTIONS.items():
@@ -232,7 +237,7 @@ def paper_tries(folder):
     return tries
 
 
-def drive():
+def drive() -> None:
     """The process that runs a list of tries (JSON on its standard input: ``entry``, the
     command line's main function as "module:name", and ``tries``, a list of argument lists):
     for each, a line "started", the function with its standard output and error captured,
@@ -245,7 +250,7 @@ def drive():
     module, _, name = given["entry"].partition(":")
     main = getattr(importlib.import_module(module), name)
 
-    def record(**fields):
+    def record(**fields: Any) -> None:
         records.write(json.dumps(fields) + "\n")
         records.flush()
 
@@ -277,18 +282,18 @@ class _Heartbeat(io.StringIO):
     """A captured standard error that calls ``beat`` on a write, at most every :data:`BEAT`
     seconds."""
 
-    def __init__(self, beat):
+    def __init__(self, beat: Callable[..., object]) -> None:
         super().__init__()
         self.beat, self.last = beat, -math.inf
 
-    def write(self, text):
+    def write(self, text: str) -> int:
         if time.perf_counter() - self.last >= BEAT:
             self.last = time.perf_counter()
             self.beat()
         return super().write(text)
 
 
-def _classify(record, out):
+def _classify(record: Mapping[str, Any], out: str | None) -> str:
     """The outcome of a try from its exit code, whether it printed a traceback, and the
     metrics of its results.json in ``out`` (each a finite number after exit 0)."""
     if record["traceback"]:
@@ -301,7 +306,7 @@ def _classify(record, out):
     return outcome
 
 
-def _finite(value):
+def _finite(value: object) -> bool:
     """A metric's value is a finite number (a list: each of its items)."""
     if isinstance(value, list):
         return all(_finite(v) for v in value)
@@ -309,11 +314,11 @@ def _finite(value):
             and math.isfinite(value)) or isinstance(value, (bool, str))
 
 
-def _out_of(args):
+def _out_of(args: Sequence[str]) -> str | None:
     return args[args.index("--out") + 1] if "--out" in args else None
 
 
-def run_in_one_process(tries, limit=LIMIT, entry=ENTRY):
+def run_in_one_process(tries: Sequence[Try], limit: float = LIMIT, entry: str = ENTRY) -> None:
     """Run ``tries`` (of one parameter, no environment of their own) with :func:`drive` on
     the command line's ``entry`` ("module:function"), each try's outcome set; a try that
     hangs or crashes the process is recorded, and the process started again after it."""
@@ -323,8 +328,10 @@ def run_in_one_process(tries, limit=LIMIT, entry=ENTRY):
             [sys.executable, "-c", "from ngincompat.studies.corpus import drive; drive()"],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
             text=True, start_new_session=True)
-        process.stdin.write(json.dumps({"entry": entry, "tries": [t.args for t in pending]}))
-        process.stdin.close()
+        # stdin: a pipe (stdin=PIPE)
+        process.stdin.write(  # type: ignore[union-attr]
+            json.dumps({"entry": entry, "tries": [t.args for t in pending]}))
+        process.stdin.close()  # type: ignore[union-attr]
         done = _follow(process, pending, limit)
         if not done:        # the driver itself did not start: no try can run
             _set(pending[0], "other", process.returncode, 0.0, "the driver ended at its start")
@@ -332,11 +339,12 @@ def run_in_one_process(tries, limit=LIMIT, entry=ENTRY):
         pending = pending[done:]
 
 
-def _follow(process, tries, limit):
+def _follow(process: subprocess.Popen, tries: Sequence[Try], limit: float) -> int:
     """Read the driver's lines, setting each try's outcome; returns how many tries it ended
     (a try it did not end, having hung or crashed, counted with its outcome)."""
-    lines = queue.Queue()
-    threading.Thread(target=lambda: [*map(lines.put, process.stdout), lines.put("")],
+    lines: queue.Queue[str] = queue.Queue()
+    threading.Thread(target=lambda: [*map(lines.put, process.stdout),  # type: ignore[arg-type]
+                                     lines.put("")],  # type: ignore[func-returns-value]
                      daemon=True).start()
     current, started, ended = None, time.perf_counter(), 0
     alive = started
@@ -349,12 +357,14 @@ def _follow(process, tries, limit):
             process.wait()
             quiet = time.perf_counter() - alive
             if quiet < min(QUIET, limit / 2):
-                _set(tries[current], "time limit", None, limit,
+                # current: a try's index (the wait has a timeout only while one runs)
+                _set(tries[current],  # type: ignore[call-overload, index]
+                     "time limit", None, limit,
                      f"still reporting progress at {limit:g} s (last {quiet:.0f} s before)")
             else:
-                _set(tries[current], "hang", None, limit,
+                _set(tries[current], "hang", None, limit,  # type: ignore[call-overload, index]
                      f"no end within {limit:g} s, no progress for {quiet:.0f} s")
-            return current + 1
+            return current + 1  # type: ignore[operator]
         if not line:
             code = process.wait()
             if current is None:
@@ -378,12 +388,12 @@ def _follow(process, tries, limit):
         current, ended = None, record["k"] + 1
 
 
-def _set(attempt, outcome, code, seconds, message):
+def _set(attempt: Try, outcome: str, code: int | None, seconds: float, message: str) -> None:
     attempt.outcome, attempt.code, attempt.seconds, attempt.message = (
         outcome, code, round(seconds, 2), message)
 
 
-def run_alone(attempt, limit=LIMIT, interrupt=None):
+def run_alone(attempt: Try, limit: float = LIMIT, interrupt: Interrupt | None = None) -> Try:
     """Run one try in a process of its own (the command line, :data:`ALONE`, its ``env`` on
     top of this process's), with ``interrupt`` (an :class:`Interrupt`) sent to its process
     group; sets its outcome."""
@@ -415,13 +425,13 @@ def run_alone(attempt, limit=LIMIT, interrupt=None):
     return attempt
 
 
-def _signal_when(process, interrupt, err):
+def _signal_when(process: subprocess.Popen, interrupt: Interrupt | None, err: IO[str]) -> None:
     """Copy the process's standard error into ``err`` until a line contains
     ``interrupt.when``, then send its signal to the process group ``interrupt.delay``
     seconds later (nothing without ``interrupt``)."""
     if interrupt is None:
         return
-    for line in process.stderr:
+    for line in process.stderr:  # type: ignore[union-attr]  # stderr=PIPE
         err.write(line)
         if interrupt.when in line:
             time.sleep(interrupt.delay)
@@ -429,14 +439,15 @@ def _signal_when(process, interrupt, err):
             return
 
 
-def interrupt_tries(folder):
+def interrupt_tries(folder: str | os.PathLike) -> list[tuple[Try, Interrupt]]:
     """A try per :data:`INTERRUPTS` entry, with the interrupt it receives."""
     return [(Try("paper", "interrupt", i.name,
                  [*i.args, "--out", str(Path(folder) / f"interrupt-{k}")]), i)
             for k, i in enumerate(INTERRUPTS)]
 
 
-def run_corpus(folder, quick=False, limit=LIMIT, jobs=1, progress=SILENT):
+def run_corpus(folder: str | os.PathLike, quick: bool = False, limit: float = LIMIT, jobs: int = 1,
+               progress: Progress = SILENT) -> list[Try]:
     """Every try of the corpus (``quick``: :data:`QUICK_TRIES` and the environment's first
     variable), their runs in ``folder``, the parameters' tries ``jobs`` processes side by
     side; returns the tries with their outcomes."""
@@ -446,7 +457,7 @@ def run_corpus(folder, quick=False, limit=LIMIT, jobs=1, progress=SILENT):
     groups = (QUICK_TRIES if quick else
               [(scene, key) for scene, cls in SCENES.items() for key in numeric_parameters(cls)])
 
-    def one(group):
+    def one(group: tuple[str, str]) -> list[Try]:
         scene, key = group
         batch = parameter_tries(scene, key, folder / scene)
         run_in_one_process(batch, limit)
@@ -470,12 +481,12 @@ def run_corpus(folder, quick=False, limit=LIMIT, jobs=1, progress=SILENT):
     return tries
 
 
-def _counts_text(tries):
+def _counts_text(tries: Iterable[Try]) -> str:
     counts = Counter(t.outcome for t in tries)
     return ", ".join(f"{counts[o]} {o}" for o in OUTCOMES if counts[o])
 
 
-def count_rows(tries):
+def count_rows(tries: Sequence[Try]) -> list[dict[str, Any]]:
     """One row per group (scene, "environment", "paper") and a total: the tries and how
     many ended in each outcome."""
     groups = list(dict.fromkeys(t.group for t in tries))
@@ -494,7 +505,8 @@ COUNT_COLUMNS = ("group", "inputs", "tries", *OUTCOMES)
 TRY_COLUMNS = ("group", "key", "value", "outcome", "code", "seconds", "message")
 
 
-def main(quick=False, out=None, jobs=1, progress=None):
+def main(quick: bool = False, out: str | os.PathLike | None = None, jobs: int = 1,
+         progress: Progress | None = None) -> list[str]:
     """``ngincompat bench inputs``: :func:`run_corpus` (its runs in ``out``/runs, emptied
     first, or in a scratch folder; ``jobs`` processes side by side); returns the lines to
     print. With ``out`` the counts are written as ``corpus``, every try as ``tries`` and the

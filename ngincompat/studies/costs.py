@@ -19,7 +19,9 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Collection, Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ngincompat.errors import ParameterError
 from ngincompat.parameters import PRESETS
@@ -27,6 +29,9 @@ from ngincompat.progress import SILENT, Progress
 from ngincompat.scenes import SCENES
 from ngincompat.studies.bench import CUBE_ENERGY
 from ngincompat.workflow import io, tables
+
+if TYPE_CHECKING:     # the resource usage os.wait4 returns
+    import resource
 
 #: The metric whose error against the finest run measures a preset's accuracy, per scene:
 #: the strain energy of the prescribed-growth scenes, the rotation rate the cylinder's growth
@@ -47,7 +52,9 @@ UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB"}
 TIMEOUT = 3600.0
 
 
-def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None, source=None):
+def measure(scene: str, preset: str, timeout: float = TIMEOUT, threads: int = 1,
+            settings: Mapping[str, Any] | None = None, source: str | os.PathLike | None = None
+            ) -> tuple[dict[str, Any] | None, dict[str, Any]]:
     """Run ``scene`` at ``preset`` (and the parameters ``settings``, name -> value) in a
     fresh process; returns its results.json as a dict (None when the run wrote none) and the
     row's cost columns (with ``status`` when the run failed or was stopped after ``timeout``
@@ -70,7 +77,7 @@ def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None, source=Non
                                     env={**os.environ, "NGS_NUM_THREADS": str(threads)},
                                     cwd=source)
             code, usage = _wait(proc, start + timeout)
-        cost = {"wall_s": round(time.perf_counter() - start, 2),
+        cost: dict[str, Any] = {"wall_s": round(time.perf_counter() - start, 2),
                 "cpu_s": round(usage.ru_utime + usage.ru_stime, 2),
                 "peak_mb": round(usage.ru_maxrss / 1024), "load": round(load, 1)}
         record = io.read_json(out / "results.json") if (out / "results.json").is_file() else None
@@ -82,7 +89,7 @@ def measure(scene, preset, timeout=TIMEOUT, threads=1, settings=None, source=Non
         return record, cost
 
 
-def _wait(proc, deadline):
+def _wait(proc: subprocess.Popen, deadline: float) -> tuple[int | None, resource.struct_rusage]:
     """Wait for ``proc`` until the ``deadline`` (perf_counter); returns its exit code (None
     when it was killed at the deadline) and its resource usage (``os.wait4``: that process
     alone, with its peak resident set)."""
@@ -99,7 +106,8 @@ def _wait(proc, deadline):
         time.sleep(0.05)
 
 
-def table(scenes=None, presets=None, timeout=TIMEOUT, progress=SILENT):
+def table(scenes: Iterable[str] | None = None, presets: Collection[str] | None = None,
+          timeout: float = TIMEOUT, progress: Progress = SILENT) -> list[dict[str, Any]]:
     """Measure every scene of ``scenes`` (default: all) at each of its presets among
     ``presets`` (default: all of the scene's), cheapest preset first; returns the rows
     (columns :data:`COLUMNS`).
@@ -130,7 +138,8 @@ def table(scenes=None, presets=None, timeout=TIMEOUT, progress=SILENT):
     return rows
 
 
-def _row(scene, preset, record, cost):
+def _row(scene: str, preset: str, record: Mapping[str, Any] | None,
+         cost: Mapping[str, Any]) -> dict[str, Any]:
     """The row of one run (its error is filled in by :func:`_errors`)."""
     metric = ACCURACY_METRIC[scene]
     row = {"scene": scene, "preset": preset, "status": "done", **cost, "metric": metric}
@@ -141,7 +150,7 @@ def _row(scene, preset, record, cost):
     return row
 
 
-def _errors(rows, records):
+def _errors(rows: Sequence[dict[str, Any]], records: Mapping[str, Any] | None) -> None:
     """|value - reference| / |reference| of each row of one scene: the closed form of its
     metric (from ``records``, preset -> results.json), else the value of the finest preset
     that ran (the last)."""
@@ -151,15 +160,18 @@ def _errors(rows, records):
         if row.get("value") is None:
             continue
         if scene in CLOSED_FORMS:
-            reference = CLOSED_FORMS[scene](records[row["preset"]]["metrics"])
+            # records: given for a scene with a closed form (main passes None for the others)
+            reference = CLOSED_FORMS[scene](
+                records[row["preset"]]["metrics"])  # type: ignore[index]
             row["reference"] = "closed form"
         else:
-            reference, row["reference"] = finest["value"], finest["preset"]
+            # finest: a row with a value, as this one is
+            reference, row["reference"] = finest["value"], finest["preset"]  # type: ignore[index]
         if reference:
             row["error"] = abs(row["value"] - reference) / abs(reference)
 
 
-def merged(old, new):
+def merged(old: Iterable[dict[str, Any]], new: Iterable[dict[str, Any]]) -> list[dict[str, Any]]:
     """The rows of an earlier table ``old`` with those of ``new`` in place of the same
     (scene, preset), in the order of the scenes and presets."""
     measured = {(r["scene"], r["preset"]) for r in new}
@@ -168,7 +180,8 @@ def merged(old, new):
     return sorted(rows, key=lambda r: (scenes.index(r["scene"]), PRESETS.index(r["preset"])))
 
 
-def main(scenes=None, presets=None, out=None, timeout=TIMEOUT):
+def main(scenes: Iterable[str] | None = None, presets: Collection[str] | None = None,
+         out: str | os.PathLike | None = None, timeout: float = TIMEOUT) -> list[str]:
     """``ngincompat bench scenes``: :func:`table`; returns the lines to print. With ``out``
     the table is also written as ``scenes.md``, ``.csv``, ``.json``, keeping the rows of an
     earlier table there that this run did not measure (so one scene can be measured again

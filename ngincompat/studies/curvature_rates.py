@@ -18,9 +18,13 @@ geometry), so h halves exactly; rates are log2 of the ratio of successive errors
 ``ngincompat bench curvature [--quick] [--out DIR]`` runs the study (:func:`main`).
 """
 
+import os
 import time
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
+import netgen.meshing
 import ngsolve as ngs
 import numpy as np
 
@@ -38,13 +42,14 @@ COLUMNS = ("body", "k", "level", "ne", "pairing", "lift", "elementwise", "second
 UNITS = {"pairing": "-", "lift": "-", "elementwise": "-",
          "seconds": "s"}
 #: What ``--quick`` runs (seconds): the coarse hemisphere for k = 1, 2, no refinement.
-QUICK = {"names": ("hemisphere",), "orders": (1, 2), "levels": 1}
+QUICK: dict[str, Any] = {"names": ("hemisphere",), "orders": (1, 2), "levels": 1}
 #: Published rates in h for Regge degree k (distributional Einstein in H^-2, element-wise
 #: curvature in L2).
 PUBLISHED = {"pairing": lambda k: k + 1, "elementwise": lambda k: k - 1}
 
 
-def bodies():
+def bodies() -> dict[str, tuple[netgen.meshing.Mesh, ngs.CoefficientFunction,
+                                ngs.CoefficientFunction]]:
     """name -> (netgen mesh of the body, growth tensor Fg, test-field bubble vanishing on the
     boundary)."""
     X = ngs.CF((ngs.x, ngs.y, ngs.z))
@@ -59,7 +64,8 @@ def bodies():
     }
 
 
-def errors(mesh, Fg, bubble, k):
+def errors(mesh: ngs.Mesh, Fg: ngs.CoefficientFunction, bubble: ngs.CoefficientFunction,
+           k: int) -> dict[str, float]:
     """The three relative errors of the Regge path of degree k against the exact path."""
     exact = cv.growth_curvature(Fg)
     g = exact.metric
@@ -71,7 +77,7 @@ def errors(mesh, Fg, bubble, k):
     pairing = abs(regge.DistributionalEinstein.of(gh).apply(phi) - reference) / abs(reference)
     discrete = regge.discrete_curvature(g, mesh, k)
 
-    def rel(a):
+    def rel(a: ngs.CoefficientFunction) -> float:
         d = a - exact.einstein
         return (ngs.Integrate(ngs.InnerProduct(d, d), mesh, order=2 * k + 4)
                 / ngs.Integrate(ngs.InnerProduct(exact.einstein, exact.einstein), mesh,
@@ -81,7 +87,8 @@ def errors(mesh, Fg, bubble, k):
             "elementwise": float(rel(discrete.einstein_elementwise))}
 
 
-def rate_table(names=("hemisphere", "disc"), orders=(1, 2, 3), levels=2):
+def rate_table(names: Iterable[str] = ("hemisphere", "disc"), orders: Sequence[int] = (1, 2, 3),
+               levels: int = 2) -> list[dict[str, Any]]:
     """One row per (body, k, refinement level), coarsest first, with the columns
     :data:`COLUMNS`; the meshes are curved to degree 2."""
     config.ensure_heap(10**8)
@@ -102,7 +109,8 @@ def rate_table(names=("hemisphere", "disc"), orders=(1, 2, 3), levels=2):
     return rows
 
 
-def rates(rows, measure):
+def rates(rows: Sequence[Mapping[str, Any]],
+          measure: str) -> dict[tuple[str, int], list[float]]:
     """(body, k) -> the rates of ``measure`` between successive meshes."""
     out = {}
     for body in dict.fromkeys(r["body"] for r in rows):
@@ -114,7 +122,7 @@ def rates(rows, measure):
     return out
 
 
-def rate_summary(rows):
+def rate_summary(rows: Sequence[Mapping[str, Any]]) -> list[dict[str, Any]]:
     """Rows (body, k, measure, measured rates, published rate) for the table of rates
     (``docs/measurements/curvature.md``)."""
     summary = []
@@ -127,7 +135,8 @@ def rate_summary(rows):
     return summary
 
 
-def main(out=None, quick=False, names=None, orders=None):
+def main(out: str | os.PathLike | None = None, quick: bool = False,
+         names: Iterable[str] | None = None, orders: Iterable[int] | None = None) -> list[str]:
     """``ngincompat bench curvature``: the error of the discrete path against its cost, and
     the rates against the published ones; returns the lines to print. With ``out``: the
     tables ``curvature_rates`` and ``curvature_rate_summary`` (markdown, CSV, JSON) and one

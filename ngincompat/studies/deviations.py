@@ -13,7 +13,9 @@ otherwise said to be unmeasured.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from ngincompat.scenes import (
     AtrophyScene,
@@ -24,6 +26,7 @@ from ngincompat.scenes import (
     HemisphereScene,
     SkinExpansionScene,
 )
+from ngincompat.scenes.base import Scene
 
 
 @dataclass(frozen=True)
@@ -31,7 +34,7 @@ class Deviation:
     """One parameter of one section where the default is not the paper's."""
 
     section: str
-    scene: type
+    scene: type[Scene]
     parameter: str
     paper: str
     reason: str
@@ -44,7 +47,7 @@ class Deviation:
         """The parameters of the entry (none for a fixed modelling choice)."""
         return [] if self.choice else self.parameter.split(", ")
 
-    def _unit(self, name) -> str:
+    def _unit(self, name: str) -> str:
         unit = self.scene.parameters()[name][2]
         unit = self.scene.unit_of(unit) if unit else ""
         return f" {unit}" if unit else ""
@@ -56,7 +59,7 @@ class Deviation:
             f"{name} = {self.scene.parameters()[name][0]}{self._unit(name)}"
             for name in self.names)
 
-    def as_run(self, runs) -> str:
+    def as_run(self, runs: Sequence[Mapping[str, Any]]) -> str:
         """The values of ``parameter`` in ``runs`` (the parameter dicts of this entry's
         scene's runs), each followed by "(default ...)" where it is not the default and
         listing the distinct values where the runs differ (variants); the defaults
@@ -75,7 +78,7 @@ class Deviation:
         return ", ".join(values)
 
 
-def _text(value) -> str:
+def _text(value: object) -> str:
     """A parameter's value as the table shows it: a list read back from results.json as the
     tuple it was."""
     return str(tuple(value) if isinstance(value, list) else value)
@@ -230,7 +233,7 @@ DEVIATIONS = (
 )
 
 
-def rows(runs=None):
+def rows(runs: Mapping[str, Sequence[Mapping[str, Any]]] | None = None) -> list[dict[str, str]]:
     """The table as dicts: section, scene, parameter, paper, ours, reason, effect. ``ours``
     is the defaults, or with ``runs`` (scene name -> the parameter dicts of its runs) the
     values as run (:meth:`Deviation.as_run`)."""

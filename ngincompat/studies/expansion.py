@@ -11,8 +11,12 @@ stress after deflation (clamped, then released). An expander whose run fails is 
 its status; the others still run.
 """
 
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
 from geometries import FOOTPRINTS
-from ngincompat.progress import SILENT
+from ngincompat.progress import SILENT, Progress
 from ngincompat.scenes.skin import SkinExpansionScene
 from ngincompat.studies.variants import COMMON, run_variants, write_summary
 from ngincompat.workflow import tables
@@ -30,7 +34,9 @@ UNUSED = {"pressure": METRICS[2:7], "contact": METRICS[1:2]}
 UNITS = {"seconds": "s", **{k: SkinExpansionScene.metric_unit(k) for k in METRICS}}
 
 
-def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, **settings):
+def run_all(out: str | os.PathLike | None = None, footprints: Iterable[str] = FOOTPRINTS,
+            progress: Progress = SILENT, overwrite: bool = False,
+            **settings: Any) -> list[dict[str, Any]]:
     """Run every expander (into ``out/<footprint>`` when ``out`` is given); returns the rows.
 
     ``settings`` are skin-scene parameters by name (strings are converted as on the command
@@ -48,6 +54,6 @@ def run_all(out=None, footprints=FOOTPRINTS, progress=SILENT, overwrite=False, *
     return rows
 
 
-def summary_markdown(rows):
+def summary_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """The summary table in markdown, with units (the columns of the rows' model)."""
     return tables.markdown(rows, [c for c in COLUMNS if rows and c in rows[0]], UNITS)

@@ -12,12 +12,15 @@ disc's fiber families) and Fig. 7 (the folding fields of the three axon fields).
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 import numpy as np
 
-from ngincompat.studies.sections import SECTIONS
+from ngincompat.studies.sections import SECTIONS, Section
 from ngincompat.workflow import plots, surface
+from ngincompat.workflow.results import Results
 
 #: Per scene: the paper's figure number, the camera (elevation, azimuth), and the panels as
 #: (title with {L} length and {S} stress unit, field, signed, displacement field or None).
@@ -59,11 +62,11 @@ FIELDS = {
 }
 
 
-def _scene(label):
+def _scene(label: str) -> str:
     return label.split("-")[0]
 
 
-def case_files(label):
+def case_files(label: str) -> list[str]:
     """The field figure of a case (none for a scene without one, nor for the hemisphere's
     symmetry case: a check, shown against its reference in ``fig2_radial_check.png``)."""
     scene = _scene(label)
@@ -72,14 +75,14 @@ def case_files(label):
     return [f"fig{FIELDS[scene][0]}_{label}.png"]
 
 
-def _vector(key):
+def _vector(key: str) -> str:
     """The vector field whose norm the field ``key`` is ("|b_e3|" -> "b_e3"; "" for any
     other): a panel of a Burgers vector's norm draws the vectors as arrows, as the paper
     draws them (Figs. 2b-c, 3b, 6b)."""
     return key[1:-1] if key.startswith("|b") and key.endswith("|") else ""
 
 
-def case_figure(out, label, results, resolution):
+def case_figure(out: str | os.PathLike, label: str, results: Results, resolution: str) -> None:
     """Draw the field figure of the case ``label`` from its NGSolve fields, titled with the
     ``resolution`` it ran at (nothing for a scene without one, or a run without fields)."""
     scene = _scene(label)
@@ -104,20 +107,21 @@ def case_figure(out, label, results, resolution):
     plots.save(fig, Path(out) / case_files(label)[0])
 
 
-def section_files(number):
+def section_files(number: str) -> list[str]:
     """The comparison figures of a section."""
     return {"3.2": ["fig2g_burgers.png", "fig2h_curl.png", "fig2_radial_check.png"],
             "3.3": ["fig3e_disc_stress.png"],
             "3.7": ["fig7_folding.png", "fig7_onset.png"]}.get(number, [])
 
 
-def all_files(labels):
+def all_files(labels: Iterable[str]) -> list[str]:
     """Every figure the job may draw for the cases ``labels``."""
     return ([f for label in labels for f in case_files(label)]
             + [f for s in SECTIONS for f in section_files(s.number)])
 
 
-def section_figures(out, section, results):
+def section_figures(out: str | os.PathLike, section: Section,
+                    results: Mapping[str, Results]) -> None:
     """Draw the comparison figures of ``section`` from ``results`` (label -> Results) when
     every run they need finished."""
     out = Path(out)
@@ -134,7 +138,7 @@ def section_figures(out, section, results):
 PROFILES = ("linear", "concave", "convex")
 
 
-def _hemisphere(out, results):
+def _hemisphere(out: Path, results: Mapping[str, Results]) -> None:
     """Fig. 2g, 2h: |b| meridional and Curl Fg : Curl Fg against R per profile; and the
     symmetry case's stresses beside the 1-D radial solution it is checked against."""
     hemi = {p: results[f"hemisphere-{p}"].profile("line") for p in PROFILES}
@@ -152,7 +156,7 @@ def _hemisphere(out, results):
         _radial_check(out, sym)
 
 
-def _radial_check(out, results):
+def _radial_check(out: Path, results: Results) -> None:
     """The symmetry case's stresses along its ray beside the 1-D radial solution
     (:mod:`ngincompat.references.radial`) they are checked against."""
     from ngincompat.references.radial import solve_radial
@@ -161,7 +165,8 @@ def _radial_check(out, results):
     scene = HemisphereScene.from_settings(results.params)
     material = scene.make_material()
     f = GROWTH[scene.profile][1]
-    reference = solve_radial(lambda r: 1 + f(r / scene.R0) / 4, material.mu, material.lam,
+    reference = solve_radial(lambda r: 1 + f(r / scene.R0) / 4,
+                             material.mu, material.lam,  # type: ignore[attr-defined]  # neo-Hookean
                              R0=scene.R0)
     p = results.profile("line")
     R = p["R"]
@@ -179,7 +184,7 @@ def _radial_check(out, results):
     plots.save(fig, out / "fig2_radial_check.png")
 
 
-def _disc(out, results):
+def _disc(out: Path, results: Mapping[str, Results]) -> None:
     """Fig. 3e: sigma_r and sigma_theta against R for both fiber families."""
     curves = {}
     for family in ("radial", "circumferential"):
@@ -193,7 +198,7 @@ def _disc(out, results):
                    title="Fig. 3e: disc, two GOH fiber families")
 
 
-def _folding(out, results):
+def _folding(out: Path, results: Mapping[str, Results]) -> None:
     """Fig. 7: the folding fields of every axon field that ran (one row each)."""
     from ngincompat.scenes.folding import FoldingScene, panels
     rows = {k.split("-", 1)[1]: r.profiles["section"] for k, r in results.items()

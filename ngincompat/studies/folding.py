@@ -15,13 +15,19 @@ axon field and one column per field of :data:`ngincompat.scenes.folding.PANELS` 
 row has, on one colour scale per column.
 """
 
+import os
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
+
+from matplotlib.figure import Figure
 
 from ngincompat.mechanics import fields
-from ngincompat.progress import SILENT
+from ngincompat.progress import SILENT, Progress
 from ngincompat.scenes.folding import FoldingScene, panels
 from ngincompat.studies.variants import COMMON, run_variants, write_summary
 from ngincompat.workflow import plots, tables
+from ngincompat.workflow.results import Results
 
 #: The axon fields of Fig. 7, left to right.
 AXON_FIELDS = fields.AXONS
@@ -39,7 +45,9 @@ RELEASED = METRICS[-2:]
 UNITS = {"seconds": "s", **{k: FoldingScene.metric_unit(k) for k in METRICS}}
 
 
-def run_all(out=None, axons=AXON_FIELDS, progress=SILENT, overwrite=False, **settings):
+def run_all(out: str | os.PathLike | None = None, axons: Iterable[str] = AXON_FIELDS,
+            progress: Progress = SILENT, overwrite: bool = False,
+            **settings: Any) -> tuple[list[dict[str, Any]], dict[str, Results]]:
     """Run the folding scene for every axon field of ``axons`` (into ``out/<axons>`` when
     ``out`` is given, with the summary and ``fields.png``); returns the rows and the results
     by axon field.
@@ -51,7 +59,7 @@ def run_all(out=None, axons=AXON_FIELDS, progress=SILENT, overwrite=False, **set
     rows, results = run_variants(scenes, out, key="axons", metrics=METRICS,
                                  progress=progress, overwrite=overwrite, label="folding")
     if out is not None:
-        files = []
+        files: list[str] = []
         figure = fields_figure(results, next(iter(scenes.values())))
         if figure is not None:
             plots.save(figure, Path(out) / "fields.png")
@@ -60,13 +68,13 @@ def run_all(out=None, axons=AXON_FIELDS, progress=SILENT, overwrite=False, **set
     return rows, results
 
 
-def columns(rows):
+def columns(rows: Sequence[Mapping[str, Any]]) -> list[str]:
     """The summary's columns: those of :data:`COLUMNS`, the release's when a row has them."""
     return [c for c in COLUMNS
             if c not in RELEASED or any(row.get(c) is not None for row in rows)]
 
 
-def fields_figure(results, scene):
+def fields_figure(results: Mapping[str, Results], scene: FoldingScene) -> Figure | None:
     """Fig. 7 a-c: one row per axon field whose run has sampled fields, or None if none
     (units and the stress floor from ``scene``)."""
     rows = {axons: r.profiles["section"] for axons, r in results.items()
@@ -79,6 +87,6 @@ def fields_figure(results, scene):
                                  floor=1e-3 * scene.mu_white)
 
 
-def summary_markdown(rows):
+def summary_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """The summary table in markdown, with units."""
     return tables.markdown(rows, columns(rows), UNITS)

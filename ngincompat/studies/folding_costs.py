@@ -24,7 +24,10 @@ rows' ``version`` says which ("this" or "baseline"), before and after in one run
 
 from __future__ import annotations
 
+import os
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from ngincompat.errors import ParameterError
 from ngincompat.fem.work import KINDS
@@ -48,11 +51,14 @@ UNITS = {"wall_s": "s", "cpu_s": "s", "peak_mb": "MB",
          **{name: FoldingScene.metric_unit(name) for name in METRICS}}
 
 
-def _failed(history):
+def _failed(history: Mapping[str, Any]) -> int:
     return sum(1 for step in history["steps"] if not step["converged"])
 
 
-def rows_of(axons, preset, threads, record, cost, version="this"):
+def rows_of(axons: str, preset: str, threads: int, record: Mapping[str, Any] | None,
+            cost: Mapping[str, Any], version: str = "this"
+            ) -> tuple[dict[str, Any], dict[str, Any] | None, list[dict[str, Any]],
+                       dict[str, Any] | None]:
     """The rows of one run in the four tables (only the first when it wrote no results)."""
     field_row = {"axons": axons, "version": version, "preset": preset, "threads": threads,
                  "status": "done", **cost}
@@ -82,8 +88,11 @@ def rows_of(axons, preset, threads, record, cost, version="this"):
     return field_row, work_row, stage_rows, metric_row
 
 
-def table(axons=fields.AXONS, preset="default", threads=1, timeout=TIMEOUT, settings=None,
-          progress=SILENT, baseline=None):
+def table(axons: Sequence[str] = fields.AXONS, preset: str = "default", threads: int = 1,
+          timeout: float = TIMEOUT, settings: Mapping[str, Any] | None = None,
+          progress: Progress = SILENT, baseline: str | os.PathLike | None = None
+          ) -> tuple[list[dict[str, Any]], list[dict[str, Any]], list[dict[str, Any]],
+                     list[dict[str, Any]]]:
     """Run the folding scene for each axon field of ``axons`` at ``preset`` (with the
     parameters ``settings``) on ``threads`` NGSolve threads, and after each on the checkout
     ``baseline`` if given; returns the rows of the four tables (fields, work, stages,
@@ -116,8 +125,10 @@ def table(axons=fields.AXONS, preset="default", threads=1, timeout=TIMEOUT, sett
     return field_rows, work_rows, stage_rows, metric_rows
 
 
-def main(axons=fields.AXONS, preset="default", threads=1, out=None, timeout=TIMEOUT,
-         settings=None, baseline=None):
+def main(axons: Sequence[str] = fields.AXONS, preset: str = "default", threads: int = 1,
+         out: str | os.PathLike | None = None, timeout: float = TIMEOUT,
+         settings: Mapping[str, Any] | None = None,
+         baseline: str | os.PathLike | None = None) -> list[str]:
     """``ngincompat bench folding``: :func:`table`; returns the lines to print. With ``out``
     the tables are also written as ``fields``, ``work``, ``stages`` and ``metrics`` (.md,
     .csv, .json)."""

@@ -26,15 +26,18 @@ from __future__ import annotations
 import functools
 import os
 from collections import deque
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from ngincompat.errors import ConvergenceError, ParameterError
-from ngincompat.progress import SILENT
+from ngincompat.progress import SILENT, Progress
 from ngincompat.scenes import HemisphereScene
+from ngincompat.scenes.base import Scene
 from ngincompat.studies import figures, report, views, workers
-from ngincompat.studies.sections import NUMBERS, SECTIONS
+from ngincompat.studies.sections import NUMBERS, SECTIONS, Section
 from ngincompat.workflow import io, output, tables
-from ngincompat.workflow.results import DONE
+from ngincompat.workflow.results import DONE, Results
 
 #: The resolutions of :func:`run_all`.
 RESOLUTIONS = ("preview", "paper")
@@ -46,7 +49,7 @@ RESOLUTIONS = ("preview", "paper")
 HEMISPHERE = dict(model="quarter", centre_maxh=0.04)
 
 
-def resolution_settings(cls, resolution):
+def resolution_settings(cls: type[Scene], resolution: str) -> dict[str, Any]:
     """The settings of ``cls`` at ``resolution`` (see the module docstring)."""
     if resolution not in RESOLUTIONS:
         raise ParameterError(f"--resolution {resolution!r}: allowed "
@@ -54,7 +57,7 @@ def resolution_settings(cls, resolution):
     return cls.preset_settings(resolution)
 
 
-def sections(only=None):
+def sections(only: Collection[str] | None = None) -> list[Section]:
     """The sections to run: all, or those whose numbers ``only`` lists."""
     if not only:
         return list(SECTIONS)
@@ -65,7 +68,8 @@ def sections(only=None):
     return [s for s in SECTIONS if s.number in only]
 
 
-def cases(resolution="preview", only=None):
+def cases(resolution: str = "preview",
+          only: Collection[str] | None = None) -> list[tuple[Section, str, Scene]]:
     """(section, label, scene) of every run of the chosen sections."""
     out = []
     for section in sections(only):
@@ -91,7 +95,7 @@ COLUMNS = ("section", "case", "units", "status", "warnings", "ndof", "newton", "
 UNITS = {"seconds": "s", **{f"t_{p}": "s" for p in PHASES}}
 
 
-def row(section, label, results):
+def row(section: str, label: str, results: Results) -> dict[str, Any]:
     """The summary row of one run; ``units``: its length and stress units (the sections
     differ: mm and MPa, cm and kPa); ``seconds``: the sum of its phases' times."""
     m = results.metrics
@@ -113,7 +117,7 @@ def row(section, label, results):
     }
 
 
-def default_jobs(resolution, cores=None):
+def default_jobs(resolution: str, cores: int | None = None) -> int:
     """How many runs :func:`run_all` runs side by side by default: one per core (at most
     :data:`MAX_JOBS`) at the preview resolution, one at the paper's, whose largest runs
     take many times a preview's memory (docs/measurements/paper-job.md)."""
@@ -125,8 +129,9 @@ def default_jobs(resolution, cores=None):
 MAX_JOBS = 4
 
 
-def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", only=None,
-            jobs=None):
+def run_all(out: str | os.PathLike | None = None, progress: Progress = SILENT,
+            overwrite: bool = False, resolution: str = "preview",
+            only: Collection[str] | None = None, jobs: int | None = None) -> list[dict[str, Any]]:
     """Run the sections (``only``: their numbers; default all) at ``resolution``; with
     ``out``, into ``out/<case>`` with the figures, the summary and report.html, resuming
     finished cases unless ``overwrite``, ``jobs`` runs side by side in worker processes
@@ -147,7 +152,7 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
         done = _read_summary(out) if not overwrite else {}
         results, drawn = {}, set()
 
-        def finish(section, label, r):
+        def finish(section: Section, label: str, r: Results) -> None:
             """Record a case that ended; draw each section whose cases have all ended."""
             results[label], done[label] = r, row(section.number, label, r)
             for s in sections(only):
@@ -157,13 +162,13 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
                     _write(out, done, resolution)
                     drawn.add(s.number)
 
-        todo = []
+        todo: list[tuple[Section, str, Scene]] = []
         for s, label, scene in runs:
             if reuse[label] is None:
                 todo.append((s, label, scene))
                 continue
             progress.line(f"{label}: finished before, read from {out / label}")
-            finish(s, label, reuse[label])
+            finish(s, label, reuse[label])  # type: ignore[arg-type]  # not None: above
         try:
             if jobs == 1 or len(todo) <= 1:
                 for s, label, scene in todo:
@@ -179,7 +184,8 @@ def run_all(out=None, progress=SILENT, overwrite=False, resolution="preview", on
         return [done[label] for _, label, _ in runs if label in done]
 
 
-def _side_by_side(todo, out, resolution, jobs, progress, finish):
+def _side_by_side(todo: Sequence[tuple[Section, str, Scene]], out: Path, resolution: str, jobs: int,
+                  progress: Progress, finish: Callable[[Section, str, Results], None]) -> None:
     """Run the cases ``todo`` in ``jobs`` worker processes, the last sections first (they take
     longest), each drawing its figure and view where it ran; ``finish`` as each ends."""
     section_of = {label: s for s, label, _ in todo}
@@ -188,7 +194,7 @@ def _side_by_side(todo, out, resolution, jobs, progress, finish):
                            "after": functools.partial(_draw, out, label, resolution)})
                   for _, label, scene in reversed(todo))
 
-    def ended(label, outcome):
+    def ended(label: str, outcome: dict[str, Any]) -> None:
         if outcome["status"] == workers.FAILED:
             error_file = out / label / workers.ERROR_FILE
             raise RuntimeError(f"{label} failed: {outcome['error']}" + (
@@ -200,7 +206,8 @@ def _side_by_side(todo, out, resolution, jobs, progress, finish):
     workers.run_side_by_side(tasks, workers.LocalPool(jobs, None, progress), ended)
 
 
-def _run_case(label, scene, out, progress, overwrite):
+def _run_case(label: str, scene: Scene, out: Path | None, progress: Progress,
+              overwrite: bool) -> Results:
     """Run one case; returns its results (those of the last converged state for a case that
     did not converge)."""
     try:
@@ -210,13 +217,13 @@ def _run_case(label, scene, out, progress, overwrite):
         return err.results
 
 
-def _draw(out, label, resolution, results):
+def _draw(out: Path, label: str, resolution: str, results: Results) -> None:
     """The field figure and the interactive view of one case, from its live fields."""
     figures.case_figure(out, label, results, resolution)
     views.case_view(out, label, results, resolution)
 
 
-def _finished(out, label, scene):
+def _finished(out: Path, label: str, scene: Scene) -> Results | None:
     """The results of ``out/label`` if it holds a finished run of ``scene``'s settings whose
     field figure and interactive view exist, else None."""
     path = Path(out) / label
@@ -232,7 +239,8 @@ def _finished(out, label, scene):
     return r if all((Path(out) / f).is_file() for f in drawn) else None
 
 
-def _refuse_other_settings(out, runs, reuse, overwrite):
+def _refuse_other_settings(out: Path, runs: Iterable[tuple[Section, str, Scene]],
+                           reuse: Mapping[str, Results | None], overwrite: bool) -> None:
     """Before anything runs: a case folder holding a run of other settings is replaced only
     with ``overwrite`` (a finished run of the same settings is reused, an unfinished one
     of them continued)."""
@@ -252,7 +260,7 @@ def _refuse_other_settings(out, runs, reuse, overwrite):
                     "it")
 
 
-def _read_summary(out):
+def _read_summary(out: Path) -> dict[str, dict[str, Any]]:
     """The rows of an earlier summary in ``out`` by case (none if there is none)."""
     path = Path(out) / "summary.json"
     if not path.is_file():
@@ -260,7 +268,7 @@ def _read_summary(out):
     return {r["case"]: r for r in io.read_json(path).get("rows", [])}
 
 
-def _write(out, rows, resolution):
+def _write(out: Path, rows: Mapping[str, Mapping[str, Any]], resolution: str) -> None:
     """The summary and the report of every case the folder holds."""
     order = [label for s in SECTIONS for label, _, _ in s.cases]
     ordered = [rows[k] for k in order if k in rows]
@@ -273,6 +281,6 @@ def _write(out, rows, resolution):
     report.write(out, ordered, resolution)
 
 
-def summary_markdown(rows):
+def summary_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
     """The summary table in markdown, with units."""
     return tables.markdown(rows, list(COLUMNS), UNITS)

@@ -24,7 +24,9 @@ import statistics
 import subprocess
 import sys
 import tempfile
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from ngincompat.errors import ParameterError
 from ngincompat.studies.bench import CUBE_ENERGY, UNITS
@@ -45,7 +47,7 @@ RATIO_COLUMNS = ("ours", "pairs", "ratio", "ratio_min", "ratio_max", "our_error"
                  "peer_error", "equal_or_better", "load")
 
 
-def peer_folder(folder=None) -> Path:
+def peer_folder(folder: str | os.PathLike | None = None) -> Path:
     """The peer's folder: ``folder``, else $NGINCOMPAT_PEER.
 
     Raises
@@ -69,7 +71,7 @@ def peer_folder(folder=None) -> Path:
     return path
 
 
-def run_peer(folder: Path, args=PEER_ARGS, timeout: float = 1800) -> dict:
+def run_peer(folder: Path, args: Sequence[str] = PEER_ARGS, timeout: float = 1800) -> dict:
     """Run the peer's script once from its folder; returns its RESULT record.
 
     Raises
@@ -113,7 +115,9 @@ def energy_error(energy: float) -> float:
     return abs(energy - CUBE_ENERGY) / CUBE_ENERGY
 
 
-def compare(folder=None, settings=None, pairs: int = 3, peer_args=PEER_ARGS):
+def compare(folder: str | os.PathLike | None = None, settings: Mapping[str, Any] | None = None,
+            pairs: int = 3, peer_args: Sequence[str] = PEER_ARGS
+            ) -> tuple[list[dict[str, Any]], dict[str, Any]]:
     """Run the peer and our cube alternately ``pairs`` times.
 
     Parameters
@@ -173,7 +177,8 @@ def compare(folder=None, settings=None, pairs: int = 3, peer_args=PEER_ARGS):
     return rows, summary
 
 
-def main(folder=None, settings=None, pairs: int = 3, out=None):
+def main(folder: str | os.PathLike | None = None, settings: Mapping[str, Any] | None = None,
+         pairs: int = 3, out: str | os.PathLike | None = None) -> list[str]:
     """``ngincompat bench peer``: :func:`compare`; returns the lines to print (with ``out``
     the table is also written as ``peer.md``, ``.csv``, ``.json``, and its summary, one row
     with :data:`RATIO_COLUMNS`, as ``peer_ratio``)."""

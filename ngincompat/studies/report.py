@@ -16,12 +16,16 @@ from __future__ import annotations
 
 import base64
 import html
+import os
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from ngincompat.atomic import atomic_path
 from ngincompat.studies import deviations, figures, findings, views
-from ngincompat.studies.sections import SECTIONS
+from ngincompat.studies.sections import SECTIONS, Section
 from ngincompat.workflow import io, output
+from ngincompat.workflow.results import Results
 
 #: Per section: figures of the case folders shown beside the field figures (file in the
 #: case's folder, caption), as the paper's panels that are profiles or sections.
@@ -62,7 +66,7 @@ figcaption{font-size:.9em;color:#444} .grid{display:flex;flex-wrap:wrap;gap:1em}
 """
 
 
-def _image(path, caption, wide=False):
+def _image(path: str | os.PathLike, caption: str, wide: bool = False) -> str:
     """A figure with the PNG inlined (nothing if the file is missing); ``wide``: the page's
     whole width (the field figures)."""
     path = Path(path)
@@ -75,7 +79,7 @@ def _image(path, caption, wide=False):
             f"<figcaption>{html.escape(caption)}</figcaption></figure>")
 
 
-def _view(out, label, results):
+def _view(out: str | os.PathLike, label: str, results: Mapping[str, Results]) -> str:
     """The interactive view of the case ``label``: its page framed (loaded when scrolled to)
     and linked (nothing if the page is missing)."""
     name = next(iter(views.case_files(label)), None)
@@ -89,7 +93,8 @@ def _view(out, label, results):
             "alone</a>.</figcaption></figure>")
 
 
-def _table(header, rows, classes=None):
+def _table(header: Iterable[str], rows: Iterable[Sequence[object]],
+           classes: Sequence[str] | None = None) -> str:
     head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
     body = []
     for i, r in enumerate(rows):
@@ -99,7 +104,7 @@ def _table(header, rows, classes=None):
     return f"<table><tr>{head}</tr>{''.join(body)}</table>"
 
 
-def _results(out, labels):
+def _results(out: str | os.PathLike, labels: Iterable[str]) -> dict[str, Results]:
     """label -> Results of the case folders that hold a readable run."""
     found = {}
     for label in labels:
@@ -108,7 +113,7 @@ def _results(out, labels):
     return found
 
 
-def _settings(results, section):
+def _settings(results: Results | None, section: Section) -> str:
     """The run's settings that differ from its scene's defaults."""
     if results is None:
         return ""
@@ -118,7 +123,8 @@ def _settings(results, section):
     return ", ".join(f"{k}={v}" for k, v in changed.items()) or "none"
 
 
-def _section(out, section, rows, results):
+def _section(out: str | os.PathLike, section: Section, rows: Sequence[Mapping[str, Any]],
+             results: Mapping[str, Results]) -> str:
     """The HTML of one paper section."""
     labels = [label for label, _, _ in section.cases]
     mine = [r for r in rows if r["case"] in labels]
@@ -166,11 +172,11 @@ def _section(out, section, rows, results):
     return "".join(parts)
 
 
-def write(out, rows, resolution):
+def write(out: str | os.PathLike, rows: Sequence[Mapping[str, Any]], resolution: str) -> Path:
     """Write ``out/report.html`` for the summary ``rows`` (the cases in the folder)."""
     out = Path(out)
     results = _results(out, [r["case"] for r in rows])
-    counts = {}
+    counts: dict[str, int] = {}
     body = []
     ran = {r["section"] for r in rows}
     for section in SECTIONS:
@@ -199,7 +205,7 @@ def write(out, rows, resolution):
             + "<p>Sections: " + " ".join(f'<a href="#s{s.number}">{s.number}</a>'
                                         for s in SECTIONS)
             + ' <a href="#deviations">deviations</a></p>')
-    runs = {}
+    runs: dict[str, list[dict[str, Any]]] = {}
     for r in results.values():
         runs.setdefault(r.scene, []).append(r.params)
     table = deviations.rows(runs)

@@ -17,16 +17,21 @@ edge conditions (the periphery clamped; :mod:`ngincompat.studies.deviations`).
 
 from __future__ import annotations
 
+import os
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from geometries import FOOTPRINTS, footprint_area
 from ngincompat.errors import ParameterError
 from ngincompat.progress import SILENT, Progress
 from ngincompat.scenes.skin import SkinExpansionScene
 from ngincompat.studies import findings
+from ngincompat.studies.findings import Finding
 from ngincompat.studies.variants import run_variants
 from ngincompat.workflow import tables
+from ngincompat.workflow.results import Results
 
 #: The width of every footprint in the "equal base size" choice (cm): the default rectangle's
 #: length (7 x 3.5 cm).
@@ -44,7 +49,7 @@ class Choice:
     settings: dict = field(default_factory=dict)
     each: dict = field(default_factory=dict)
 
-    def scene(self, footprint, base):
+    def scene(self, footprint: str, base: Mapping[str, Any]) -> SkinExpansionScene:
         """The skin scene of ``footprint`` under this choice and the ``base`` settings."""
         return SkinExpansionScene.from_settings({"outputs": "none", **base, **self.settings,
                                                  **self.each.get(footprint, {}),
@@ -87,11 +92,11 @@ UNITS = {"tension_released": "kPa", "compression_contact": "kPa"}
 JUDGED = ("skin-order", "skin-stress")
 
 
-def _finding(key):
+def _finding(key: str) -> Finding:
     return next(f for f in findings.FINDINGS if f.key == key)
 
 
-def judge(results):
+def judge(results: Mapping[str, Results]) -> dict[str, Any]:
     """The row's measures and verdicts from ``results`` (footprint -> Results): the order of
     the mean growth over the footprints (least to most), the largest released tension and
     the largest compression in the former contact zone (kPa; None without a contact zone),
@@ -106,14 +111,20 @@ def judge(results):
     contact = [r.metrics.get("min_principal_stress_contact_zone") for r in done]
     contact = [c for c in contact if c is not None]
     return {"status": ", ".join(sorted({r.status for r in results.values()})),
-            "order": " < ".join(f"{f} {mean[f]:.3g}" for f in sorted(mean, key=mean.get)),
+            "order": " < ".join(f"{f} {mean[f]:.3g}"
+                                for f in sorted(mean, key=mean.get)),  # type: ignore[arg-type]
             "order_verdict": order_verdict,
             "tension_released": None if tension is None else round(kpa * tension, 1),
-            "compression_contact": round(-kpa * min(contact), 1) if contact else None,
+            # contact: its Nones filtered out above
+            "compression_contact": (
+                round(-kpa * min(contact), 1)  # type: ignore[operator, type-var]
+                if contact else None),
             "stress_verdict": stress_verdict}
 
 
-def table(choices=None, settings=None, out=None, progress=SILENT):
+def table(choices: Collection[str] | None = None, settings: Mapping[str, Any] | None = None,
+          out: str | os.PathLike | None = None,
+          progress: Progress = SILENT) -> list[dict[str, Any]]:
     """Run the four expanders under each choice named in ``choices`` (default: all of
     :data:`CHOICES`) with the base ``settings``; returns the rows (:data:`COLUMNS`). With
     ``out`` every run's results.json is kept in ``out/runs/<choice>/<footprint>`` (no other
@@ -142,7 +153,8 @@ def table(choices=None, settings=None, out=None, progress=SILENT):
     return rows
 
 
-def main(choices=None, quick=False, out=None):
+def main(choices: Collection[str] | None = None, quick: bool = False,
+         out: str | os.PathLike | None = None) -> list[str]:
     """``ngincompat bench skin``: :func:`table` (``quick``: :data:`QUICK` on
     :data:`QUICK_SETTINGS`); returns the lines to print. With ``out`` the table is written as
     ``sensitivity`` (.md, .csv, .json)."""

@@ -31,10 +31,13 @@ and mixed, next to displacement runs at nu = 0.3.
 import contextlib
 import logging
 import math
+import os
 import time as _time
 import traceback
+from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import Any, Literal
 
 import ngsolve as ngs
 import numpy as np
@@ -46,10 +49,10 @@ from ngincompat.fem.problem import GrowthMechanics
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stepping import solve_growth
 from ngincompat.mechanics.expressions import parse_expression
-from ngincompat.mechanics.fields import constant
+from ngincompat.mechanics.fields import DirectionField, constant
 from ngincompat.mechanics.growth import check_positive, make_growth
 from ngincompat.mechanics.kinematics import deformation_gradient, elastic_part
-from ngincompat.mechanics.materials import GOH, NeoHookean, lame_lambda
+from ngincompat.mechanics.materials import GOH, MaterialKind, NeoHookean, lame_lambda
 from ngincompat.sampling import element_points
 from ngincompat.workflow import io, tables
 
@@ -109,19 +112,19 @@ class Cell:
     k2: float = 1.0
     fiber: str = "e1"
     order: int = 2
-    formulation: str = "displacement"
+    formulation: Literal["displacement", "mixed"] = "displacement"
     maxh: float = 0.5
     elements: str = "hex"
     steps: int = 1
     max_iter: int = 30
     min_step: float = 1e-3
 
-    def params(self):
+    def params(self) -> dict[str, Any]:
         """The parameters that define the cell (without group and label)."""
         return {f.name: getattr(self, f.name) for f in fields(self)
                 if f.name not in ("group", "label")}
 
-    def build(self):
+    def build(self) -> tuple[GrowthMechanics, ngs.Parameter]:
         """The problem and its time parameter (at t = 0), after checking theta > 0."""
         time = ngs.Parameter(0.0)
         theta = parse_expression(self.theta, time, name="theta")
@@ -130,8 +133,8 @@ class Cell:
         mesh = cube(maxh=self.maxh, elements=self.elements)
         check_positive(growth.theta, mesh, time, expression=self.theta)
         if self.material == "goh":
-            material = GOH(MU, lame_lambda(MU, self.nu), GOH_K1, self.k2, GOH_KAPPA)
-            fibers = (constant(self.fiber),)
+            material: MaterialKind = GOH(MU, lame_lambda(MU, self.nu), GOH_K1, self.k2, GOH_KAPPA)
+            fibers: tuple[DirectionField, ...] = (constant(self.fiber),)
         else:
             material = NeoHookean.from_nu(MU, self.nu)
             fibers = ()
@@ -139,15 +142,15 @@ class Cell:
                                   formulation=self.formulation)
         return problem, time
 
-    def options(self):
+    def options(self) -> NewtonOptions:
         return NewtonOptions(steps=self.steps, max_iter=self.max_iter, min_step=self.min_step)
 
 
-def _one_line(err):
+def _one_line(err: BaseException) -> str:
     return " ".join(str(err).split()) or type(err).__name__
 
 
-def run_cell(cell):
+def run_cell(cell: Cell) -> dict[str, Any]:
     """Solve one cell; never raises. Returns a flat dict (see the module docstring)."""
     row = {"group": cell.group, "label": cell.label, "status": "error", "message": "",
            "ndof": None, "steps_attempted": 0, "steps_converged": 0, "newton": 0,
@@ -172,7 +175,7 @@ def run_cell(cell):
     except NgincompatError as err:
         row["message"] = f"{type(err).__name__}: {_one_line(err)}"
         if getattr(err, "history", None) is not None:
-            history = err.history
+            history = err.history  # type: ignore[attr-defined]  # the getattr above
     except Exception as err:  # a cell never ends in a traceback; the row keeps it
         row.update(status=UNEXPECTED, message=f"{type(err).__name__}: {_one_line(err)}",
                    traceback=traceback.format_exc())
@@ -186,7 +189,7 @@ def run_cell(cell):
     return row
 
 
-def fiber_strain(problem):
+def fiber_strain(problem: GrowthMechanics) -> tuple[float, float, float]:
     """The GOH fiber strain E = kappa I1bar + (1 - 3 kappa) Cbar : a (x) a - 1 of the first
     fiber family (eq. 39) at the integration points and vertices of every element: returns
     (min, max, volume fraction with E < 0). Where E < 0 the fibers are compressed and the
@@ -195,7 +198,7 @@ def fiber_strain(problem):
     C = Fe.trans * Fe
     Jm23 = ngs.Det(Fe) ** (-2.0 / 3.0)
     a = problem.fibers_intermediate()[0]
-    kappa = problem.material.kappa
+    kappa = problem.material.kappa  # type: ignore[attr-defined]  # a GOH cell's
     E = kappa * Jm23 * ngs.Trace(C) + (1 - 3 * kappa) * Jm23 * ngs.InnerProduct(a, C * a) - 1
     values = np.asarray(E(element_points(problem.mesh, 2 * problem.order))).ravel()
     order = 2 * problem.order + 2
@@ -204,17 +207,17 @@ def fiber_strain(problem):
     return float(values.min()), float(values.max()), float(compressed)
 
 
-def _theta_to(theta_end, coordinate="X1"):
+def _theta_to(theta_end: float, coordinate: str = "X1") -> str:
     """theta = 1 + (theta_end - 1) X t: from 1 at X = 0 to theta_end at X = 1 (and t = 1)."""
     return f"1 + ({theta_end - 1:g})*{coordinate}*t"
 
 
-def _tanh_front(delta):
+def _tanh_front(delta: float) -> str:
     """A growth front of width ``delta`` at X1 = 0.5: theta from 1 to 1.25."""
     return f"1 + 0.25*(1 + tanh((X1 - 0.5)/{delta:g}))/2*t"
 
 
-def matrix(quick=False):
+def matrix(quick: bool = False) -> list[Cell]:
     """The cells of the stress-test matrix, in table order.
 
     ``quick``: a small corner for the default test suite (a few seconds on one thread): one or
@@ -282,7 +285,7 @@ def matrix(quick=False):
 
 
 @contextlib.contextmanager
-def ngsolve_threads(threads=None):
+def ngsolve_threads(threads: int | None = None) -> Iterator[None]:
     """Run the block with ``threads`` NGSolve threads (None: leave them as they are).
 
     Afterwards the threads configured before are restored (:func:`ngincompat.config.threads`).
@@ -294,17 +297,17 @@ def ngsolve_threads(threads=None):
         yield
 
 
-def run_matrix(cells, threads=None):
+def run_matrix(cells: Iterable[Cell], threads: int | None = None) -> list[dict[str, Any]]:
     """Run every cell in order (with ``threads`` NGSolve threads); returns the rows."""
     with ngsolve_threads(threads):
         return [run_cell(cell) for cell in cells]
 
 
-def _fmt(value, spec):
+def _fmt(value: Any, spec: str) -> str:
     return "" if value is None else format(value, spec)
 
 
-def _note(row):
+def _note(row: Mapping[str, Any]) -> str:
     if row.get("fiber_compressed") is not None:
         return (f"fiber strain in [{row['fiber_strain_min']:.3f}, "
                 f"{row['fiber_strain_max']:.3f}], compressed in "
@@ -318,7 +321,7 @@ COLUMNS = ("group", "cell", "status", "ndof", "load steps conv./att.", "newton",
 UNITS = {"seconds": "s", "strain_energy": "N mm"}
 
 
-def format_table(rows):
+def format_table(rows: Iterable[Mapping[str, Any]]) -> str:
     """The rows of :func:`run_matrix` as a markdown table."""
     shown = [{**r, "cell": r["label"], "note": _note(r),
               "load steps conv./att.": f"{r['steps_converged']}/{r['steps_attempted']}"}
@@ -326,14 +329,15 @@ def format_table(rows):
     return tables.markdown(shown, list(COLUMNS), UNITS)
 
 
-def _relative(a, b):
+def _relative(a: float | None, b: float | None) -> float | None:
     """|a - b| / |b|, None if either is missing or b is zero."""
     if a is None or b is None or b == 0:
         return None
     return abs(a - b) / abs(b)
 
 
-def locking(orders=(1, 2, 3, 4, 5), nu=0.499, maxh=0.5, reference_nu=0.3, threads=None):
+def locking(orders: Iterable[int] = (1, 2, 3, 4, 5), nu: float = 0.499, maxh: float = 0.5,
+            reference_nu: float | None = 0.3, threads: int | None = None) -> list[dict[str, Any]]:
     """Volumetric locking: the cube (theta = 1 + X1 t / 4) on hexahedra of size ``maxh`` at
     ``nu`` for each order, in the displacement and the mixed formulation (orders >= 2), next
     to displacement runs at the compressible ``reference_nu``.
@@ -347,7 +351,8 @@ def locking(orders=(1, 2, 3, 4, 5), nu=0.499, maxh=0.5, reference_nu=0.3, thread
     """
     orders = sorted(orders)
 
-    def series(nu_, formulation, wanted):
+    def series(nu_: float, formulation: Literal["displacement", "mixed"],
+               wanted: Iterable[int]) -> list[dict[str, Any]]:
         return [run_cell(Cell("locking", f"order {p}", nu=nu_, order=p, maxh=maxh,
                               formulation=formulation)) for p in wanted]
 
@@ -371,7 +376,7 @@ def locking(orders=(1, 2, 3, 4, 5), nu=0.499, maxh=0.5, reference_nu=0.3, thread
     return rows
 
 
-def locking_table(rows=None):
+def locking_table(rows: list[dict[str, Any]] | None = None) -> str:
     """The locking study as a markdown table (runs :func:`locking` unless ``rows`` given)."""
     rows = locking() if rows is None else rows
     nu = rows[0]["params"]["nu"]
@@ -383,7 +388,7 @@ def locking_table(rows=None):
         head += f" strain energy, nu = {ref['params']['nu']:g} | its difference to highest |"
     lines = [head, "|" + "---|" * (15 if ref else 13)]
 
-    def cells(r):
+    def cells(r: Mapping[str, Any] | None) -> list[str]:
         if r is None:
             return ["", "", "", "", "", ""]
         return [_fmt(r["ndof"], "d"), str(r["newton"]), f"{r['seconds']:.2f}",
@@ -408,7 +413,8 @@ LOCKING_ORDERS = (1, 2, 3, 4, 5)
 LOCKING_ORDERS_QUICK = (1, 2, 3)
 
 
-def main(quick=False, threads=1, out=None):
+def main(quick: bool = False, threads: int | None = 1,
+         out: str | os.PathLike | None = None) -> list[str]:
     """Run the matrix and the locking study; returns the lines to print.
 
     Parameters

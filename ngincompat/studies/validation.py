@@ -30,14 +30,17 @@ the time step). ``quick`` runs coarse settings (:data:`QUICK`).
 
 from __future__ import annotations
 
+import os
 import time
+from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ngincompat.fem.transport import logistic_integral
 from ngincompat.mechanics.atrophy import AtrophyLaw
-from ngincompat.progress import SILENT
+from ngincompat.progress import SILENT, Progress
 from ngincompat.references.bifurcation import onset
 from ngincompat.scenes import AtrophyScene, FoldingScene
 from ngincompat.studies import paper
@@ -51,19 +54,19 @@ CLOSED_FORM_COLUMNS = ("case", "ndof", "energy_error", *paper.CHECKS)
 #: The small bilayer of the onset study (1 x 0.5 cm; its substrate is still ten cortical
 #: thicknesses deep) on its perfect branch only, without axons (they do not grow on the flat
 #: branch: lambda_e = 1 along any axon field there).
-BILAYER = dict(length=1.0, height=0.5, axons="none", buckle=False, release=False,
-               outputs="none")
+BILAYER: dict[str, Any] = dict(length=1.0, height=0.5, axons="none", buckle=False,
+                               release=False, outputs="none")
 ONSET_COLUMNS = ("cortex_maxh", "maxh", "ndof", "onset_growth", "stroh_growth",
                  "growth_error", "onset_wavelength", "stroh_wavelength", "mode", "stroh_mode",
                  "seconds")
 
 #: The small brain of the atrophy studies (3 x 2.5 x 2 cm, gray shell 0.5 cm, ten years).
-BRAIN = dict(semi_axes="3,2.5,2", gray_thickness=0.5, t_end=10.0, snapshots=1, g_order=2,
-             outputs="none")
+BRAIN: dict[str, Any] = dict(semi_axes="3,2.5,2", gray_thickness=0.5, t_end=10.0, snapshots=1,
+                             g_order=2, outputs="none")
 #: The uniform seed with equal rates: compatible atrophy with a closed-form volume loss.
-UNIFORM = dict(seed="uniform", rate_gray=0.03, rate_white=0.03)
+UNIFORM: dict[str, Any] = dict(seed="uniform", rate_gray=0.03, rate_white=0.03)
 #: The seed at the basal pole with the default rates.
-SEEDED = dict(seed="0,0,-2", seed_radius=1.0, d_ext=0.05, dt=1.0)
+SEEDED: dict[str, Any] = dict(seed="0,0,-2", seed_radius=1.0, d_ext=0.05, dt=1.0)
 LOGISTIC_COLUMNS = ("dt", "volume_loss", "closed_form", "error", "order", "burgers_max",
                     "G_norm_L2", "Je_deviation_max", "seconds")
 BALANCE_COLUMNS = ("maxh", "ndof", "volume_loss", "volume_loss_theta",
@@ -72,19 +75,19 @@ BALANCE_COLUMNS = ("maxh", "ndof", "volume_loss", "volume_loss_theta",
 
 #: The grids: (cortex_maxh, maxh) of the bilayer, the time steps of the uniform atrophy
 #: (on maxh 2), the mesh sizes of the seeded brain, the resolution of sections 3.1-3.4.
-FULL = {"resolution": "paper",
+FULL: dict[str, Any] = {"resolution": "paper",
         "onset": ((0.025, 0.1), (0.016667, 0.066667), (0.0125, 0.05)),
         "dts": (1.0, 0.5, 0.25, 0.125), "maxhs": (1.0, 0.5, 0.35)}
 #: What ``--quick`` runs (a few minutes): the previews of sections 3.1-3.4, a bilayer with
 #: a cortex twice as thick on two coarse meshes, two time steps, the two coarser brains.
-QUICK = {"resolution": "preview", "onset": ((0.05, 0.3), (0.033333, 0.2)),
+QUICK: dict[str, Any] = {"resolution": "preview", "onset": ((0.05, 0.3), (0.033333, 0.2)),
          "dts": (1.0, 0.5), "maxhs": (1.0, 0.5), "bilayer": dict(cortex_thickness=0.1)}
 
 UNITS = {"seconds": "s", "cortex_maxh": "cm", "maxh": "cm", "onset_wavelength": "cm",
          "stroh_wavelength": "cm", "dt": "yr", "burgers_max": "1/cm"}
 
 
-def closed_forms(resolution="paper", progress=SILENT):
+def closed_forms(resolution: str = "paper", progress: Progress = SILENT) -> list[dict[str, Any]]:
     """Sections 3.1-3.4 at ``resolution`` (``ngincompat paper``'s settings): one row per
     case with its ndof, the cube's energy error and the verification metrics."""
     rows = []
@@ -96,7 +99,8 @@ def closed_forms(resolution="paper", progress=SILENT):
     return rows
 
 
-def onset_table(meshes, progress=SILENT, **bilayer):
+def onset_table(meshes: Iterable[tuple[float, float]], progress: Progress = SILENT,
+                **bilayer: Any) -> list[dict[str, Any]]:
     """The bilayer's onset on every (cortex_maxh, maxh) of ``meshes`` against the Stroh
     analysis of the same bilayer; ``bilayer``: settings over :data:`BILAYER`."""
     rows = []
@@ -120,11 +124,12 @@ def onset_table(meshes, progress=SILENT, **bilayer):
     return rows
 
 
-def logistic_table(dts, maxh=2.0, progress=SILENT):
+def logistic_table(dts: Iterable[float], maxh: float = 2.0,
+                   progress: Progress = SILENT) -> list[dict[str, Any]]:
     """Uniform atrophy with equal rates for every time step of ``dts``: the volume loss
     against its closed form 1 - theta(int_0^t c ds), with the observed order between
     successive steps and the measures of compatibility."""
-    rows = []
+    rows: list[dict[str, Any]] = []
     for dt in dts:
         scene = AtrophyScene(maxh=maxh, dt=dt, **BRAIN, **UNIFORM)
         start = time.perf_counter()
@@ -143,7 +148,7 @@ def logistic_table(dts, maxh=2.0, progress=SILENT):
     return rows
 
 
-def balance_table(maxhs, progress=SILENT):
+def balance_table(maxhs: Iterable[float], progress: Progress = SILENT) -> list[dict[str, Any]]:
     """The seeded small brain on every mesh size of ``maxhs``: self-equilibrium and volume
     bookkeeping."""
     rows = []
@@ -159,7 +164,8 @@ def balance_table(maxhs, progress=SILENT):
     return rows
 
 
-def main(out=None, quick=False, progress=SILENT):
+def main(out: str | os.PathLike | None = None, quick: bool = False,
+         progress: Progress = SILENT) -> list[str]:
     """``ngincompat bench validation``: the four tables (``quick``: :data:`QUICK`, else
     :data:`FULL`); returns the lines to print. With ``out`` the tables ``closed_forms``,
     ``onset``, ``atrophy_logistic`` and ``atrophy_balance`` (markdown, CSV, JSON) and the plots

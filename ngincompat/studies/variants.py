@@ -7,18 +7,28 @@ once, nothing computed); a variant whose run does not converge is a row with its
 the metrics of its last converged state, and the others still run.
 """
 
+import os
 import time
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ngincompat.errors import ConvergenceError
-from ngincompat.progress import SILENT
+from ngincompat.progress import SILENT, Progress
 from ngincompat.workflow import output, tables
+from ngincompat.workflow.results import Results
+
+if TYPE_CHECKING:     # the scenes are the caller's (this module imports none)
+    from ngincompat.scenes.base import Scene
 
 #: The columns every summary starts with after the variant's name.
 COMMON = ("status", "warnings", "ndof", "seconds")
 
 
-def run_variants(scenes, out=None, key="variant", metrics=(), progress=SILENT,
-                 overwrite=False, label=""):
+def run_variants(scenes: "Mapping[str, Scene]", out: str | os.PathLike | None = None,
+                 key: str = "variant", metrics: Sequence[str] = (),
+                 progress: Progress = SILENT, overwrite: bool = False,
+                 label: str = "") -> tuple[list[dict[str, Any]], dict[str, Results]]:
     """Run every scene of ``scenes`` (variant name -> scene), into ``out/<name>`` when ``out``
     is given (prepared as a run folder first).
 
@@ -31,7 +41,9 @@ def run_variants(scenes, out=None, key="variant", metrics=(), progress=SILENT,
         return _run_variants(scenes, out, key, metrics, progress, overwrite, label)
 
 
-def _run_variants(scenes, out, key, metrics, progress, overwrite, label):
+def _run_variants(scenes: "Mapping[str, Scene]", out: Path | None, key: str, metrics: Sequence[str],
+                  progress: Progress, overwrite: bool,
+                  label: str) -> tuple[list[dict[str, Any]], dict[str, Results]]:
     """:func:`run_variants` in a folder already prepared (or none)."""
     rows, results = [], {}
     for name, scene in scenes.items():
@@ -49,7 +61,9 @@ def _run_variants(scenes, out, key, metrics, progress, overwrite, label):
     return rows, results
 
 
-def write_summary(out, rows, columns, units, files=()):
+def write_summary(out: str | os.PathLike, rows: Sequence[Mapping[str, Any]],
+                  columns: Sequence[str], units: dict[str, str],
+                  files: Iterable[str] = ()) -> list[str]:
     """``summary.md``, ``.csv`` and ``.json`` in ``out``; the JSON lists the variants' folders
     and ``files`` besides the summary."""
     names = [row[columns[0]] for row in rows]

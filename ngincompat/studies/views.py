@@ -24,10 +24,15 @@ resumes a finished case keeps the view it wrote then.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ngincompat.workflow import webview
+
+if TYPE_CHECKING:     # a run's record (its module imports NGSolve)
+    from ngincompat.workflow.results import Results
 
 
 @dataclass(frozen=True)
@@ -60,12 +65,12 @@ VIEWS = {
 }
 
 
-def case_files(label):
+def case_files(label: str) -> list[str]:
     """The view file of the case ``label`` (none for a case without a view)."""
     return [f"view_{label}.html"] if label in VIEWS else []
 
 
-def case_view(out, label, results, resolution):
+def case_view(out: str | os.PathLike, label: str, results: Results, resolution: str) -> None:
     """Write the view of the case ``label`` from its fields into ``out`` (nothing for a case
     without a view, nor for a run without its fields)."""
     view = VIEWS.get(label)

@@ -20,13 +20,20 @@ import signal
 import threading
 import time
 import traceback
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
+from types import FrameType
+from typing import TYPE_CHECKING, Any
 
 from ngincompat import config
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import ConvergenceError, Interrupted
 from ngincompat.progress import Progress
-from ngincompat.workflow.results import INTERRUPTED
+from ngincompat.workflow.results import INTERRUPTED, Results
+
+if TYPE_CHECKING:     # the pool's event; its module is imported where a pool starts
+    from multiprocessing.synchronize import Event
 
 #: Status of a case that raised, or whose scene rejected its parameters.
 FAILED = "failed"
@@ -34,7 +41,7 @@ FAILED = "failed"
 ERROR_FILE = "error.txt"
 
 
-def run_case(task):
+def run_case(task: dict[str, Any]) -> dict[str, Any]:
     """Run one case (in a worker); returns its outcome and never raises.
 
     Parameters
@@ -90,11 +97,11 @@ _SIGINT_IGNORED = signal.getsignal(signal.SIGINT) is signal.SIG_IGN
 
 #: Set once the cases are interrupted (in a local worker: the event :func:`_init_worker` was
 #: given): a case that has not started does not start.
-_stop = None
+_stop: "Event | None" = None
 
 
 @contextlib.contextmanager
-def _interruptible():
+def _interruptible() -> Iterator[None]:
     """The first Ctrl-C or SIGTERM raises KeyboardInterrupt in the block, the next ones are
     ignored (a local worker ignores them outside it, :func:`_ignore`): a batch system's stop,
     sent to every process of the job, ends the case "interrupted" with its record and its
@@ -107,9 +114,9 @@ def _interruptible():
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    taken = []
+    taken: list[int] = []
 
-    def once(signum, frame):
+    def once(signum: int, frame: FrameType | None) -> None:
         if not taken:
             taken.append(signum)
             raise KeyboardInterrupt
@@ -123,14 +130,14 @@ def _interruptible():
         signal.signal(signal.SIGTERM, previous[1])
 
 
-def _ignore(signum, frame):
+def _ignore(signum: int, frame: FrameType | None) -> None:
     """A local worker's Ctrl-C and SIGTERM outside a case: nothing. A handler rather than
     SIG_IGN, which, set while a signal is pending, makes Python print a traceback ("Signal
     15 ignored due to race condition")."""
 
 
 @contextlib.contextmanager
-def _sigint_held():
+def _sigint_held() -> Iterator[None]:
     """Ctrl-C held back on the calling thread in the block and delivered at its end; a worker
     process started in the block inherits the held signal mask, so that a Ctrl-C arriving
     while it still imports stays pending until :func:`_init_worker` discards it."""
@@ -144,7 +151,8 @@ def _sigint_held():
         signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
-def interrupted(results, seconds=None, message=""):
+def interrupted(results: Results | None, seconds: float | None = None,
+                message: str = "") -> dict[str, Any]:
     """The outcome of a case stopped by Ctrl-C (``results``: its record, if it had begun)."""
     metrics = {} if results is None else results.metrics
     error = results.error if results is not None else message
@@ -152,14 +160,15 @@ def interrupted(results, seconds=None, message=""):
             "error": error or "interrupted"}
 
 
-def outcome(results, error=None):
+def outcome(results: Results, error: str | None = None) -> dict[str, Any]:
     """The outcome of a case from its :class:`~ngincompat.workflow.results.Results`."""
     return {"status": results.status, "warnings": len(results.warnings),
             "metrics": results.metrics, "seconds": sum(results.timings.values()),
             "error": error}
 
 
-def failed(folder, err, seconds, text):
+def failed(folder: str | os.PathLike, err: BaseException, seconds: float,
+           text: str) -> dict[str, Any]:
     """The outcome of a case that raised ``err``; ``text`` goes to its error.txt."""
     try:
         with atomic_path(Path(folder) / ERROR_FILE) as tmp:
@@ -169,7 +178,7 @@ def failed(folder, err, seconds, text):
     return {"status": FAILED, "metrics": {}, "seconds": seconds, "error": error_message(err)}
 
 
-def _init_worker(threads, stop):
+def _init_worker(threads: int, stop: "Event") -> None:
     """Initializer of a local worker process: its number of NGSolve threads, Ctrl-C and
     SIGTERM ignored but while a case runs (:func:`_interruptible`; an idle worker would print
     the KeyboardInterrupt of its wait for work), and the pool's ``stop`` event."""
@@ -184,7 +193,7 @@ def _init_worker(threads, stop):
                      daemon=True).start()
 
 
-def _stop_when_set(stop):
+def _stop_when_set(stop: "Event") -> None:
     """A local worker's watch: once the pool's cases are interrupted (``stop`` set by
     :meth:`LocalPool.close`), a SIGTERM to itself, which stops its case
     (:func:`_interruptible`) or, between cases, does nothing."""
@@ -192,7 +201,7 @@ def _stop_when_set(stop):
     os.kill(os.getpid(), signal.SIGTERM)
 
 
-def error_message(err):
+def error_message(err: BaseException) -> str:
     text = " ".join(str(err).split())
     return f"{type(err).__name__}: {text}" if text else type(err).__name__
 
@@ -200,7 +209,7 @@ def error_message(err):
 class LocalPool:
     """Local worker processes ("spawn") with a fixed number of NGSolve threads each."""
 
-    def __init__(self, workers, threads, progress):
+    def __init__(self, workers: int, threads: int | None, progress: Progress) -> None:
         cores = os.cpu_count() or 1
         self.window = workers
         threads = threads or max(1, cores // workers)
@@ -214,17 +223,18 @@ class LocalPool:
             max_workers=workers, mp_context=context,
             initializer=_init_worker, initargs=(threads, self.stop))
 
-    def submit(self, task):
+    def submit(self, task: dict[str, Any]) -> concurrent.futures.Future:
         """Submit ``task``; a worker it starts prints no KeyboardInterrupt of its imports
         (:func:`_sigint_held`)."""
         with _sigint_held():
             return self.executor.submit(run_case, task)
 
-    def wait(self, futures):
+    def wait(self, futures: Iterable[concurrent.futures.Future]
+             ) -> set[concurrent.futures.Future]:
         done, _ = concurrent.futures.wait(futures, return_when=concurrent.futures.FIRST_COMPLETED)
         return done
 
-    def close(self, cancel):
+    def close(self, cancel: bool) -> None:
         """Shut the workers down; with ``cancel`` (an interruption) no case starts any more
         and the running ones are interrupted (a Ctrl-C at a terminal has reached them
         already), and their ends are awaited: they write their records quickly."""
@@ -233,12 +243,13 @@ class LocalPool:
         self.executor.shutdown(wait=True, cancel_futures=cancel)
 
 
-def run_side_by_side(tasks, backend, finish):
+def run_side_by_side(tasks: deque[tuple[Any, dict[str, Any]]], backend: Any,
+                     finish: Callable[[Any, dict[str, Any]], object]) -> None:
     """Run ``tasks`` (a deque of (key, task)) on ``backend`` (e.g. a :class:`LocalPool`),
     at most ``backend.window`` at a time, calling ``finish(key, outcome)`` as each ends.
     On an interruption no further task starts, the running ones are interrupted, those
     that ended are still finished, and the KeyboardInterrupt is re-raised."""
-    running = {}
+    running: dict[concurrent.futures.Future, Any] = {}
     completed = False
     try:
         while tasks or running:
@@ -259,7 +270,7 @@ def run_side_by_side(tasks, backend, finish):
                     finish(key, result(future))
 
 
-def result(future):
+def result(future: concurrent.futures.Future) -> dict[str, Any]:
     """The outcome of a finished future; a worker that died (or a cluster that lost it) is
     a failed case."""
     try:

@@ -3,6 +3,8 @@ walked one stage per snapshot, and the measures of the result."""
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -24,7 +26,6 @@ from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
 from ngincompat.scenes.atrophy.figures import figures
 from ngincompat.scenes.atrophy.tissues import PLANES, TISSUES, bounding_box
-from ngincompat.scenes.base import Scene
 from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.hemisphere import spherical_basis
 from ngincompat.workflow.frames import Frames
@@ -48,7 +49,7 @@ class AtrophyCase(SceneCase):
     one stage per snapshot (:class:`AtrophyStage`); ``scene`` the
     :class:`~ngincompat.scenes.atrophy.scene.AtrophyScene` that built it."""
 
-    scene: Scene
+    scene: Any
     mesh: ngs.Mesh
     series: dict = field(default_factory=dict)
     snapshots: dict = field(default_factory=dict)
@@ -58,7 +59,7 @@ class AtrophyCase(SceneCase):
     #: The incompatibility of the current growth (:meth:`_incompatibility_fields`).
     incompatibility: Incompatibility | None = field(default=None, init=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         scene, mesh = self.scene, self.mesh
         X = ngs.CF((ngs.x, ngs.y, ngs.z))
         white = mesh.MaterialCF({"white": 1.0}, default=0.0)
@@ -81,7 +82,7 @@ class AtrophyCase(SceneCase):
         self.growth = IsotropicGrowth(mesh.MaterialCF({k: laws[k].theta(ramped, ngs.exp)
                                                        for k in TISSUES}))
         self.material = NeoHookean.by_region(mesh, scene.material_moduli())
-        self.problem = None
+        self.problem: GrowthMechanics | None = None
         self.volume0 = {k: ngs.Integrate(1.0, mesh, definedon=mesh.Materials(k))
                         for k in TISSUES}
         self.volume0["total"] = sum(self.volume0.values())
@@ -94,7 +95,7 @@ class AtrophyCase(SceneCase):
         self._record(0.0)
         self.frames = Frames.of(scene, mesh, self._frame_fields, FRAME_FIELDS)
 
-    def stages(self):
+    def stages(self) -> list["AtrophyStage"]:
         """One stage per snapshot time."""
         scene = self.scene
         ends = scene.snapshot_steps()
@@ -103,7 +104,7 @@ class AtrophyCase(SceneCase):
         return [AtrophyStage(f"t={e * dt:g}", self, s, e, dt)
                 for s, e in zip(starts, ends, strict=True)]
 
-    def advance(self, steps, dt):
+    def advance(self, steps: int, dt: float) -> None:
         """``steps`` steps of transport and atrophy; the time series at every step."""
         for _ in range(steps):
             self.transport.step(dt)
@@ -113,7 +114,7 @@ class AtrophyCase(SceneCase):
                                max(self.c_extremes[1], self.transport.maximum())]
             self._record(self.transport.t)
 
-    def _record(self, t):
+    def _record(self, t: float) -> None:
         volumes = self.volumes(self.theta)
         row = {"t": t, "c_integral": self.transport.integral(),
                "c_min": self.transport.minimum(),
@@ -127,14 +128,14 @@ class AtrophyCase(SceneCase):
         for key, value in row.items():
             self.series.setdefault(key, []).append(value)
 
-    def volumes(self, density):
+    def volumes(self, density: ngs.CoefficientFunction) -> dict[str, float]:
         """int density dV over each tissue and the whole body."""
         out = {k: ngs.Integrate(density, self.mesh, definedon=self.mesh.Materials(k),
                                 order=2 * self.scene.order + 2) for k in TISSUES}
         out["total"] = sum(out.values())
         return out
 
-    def equilibrium(self, progress, stage):
+    def equilibrium(self, progress: Progress, stage: str) -> SolverHistory:
         """Solve the mechanics with theta ramped from the last equilibrium to now."""
         if self.problem is None:
             self.problem = GrowthMechanics(self.mesh, self.growth, self.material,
@@ -153,7 +154,8 @@ class AtrophyCase(SceneCase):
             self.snapshots.setdefault(key, []).append(value)
         return history
 
-    def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
+    def solve(self, solution: Solution, progress: Progress,
+              workdir: Path | None = None) -> None:
         solution.state = self
         stages = self.stages()
         progress.plan(stage.name for stage in stages)
@@ -201,7 +203,7 @@ class AtrophyCase(SceneCase):
             curvature_report.report(scene, results, "R", {"|b| (largest plane)": "burgers"})
         return results
 
-    def _frame_fields(self):
+    def _frame_fields(self) -> dict[str, Any]:
         """The fields of the current state that a frame keeps: the incompatibility's and,
         once solved, the mechanics'."""
         fields = self._incompatibility_fields()
@@ -209,7 +211,7 @@ class AtrophyCase(SceneCase):
             fields.update(self._mechanics_fields())
         return fields
 
-    def _incompatibility_fields(self):
+    def _incompatibility_fields(self) -> dict[str, Any]:
         """The incompatibility's fields on the coordinate planes (projected path:
         :class:`~ngincompat.incompatibility.measure.Incompatibility`), beside the
         transport's."""
@@ -218,24 +220,26 @@ class AtrophyCase(SceneCase):
         return {"c": self.transport.c, "theta": self.theta, "exposure": self.exposure,
                 **self.incompatibility.fields()}
 
-    def _incompatibility(self):
+    def _incompatibility(self) -> tuple[dict[str, Any], dict[str, float]]:
         """The fields of :meth:`_incompatibility_fields`, the largest |b| and ||G||_L2."""
         fields = self._incompatibility_fields()
         return fields, {"burgers_max": sampling.maximum(fields["|b|"], self.mesh),
-                        "G_norm_L2": self.incompatibility.norm_L2(
+                        "G_norm_L2": self.incompatibility.norm_L2(  # type: ignore[union-attr]
                             self.mesh, 2 * self.scene.g_order)}
 
-    def _curvature(self, fields):
+    def _curvature(self, fields: dict[str, Any]) -> dict[str, float]:
         """The curvature of Cg (:mod:`ngincompat.incompatibility.curvature`): theta is computed on
         the mesh, so
         the Regge path on the continuous interpolant of Fg that G comes from; adds the fields,
         returns the metrics."""
-        extra, metrics = cv.measure_growth(self.incompatibility.Fg_h, self.mesh,
-                                            self.incompatibility.G, exact=False)
+        # self.incompatibility: set by _incompatibility_fields, which measure calls first
+        extra, metrics = cv.measure_growth(
+            self.incompatibility.Fg_h, self.mesh,  # type: ignore[union-attr]
+            self.incompatibility.G, exact=False)  # type: ignore[union-attr]
         fields.update(extra)
         return metrics
 
-    def _anatomy(self):
+    def _anatomy(self) -> dict[str, float]:
         """The tissues' volumes; on the fsaverage brain also their deviation from the volumes
         the surfaces enclose (divergence theorem) and the elements across the cortex."""
         out = {"gray_volume": self.volume0["gray"], "white_volume": self.volume0["white"]}
@@ -243,7 +247,7 @@ class AtrophyCase(SceneCase):
         if scene.geometry != "fsaverage":
             return out
         pial, white, triangles = fsaverage.surfaces(scene.hemisphere, scene.ico)
-        across = resolution.elements_across(
+        across = resolution.elements_across(  # type: ignore[misc]  # four arrays, then material
             self.mesh, *fsaverage.cortex_columns(scene.hemisphere, scene.ico), material="gray")
         white, _ = fsaverage.cortex(pial, white, triangles, fsaverage.MIN_THICKNESS)
         inner = fsaverage.enclosed_volume(white, triangles)
@@ -254,7 +258,7 @@ class AtrophyCase(SceneCase):
         out["cortex_elements_across_median"] = float(np.nanmedian(across))
         return out
 
-    def _transport_metrics(self):
+    def _transport_metrics(self) -> dict[str, float]:
         last = {k: v[-1] for k, v in self.series.items()}
         metrics = {"c_min": self.c_extremes[0], "c_max": self.c_extremes[1],
                    "c_integral": last["c_integral"],
@@ -264,19 +268,20 @@ class AtrophyCase(SceneCase):
             metrics["front_radius"] = last["front_radius"]
         return metrics
 
-    def _mechanics_fields(self):
+    def _mechanics_fields(self) -> dict[str, Any]:
         """u, J, Je and the max principal Cauchy stress of the last equilibrium."""
-        problem = self.problem
+        problem: GrowthMechanics = self.problem  # type: ignore[assignment]  # set once solved
         sigma = postprocess.stresses(problem.energy_density, problem.u)["sigma"]
         J = ngs.Det(deformation_gradient(problem.u))
         return {"u": problem.u, "J": J, "Je": J / self.theta,
                 "sigma_max_principal": postprocess.largest_principal_value(sigma)}
 
-    def _mechanics(self, fields):
+    def _mechanics(self, fields: dict[str, Any]) -> dict[str, float]:
         """Stresses and volumes of the last equilibrium; adds the fields, returns metrics."""
         mesh, problem = self.mesh, self.problem
-        stress = postprocess.stresses(problem.energy_density, problem.u)
-        F = deformation_gradient(problem.u)
+        stress = postprocess.stresses(problem.energy_density,  # type: ignore[union-attr]
+                                      problem.u)  # type: ignore[union-attr]
+        F = deformation_gradient(problem.u)  # type: ignore[union-attr]
         J = ngs.Det(F)
         sigma = stress["sigma"]
         fields.update(self._mechanics_fields())
@@ -297,12 +302,12 @@ class AtrophyCase(SceneCase):
                 ngs.IfPos(ngs.Norm(J / self.theta - 1) - JE_DEVIATION, 1.0, 0.0), mesh,
                 order=order) / self.volume0["total"],
             "max_principal_stress": sampling.maximum(fields["sigma_max_principal"], mesh),
-            "strain_energy": problem.strain_energy(),
+            "strain_energy": problem.strain_energy(),  # type: ignore[union-attr]
             "equilibrium_residual_rel": relative(float(np.linalg.norm(np.array(total))),
                                                   size),
         }
 
-    def _depth(self, fields, metrics):
+    def _depth(self, fields: dict[str, Any], metrics: dict[str, float]) -> dict[str, np.ndarray]:
         """The paper's finding (Fig. 5e): theta, |b| and the max principal stress averaged
         over bands of depth xi below the surface (:mod:`ngincompat.fem.depth`; 0 at the
         surface, 1 at the gray/white interface, 2 one mean cortical thickness T into the
@@ -312,7 +317,8 @@ class AtrophyCase(SceneCase):
         mesh, order = self.mesh, 2 * self.scene.order
         xi, d_i, thickness = depth.depth_coordinate(mesh)
         edges = np.linspace(0.0, 2.0, 2 * DEPTH_BANDS + 1)
-        cfs = {k: fields[k] for k in ("theta", "|b|", "sigma_max_principal") if k in fields}
+        cfs: dict[str, Any] = {k: fields[k] for k in ("theta", "|b|", "sigma_max_principal")
+                               if k in fields}
         means, _ = depth.band_means(cfs, xi, edges, mesh, order)
         near = ngs.IfPos(thickness - d_i, 1.0, 0.0)
         metrics["cortex_thickness"] = thickness
@@ -328,14 +334,14 @@ class AtrophyCase(SceneCase):
             metrics["stress_interface_over_surface"] = float(interface / surface)
         return {"xi": (edges[:-1] + edges[1:]) / 2, **means}
 
-    def _surface(self, fields):
+    def _surface(self, fields: dict[str, Any]) -> dict[str, np.ndarray]:
         """c, theta, the max principal stress and u at the vertices of the outer surface,
         and its triangles (Fig. 5 a-c)."""
         mesh = self.mesh
-        triangles = []
+        triangles: list | np.ndarray = []
         for el in mesh.Elements(ngs.BND):
             if el.mat == "surface":
-                corners = [v.nr for v in el.vertices]
+                corners: list | np.ndarray = [v.nr for v in el.vertices]
                 triangles += [corners[:3]] + ([[corners[0], corners[2], corners[3]]]
                                               if len(corners) == 4 else [])
         triangles = np.array(triangles, dtype=int).reshape(-1, 3)
@@ -360,17 +366,18 @@ class AtrophyCase(SceneCase):
             column += width
         return out
 
-    def _line(self, fields, metrics):
+    def _line(self, fields: dict[str, Any], metrics: dict[str, float]) -> dict[str, np.ndarray]:
         """The profile from the centre along +X1 to the surface, with the depth of the
         largest |b| and stress below the surface (the last point of the line in the body)."""
         a = float(self.extent[0])
         basis = spherical_basis()
-        sampled = {"c": fields["c"], "theta": fields["theta"], "burgers": fields["|b|"],
-                   **{f"|b_{p}|": fields[f"|b_{p}|"] for p in PLANES},
-                   **{k: fields[k] for k in ("einstein_norm_g", "scalar_curvature")
-                      if k in fields}}
+        sampled: dict[str, Any] = {
+            "c": fields["c"], "theta": fields["theta"], "burgers": fields["|b|"],
+            **{f"|b_{p}|": fields[f"|b_{p}|"] for p in PLANES},
+            **{k: fields[k] for k in ("einstein_norm_g", "scalar_curvature") if k in fields}}
         if "u" in fields:
-            sigma = postprocess.stresses(self.problem.energy_density, self.problem.u)["sigma"]
+            sigma = postprocess.stresses(self.problem.energy_density,  # type: ignore[union-attr]
+                                         self.problem.u)["sigma"]  # type: ignore[union-attr]
             sampled.update({
                 "sigma_rr": postprocess.component(sigma, basis["r"]),
                 "sigma_thetatheta": postprocess.component(sigma, basis["theta"]),
@@ -386,14 +393,15 @@ class AtrophyCase(SceneCase):
                 surface - s[np.nanargmax(values["sigma_max_principal"])])
         return line
 
-    def _sections(self, fields, n=121):
+    def _sections(self, fields: dict[str, Any], n: int = 121) -> dict[str, np.ndarray]:
         """theta, the max principal stress and, as the paper computes them "for each of the
         planes of interest" (Fig. 5d), |b| of the plane's own normal, b = G^T e_k (eq. 11),
         with b's components along the plane's two axes ("b_inplane", for its arrows) and
         along its normal ("b_normal"), on the planes X_k = const through the centre, k = 1,
         2, 3, sampled on n x n grids (NaN outside the mesh)."""
         axes = self.extent
-        common = {k: fields[k] for k in ("theta", "sigma_max_principal") if k in fields}
+        common: dict[str, Any] = {k: fields[k] for k in ("theta", "sigma_max_principal")
+                                  if k in fields}
         basis = np.eye(3)
         out = {}
         for k, plane in enumerate(PLANES):
@@ -431,7 +439,7 @@ class AtrophyStage:
 
 
 
-def relative(value, scale):
+def relative(value: float, scale: float) -> float:
     """``value / scale``; 0 for a body without stress (a seed too small for the mesh to see
     atrophies nothing: the residual and the stresses are both 0)."""
     if scale > 0:

@@ -2,16 +2,17 @@
 maps on the sections through the centre."""
 
 
+from typing import Any
 
 from ngincompat.scenes.atrophy.tissues import PLANES, TISSUES
-from ngincompat.workflow.results import MapsFigure, ProfileFigure, SurfaceFigure
+from ngincompat.workflow.results import Figure, MapsFigure, ProfileFigure, SurfaceFigure
 
 
-def figures(scene, mechanics):
+def figures(scene: Any, mechanics: bool) -> list[Figure]:
     """Time series, the profile along +X1 and the three sections (Fig. 5)."""
     L, stress, T = (scene.units[k] for k in ("length", "stress", "time"))
     title = scene.title()
-    figures = [
+    figures: list[Figure] = [
         ProfileFigure("spreading.png", "t", f"t [{T}]", {"int c dV": "c_integral"},
                       f"int c dV [{L}$^3$]", f"{title}: misfolded protein",
                       right={"front radius": "front_radius"} if scene.seed_centre() else {},

@@ -39,6 +39,7 @@ from ngincompat.scenes.metrics import (
     select,
 )
 from ngincompat.scenes.trust import Indicator
+from ngincompat.workflow.results import Results
 
 GEOMETRIES = ("idealized", "mni152", "fsaverage")
 #: Named seeds: MNI coordinates [mm] of the left hemisphere (x mirrored for the right).
@@ -209,7 +210,7 @@ class AtrophyScene(Scene):
     formulation: Literal["mixed", "displacement"] = param(
         "mixed", "mixed (pressure against volumetric locking, on Je) or displacement")
 
-    def trust(self, results):
+    def trust(self, results: Results) -> list[str]:
         """The elastic volume change |Je - 1| = |J / theta - 1| above :data:`JE_DEVIATION`
         (nu = 0.49 allows about 1e-2), with the share of the volume where it is: elements
         that do not resolve the tissues' mismatch, or poorly shaped ones, whose stress and
@@ -235,7 +236,7 @@ class AtrophyScene(Scene):
                          "gray_thickness / maxh >= 2 on the idealized one)")
         return found
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         if self.geometry == "fsaverage" and self.seed == IDEALIZED_SEED:
             object.__setattr__(self, "seed", "entorhinal")     # the default, outside it
@@ -265,11 +266,11 @@ class AtrophyScene(Scene):
         check_formulation(NeoHookean.from_nu(self.mu_gray, self.nu), self.formulation,
                           self.order)
 
-    def axes(self):
+    def axes(self) -> tuple[float, float, float]:
         """The semi-axes as three floats."""
         return self.semi_axes
 
-    def seed_centre(self):
+    def seed_centre(self) -> tuple[float, ...] | None:
         """The seed's centre, or None for a uniform seed (a named one in the brain's
         coordinates: :func:`geometries.fsaverage_brain.from_mni`)."""
         if self.seed == "uniform":
@@ -281,13 +282,13 @@ class AtrophyScene(Scene):
                 pial = fsaverage.surfaces(self.hemisphere, self.ico)[0]
                 point = pial[np.argmin(np.linalg.norm(pial - point, axis=1))]
             return tuple(float(v) for v in point)
-        return self.seed
+        return self.seed  # type: ignore[return-value]  # X,Y,Z: the words returned above
 
-    def n_steps(self):
+    def n_steps(self) -> int:
         """Number of equal time steps, of length t_end / n <= dt."""
         return max(1, int(np.ceil(self.t_end / self.dt - 1e-9)))
 
-    def snapshot_steps(self):
+    def snapshot_steps(self) -> list[int]:
         """The steps (counted from 0) after which the equilibrium is solved and a frame of the
         time series taken: ``times`` rounded to the nearest step, else ``snapshots`` equally
         spaced ones; the last step always."""
@@ -299,25 +300,25 @@ class AtrophyScene(Scene):
                 allowed)
         return sorted({max(1, round(t / self.t_end * n)) for t in self.times} | {n})
 
-    def laws(self):
+    def laws(self) -> dict[str, AtrophyLaw]:
         """The atrophy law of each tissue."""
         return {"gray": AtrophyLaw(self.rate_gray, self.theta_min, "rate_gray"),
                 "white": AtrophyLaw(self.rate_white, self.theta_min, "rate_white")}
 
-    def material_moduli(self):
+    def material_moduli(self) -> dict[str, tuple[float, float]]:
         """tissue -> (mu, nu), checked."""
         moduli = {"gray": (self.mu_gray, self.nu), "white": (self.mu_white, self.nu)}
         for mu, nu in moduli.values():
             NeoHookean.from_nu(mu, nu)
         return moduli
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str] | None:
         # a voxel brain has at most the voxels of its image (mni152: maxh in [0.4, 2] cm)
         if self.geometry != "idealized":
             return None
         return estimate.brain_elements(semi_axes=self.axes(), maxh=self.maxh), "tet"
 
-    def build(self):
+    def build(self) -> AtrophyCase:
         mesh = self.distributed_mesh()
         missing = set(TISSUES) - set(mesh.GetMaterials())
         if missing:
@@ -338,7 +339,7 @@ class AtrophyScene(Scene):
                                  f"takes --set elements=tet)")
         return AtrophyCase(self, mesh)
 
-    def distributed_mesh(self):
+    def distributed_mesh(self) -> ngs.Mesh:
         """The brain of :meth:`mesh`, distributed over the ranks of an MPI run
         (:mod:`ngincompat.parallel`; the ellipsoid curved on every rank)."""
         if parallel.world() is None:
@@ -348,7 +349,7 @@ class AtrophyScene(Scene):
                 brain_geometry(self.axes(), self.gray_thickness), self.maxh, self.order)
         return parallel.distribute(self.mesh)
 
-    def mesh(self):
+    def mesh(self) -> ngs.Mesh:
         """The brain: the ellipsoid, the MNI152 template, or the user's file (cm)."""
         if self.geometry == "idealized":
             return brain(semi_axes=self.axes(), gray=self.gray_thickness, maxh=self.maxh,

@@ -1,7 +1,10 @@
 """The folding scene's case: the coupled bilayer, its stages (approach, perfect branch,
 buckling, equilibrium, release), the records of its growth and the measures of the result."""
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -13,14 +16,13 @@ from ngincompat.fem.relaxation import RelaxationStage, SnappingMarch
 from ngincompat.fem.self_contact import SelfContact
 from ngincompat.fem.shape import circle_curvature
 from ngincompat.fem.solver import NewtonSolver
-from ngincompat.fem.stages import CoupledStage
+from ngincompat.fem.stages import CoupledStage, Stage
 from ngincompat.fem.terms import GrowthEnergy, ViscousRegularisation
 from ngincompat.mechanics import fields, kinematics
 from ngincompat.mechanics.laws import ConstantRateLaw, RegionalLaw
 from ngincompat.mechanics.materials import NeoHookean, Regional
 from ngincompat.progress import Progress
 from ngincompat.sampling import element_points
-from ngincompat.scenes.base import Scene
 from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.folding import measures
 from ngincompat.scenes.folding.numerics import (
@@ -47,7 +49,7 @@ CREASE_STRETCH = 0.65
 GROWING = {"left": "x", "right": "x", "bottom": "y"}
 
 #: After the release: no support (the rigid motions are pinned).
-RELEASED = {}
+RELEASED: dict[str, str] = {}
 
 
 @dataclass(eq=False)
@@ -63,7 +65,7 @@ class FoldingCase(SceneCase):
     ``scene`` is the :class:`~ngincompat.scenes.folding.scene.FoldingScene` that built it.
     """
 
-    scene: Scene
+    scene: Any
     mesh: ngs.Mesh
     noted: dict = field(default_factory=dict)
     series: dict = field(default_factory=lambda: {
@@ -71,7 +73,7 @@ class FoldingCase(SceneCase):
                  "Je_min": [], "contact_length": [], "penetration": []}
         for branch in ("perfect", "buckling")})
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         scene, mesh = self.scene, self.mesh
         lam = scene.lam_ratio
         self.material = Regional(mesh, {
@@ -85,14 +87,15 @@ class FoldingCase(SceneCase):
         self.law = RegionalLaw(mesh, {"cortex": ConstantRateLaw(scene.cortex_rate),
                                       "subcortex": scene.axon_law()})
         self.problem, self.growth, self.viscous, self.contact = self.coupled()
-        self.grown = self.grown_contact = None       # kept by the release
+        self.grown: ngs.GridFunction | None = None       # kept by the release
+        self.grown_contact: dict[str, float] | None = None
         self.reactions = float("nan")
-        self.mode = None
-        self.pairs = None
-        self.frames = Frames.of(scene, mesh, lambda: {"u": self.problem.u,
-                                                      "theta": self.growth.theta})
+        self.mode: ngs.GridFunction | None = None
+        self.pairs: tuple[np.ndarray, list[ngs.GridFunction]] | None = None
+        self.frames: Frames = Frames.of(scene, mesh, lambda: {"u": self.problem.u,
+                                                              "theta": self.growth.theta})
 
-    def coupled(self):
+    def coupled(self) -> tuple[CoupledProblem, GrowthEnergy, ViscousRegularisation, SelfContact]:
         """The viscous coupled bilayer on its supports while growing (:data:`GROWING`),
         which :meth:`release` changes to :data:`RELEASED`; the top surface in self-contact
         (:class:`~ngincompat.fem.self_contact.SelfContact`, pairs within
@@ -113,19 +116,20 @@ class FoldingCase(SceneCase):
                                  realcompile=True if self.marches() else None)
         return problem, growth, viscous, contact
 
-    def _along_top(self, cf, n):
+    def _along_top(self, cf: ngs.CoefficientFunction, n: int) -> tuple[np.ndarray, np.ndarray]:
         """X1 and the values of ``cf`` at ``n`` points along the top surface."""
         s = self.scene
         x, values = postprocess.sample_line(self.mesh, {"v": cf}, (0.0, s.height),
                                             (s.length, s.height), n=n)
         return x, values["v"]
 
-    def top_profile(self, u, n=301, component=1):
+    def top_profile(self, u: ngs.GridFunction, n: int = 301,
+                    component: int = 1) -> tuple[np.ndarray, np.ndarray]:
         """X1 and the displacement ``component`` along the top surface (default u2, the
         vertical)."""
         return self._along_top(u[component], n)
 
-    def top_curvature(self, u, n=301):
+    def top_curvature(self, u: ngs.GridFunction, n: int = 301) -> float:
         """The curvature of the circle fitted to the deformed top line (X1 + u1, X2 + u2)
         over the central third of the length (1/length; > 0: bulging upward)."""
         x, u1 = self.top_profile(u, n, component=0)
@@ -133,7 +137,7 @@ class FoldingCase(SceneCase):
         third = (x >= self.scene.length / 3) & (x <= 2 * self.scene.length / 3)
         return circle_curvature(x[third] + u1[third], self.scene.height + u2[third])
 
-    def top_stretch(self, u, theta_c, n=301):
+    def top_stretch(self, u: ngs.GridFunction, theta_c: float, n: int = 301) -> float:
         """The smallest elastic stretch of the top surface along it, lambda_e = |F e1| /
         theta_c (F = I + Grad u; the cortex grows along e1 by theta_c), over ``n`` points
         along the top."""
@@ -141,7 +145,8 @@ class FoldingCase(SceneCase):
         _, values = self._along_top(ngs.Norm(F_e1), n)
         return float(np.nanmin(values)) / theta_c
 
-    def _observe(self, branch, t, negative=False):
+    def _observe(self, branch: str, t: float,
+                 negative: bool = False) -> tuple[np.ndarray, list[ngs.GridFunction]]:
         """Append the time, cortex growth, smallest eigenvalue, fold amplitude, smallest
         top stretch, smallest Je and the self-contact (:meth:`SelfContact.measures`: on the
         section its area is the length of the top line in contact) of the
@@ -162,18 +167,18 @@ class FoldingCase(SceneCase):
         self.frames.take(t)             # a frame of fields.pvd per record
         return values, modes
 
-    def _reached(self, t):
+    def _reached(self, t: float) -> None:
         """Note ``t`` and its cortex growth as the furthest the growth has gone."""
         self.noted.update(t_reached=float(t),
                           theta_c_reached=float(1 + self.scene.cortex_rate * t))
 
-    def elastic_jacobian_min(self, growth, u):
+    def elastic_jacobian_min(self, growth: GrowthEnergy, u: ngs.GridFunction) -> float:
         """The smallest Je = det F / Jg (Jg = theta for fiber growth) over the integration
         points and vertices of the mesh: > 0 where no element has inverted."""
         Je = ngs.Det(kinematics.deformation_gradient(u)) / growth.theta
         return float(np.min(np.asarray(Je(element_points(self.mesh, 4))).ravel()))
 
-    def _observe_perfect(self, t):
+    def _observe_perfect(self, t: float) -> bool:
         """Record the step; at the first negative eigenvalue measure the onset and stop.
 
         The onset is the earliest zero crossing among the modes negative there (all of them
@@ -195,7 +200,7 @@ class FoldingCase(SceneCase):
         self.mode = modes[0]
         if previous is not None:
             theta = self.series["perfect"]["theta_c"][-2:]
-            onset, x, _ = buckling.earliest_crossing(
+            onset, x, _ = buckling.earliest_crossing(  # type: ignore[misc]  # bracketed: found
                 theta, previous[0], values, buckling.overlaps(previous[1], modes))
             self.mode = buckling.combine(modes, x)
             self.noted.update(onset_growth=onset,
@@ -204,7 +209,7 @@ class FoldingCase(SceneCase):
         self.noted["onset_wavelength"] = buckling.wavelength(x, w)
         return True
 
-    def _observe_buckling(self, t):
+    def _observe_buckling(self, t: float) -> bool:
         """Record the march's state (:meth:`_observe`: its eigenpairs cost as much as a
         Newton iteration and more) at its first step, then once at least ``observe_dt`` of
         growth has passed since the last record, and at ``t_end``."""
@@ -215,16 +220,16 @@ class FoldingCase(SceneCase):
             self._observe("buckling", t)
         return False
 
-    def perturb(self):
+    def perturb(self) -> None:
         """Add the onset's buckling mode to the displacement, scaled to ``imperfection`` x
         ``cortex_thickness`` on the top surface, and start the viscous regularisation
         (:attr:`eta`) from there."""
         _, w = self.top_profile(self.mode)
         scale = self.scene.imperfection * self.scene.cortex_thickness / np.max(np.abs(w))
-        self.problem.u.vec.data += scale * self.mode.vec
+        self.problem.u.vec.data += scale * self.mode.vec  # type: ignore[union-attr]  # the onset's
         self.viscous.restart(self.eta)
 
-    def analysis_onset_time(self):
+    def analysis_onset_time(self) -> float | None:
         """The time of the onset of the bifurcation analysis
         (:func:`~ngincompat.references.bifurcation.onset`, roller ends, scanned in theta_c
         steps of 0.02: it places steps, it is not the measured onset), or None if it finds
@@ -233,7 +238,7 @@ class FoldingCase(SceneCase):
         growth = placing_onset(scene.bifurcation_bilayer(), scene.length)
         return None if growth is None else (growth - 1) / scene.cortex_rate
 
-    def marches(self):
+    def marches(self) -> bool:
         """Whether the run is expected to follow folds past the onset (``buckle``, and the
         analysis' onset before ``t_end``): hundreds of Newton iterations, for which the
         residual is compiled to C++ whatever the number of unknowns
@@ -242,7 +247,7 @@ class FoldingCase(SceneCase):
         onset_time = self.analysis_onset_time()
         return self.scene.buckle and onset_time is not None and onset_time < self.scene.t_end
 
-    def approach_end(self):
+    def approach_end(self) -> float:
         """Where the perfect branch's short steps begin: 2 ``onset_dt`` before the
         analysis' onset (:meth:`analysis_onset_time`), or 0 (no approach) if that is not
         after two of the approach's longest steps, beyond ``t_end`` or not found."""
@@ -252,7 +257,7 @@ class FoldingCase(SceneCase):
         t = onset_time - 2 * scene.onset_dt
         return t if 2 * max(scene.approach_dt, scene.onset_dt) <= t < scene.t_end else 0.0
 
-    def stages(self):
+    def stages(self) -> list[CoupledStage]:
         """The perfect branch: ``approach`` in steps up to ``approach_dt`` to
         :meth:`approach_end` (if after 0), ``perfect`` from there in steps up to
         ``onset_dt``; both stop at the first negative eigenvalue."""
@@ -278,16 +283,16 @@ class FoldingCase(SceneCase):
                 perfect]
 
     @property
-    def eta(self):
+    def eta(self) -> float:
         """The viscosity of the regularisation (stress x time / length^2)."""
         return self.scene.viscosity * self.scene.mu_white
 
-    def viscous_step(self):
+    def viscous_step(self) -> float:
         """The largest step of the viscous march, eta / (2 |omega_onset|), or ``dt``."""
         eigenvalue = self.series["perfect"]["eigenvalue"][-1]
         return min(self.scene.dt, self.eta / (2 * abs(eigenvalue)))
 
-    def buckling_stage(self):
+    def buckling_stage(self) -> SnappingMarch:
         """The viscous march from the onset step to ``t_end``, in steps up to
         :meth:`viscous_step` and ``onset_dt``: on the default bilayer every longer step
         (2.5 days) failed, a full Newton step from the growing folds inverting an element
@@ -310,7 +315,8 @@ class FoldingCase(SceneCase):
         return SnappingMarch(march, lambda: self.relaxation("buckling", self.problem,
                                                             self.viscous))
 
-    def relaxation(self, name, problem, viscous):
+    def relaxation(self, name: str, problem: CoupledProblem,
+                   viscous: ViscousRegularisation) -> RelaxationStage:
         """The gradient flow to the equilibrium at frozen growth of ``problem`` (its viscous
         term ``viscous``), in pseudo-time steps from the viscous march's largest; a saddle
         is left along its unstable mode, moved as the onset's imperfection is (``kick``:
@@ -325,16 +331,16 @@ class FoldingCase(SceneCase):
                                kick=self.scene.imperfection * self.scene.cortex_thickness)
 
     @property
-    def released(self):
+    def released(self) -> bool:
         """Whether :meth:`release` has begun (the supports removed)."""
         return self.grown is not None
 
     @property
-    def grown_u(self):
+    def grown_u(self) -> ngs.GridFunction:
         """The displacement of the grown state: kept by the release, else the current one."""
         return self.problem.u if self.grown is None else self.grown
 
-    def release(self):
+    def release(self) -> list[RelaxationStage]:
         """The stage of the release from the current state, growth frozen: the grown state
         is kept (``grown``, its contact measures ``grown_contact``), the supports become
         :data:`RELEASED` and the images of the top in the roller ends go with them (the
@@ -354,7 +360,7 @@ class FoldingCase(SceneCase):
         self.reactions = NewtonSolver(problem, newton()).residual().Norm()
         return [self.relaxation("release", problem, self.viscous)]
 
-    def plan(self, branch, onset=True):
+    def plan(self, branch: Iterable[Stage], onset: bool = True) -> list[str]:
         """The names of the stages a run goes through after the stages ``branch`` of the
         perfect branch (``onset``: if that reaches the onset, where the buckling starts)."""
         names = [stage.name for stage in branch]
@@ -362,7 +368,8 @@ class FoldingCase(SceneCase):
             names += ["buckling", "equilibrium"]
         return names + (["release"] if self.scene.release else [])
 
-    def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
+    def solve(self, solution: Solution, progress: Progress,
+              workdir: Path | None = None) -> None:
         solution.state = self.problem
         branch = self.stages()
         progress.plan(self.plan(branch))
@@ -386,7 +393,7 @@ class FoldingCase(SceneCase):
                 progress.plan(self.plan(branch, onset=False))
             solve_stages(self.release(), progress, solution, after=self._note)
 
-    def _explain_crease(self, solution):
+    def _explain_crease(self, solution: Solution) -> None:
         """Add to the error of a failed march where the top surface went below
         :data:`CREASE_STRETCH`, if it did."""
         series = self.series["buckling"]
@@ -405,7 +412,7 @@ class FoldingCase(SceneCase):
                 f"the last step: the folds crease at the sulci; {remedy} "
                 "(docs/measurements/folding.md)")
 
-    def _note(self, stage):
+    def _note(self, stage: Any) -> None:
         """After the equilibrium its residual (relative to the start's) and smallest
         eigenvalue; after the release the reactions of the pins."""
         if stage.name == "equilibrium":

@@ -2,8 +2,10 @@
 the middle, the perfect branch's eigenvalue, the folds' growth and the buckling mode."""
 
 
+from collections.abc import Mapping
+from typing import Any
 
-from ngincompat.workflow.results import DeformedFigure, ProfileFigure
+from ngincompat.workflow.results import DeformedFigure, Figure, ProfileFigure
 
 #: The panels of Fig. 7 a-c: label -> (field, the displacement it is drawn deformed by);
 #: "{L}" and "{stress}" stand for the units. A panel is drawn when the run has its fields.
@@ -17,13 +19,13 @@ PANELS = {"axon growth theta_a [-]": ("theta_a", "u"),
 DEPTH_FIELDS = ("theta_a", "|b|", "curlFg_sq", "sigma_max", "sigma_max_released")
 
 
-def panels(scene):
+def panels(scene: Any) -> dict[str, tuple[str, str]]:
     """``PANELS`` with the scene's units: label -> (field, displacement)."""
     units = {"L": scene.units["length"], "stress": scene.units["stress"]}
     return {label.format(**units): keys for label, keys in PANELS.items()}
 
 
-def fields_figure(scene, section):
+def fields_figure(scene: Any, section: Mapping[str, Any]) -> DeformedFigure:
     """The figure of Fig. 7 a-c of one run: the panels whose fields ``section`` has."""
     L = scene.units["length"]
     present = {label: keys for label, keys in panels(scene).items()
@@ -35,7 +37,7 @@ def fields_figure(scene, section):
                           floor=1e-3 * scene.mu_white)
 
 
-def figures(scene, profiles):
+def figures(scene: Any, profiles: Mapping[str, Mapping[str, Any]]) -> list[Figure]:
     """The figures of a run from its ``profiles``."""
     L, title = scene.units["length"], scene.title()
     stress = scene.units["stress"]

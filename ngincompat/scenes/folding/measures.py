@@ -1,12 +1,16 @@
 """The folding scene's measures of a solved case: the folds, the contact, the stresses before
 and after the release, the incompatibility, and the section and depth profiles of Fig. 7."""
 
+from collections.abc import Mapping
+from typing import Any
+
 import ngsolve as ngs
 import numpy as np
 
 from ngincompat import sampling
 from ngincompat.fem import postprocess
 from ngincompat.fem.shape import sulci
+from ngincompat.fem.terms import GrowthEnergy
 from ngincompat.incompatibility.measure import Incompatibility
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.growth import FiberGrowth
@@ -17,7 +21,7 @@ from ngincompat.workflow.pipeline import Solution, timed
 from ngincompat.workflow.results import Results
 
 
-def measure(case, solution: Solution, progress: Progress) -> Results:
+def measure(case: Any, solution: Solution, progress: Progress) -> Results:
     """The record of the solved ``case`` (a :class:`~ngincompat.scenes.folding.case.FoldingCase`)
     with its metrics, fields, profiles and figures."""
     results = case.interrupted(solution)
@@ -59,7 +63,7 @@ def measure(case, solution: Solution, progress: Progress) -> Results:
     return results
 
 
-def contact_metrics(case, solution):
+def contact_metrics(case: Any, solution: Solution) -> dict[str, float]:
     """``Je_min`` over the records of the growth and the final states (grown and, if
     released, released), the final grown state's
     ``self_contact_area`` (length of the top line in contact) and the largest
@@ -77,7 +81,7 @@ def contact_metrics(case, solution):
             "self_contact_penetration_max": max(penetrations)}
 
 
-def strain_energy(case, u):
+def strain_energy(case: Any, u: ngs.GridFunction) -> float:
     """The strain energy per unit depth of the section at the displacement ``u`` and
     the current growth, int Jg Psi(F Fg^-1) dA (eq. 36): the residual stress's energy
     after the release, where the largest principal stress is a value at one point."""
@@ -85,7 +89,7 @@ def strain_energy(case, u):
     return float(ngs.Integrate(density, case.mesh, order=2 * case.scene.order))
 
 
-def interface_mean(case, cf):
+def interface_mean(case: Any, cf: ngs.CoefficientFunction) -> float:
     """The mean of ``cf`` over the band of one cortex thickness centred on the interface
     (reference X2 within cortex_thickness / 2 of it)."""
     s = case.scene
@@ -95,7 +99,7 @@ def interface_mean(case, cf):
                  / (s.cortex_thickness * s.length))
 
 
-def incompatibility(case):
+def incompatibility(case: Any) -> dict[str, ngs.CoefficientFunction]:
     """theta_a and the incompatibility of the current growth on the paper's plane normal
     to e3 (projected path: :class:`~ngincompat.incompatibility.measure.Incompatibility`)."""
     theta = case.growth.theta
@@ -105,7 +109,8 @@ def incompatibility(case):
             **measured.fields()}
 
 
-def stresses(case, growth, u, suffix, metrics):
+def stresses(case: Any, growth: GrowthEnergy, u: ngs.GridFunction, suffix: str,
+             metrics: dict[str, float]) -> dict[str, ngs.CoefficientFunction]:
     """The Cauchy stress of the growth term ``growth`` at the displacement ``u`` and its
     largest principal value (fields
     ``sigma``, ``sigma_max`` + ``suffix``); into ``metrics`` that value's maximum over
@@ -123,14 +128,15 @@ def stresses(case, growth, u, suffix, metrics):
     return {f"sigma{suffix}": sigma, f"sigma_max{suffix}": largest}
 
 
-def burgers_metrics(case, b_norm):
+def burgers_metrics(case: Any, b_norm: ngs.CoefficientFunction) -> dict[str, float]:
     """The largest |b|, its depth below the top and its X1."""
     value, where = sampling.argmax(b_norm, case.mesh)
     return {"burgers_max": value, "burgers_max_depth": case.scene.height - where[1],
             "burgers_max_X1": where[0]}
 
 
-def section(case, flds, n=241, band=5):
+def section(case: Any, flds: Mapping[str, Any], n: int = 241,
+            band: float = 5) -> dict[str, np.ndarray]:
     """The fields of ``PANELS`` that ``flds`` has on the section, on a grid of n
     columns over the length and rows refined in the top ``band`` cortical thicknesses
     (40 rows there, 30 below); displacements as their (u1, u2)."""
@@ -145,7 +151,7 @@ def section(case, flds, n=241, band=5):
     return {"X1": x1, "X2": x2, **sampled}
 
 
-def depth_profile(case, flds, n=401):
+def depth_profile(case: Any, flds: Mapping[str, Any], n: int = 401) -> dict[str, np.ndarray]:
     """``DEPTH_FIELDS`` along the vertical through the middle, from the top down."""
     s = case.scene
     depth, values = postprocess.sample_line(

@@ -4,9 +4,10 @@ bifurcation analysis' onset that places the perfect branch's short steps. Why ea
 ``docs/measurements/folding.md``."""
 
 import functools
+from typing import Any
 
 from ngincompat.fem.solver import NewtonOptions
-from ngincompat.references.bifurcation import onset
+from ngincompat.references.bifurcation import Bilayer, onset
 
 #: Eigenpairs computed per step: Lanczos asked for one alone can settle on another of the
 #: cluster of nearly equal wrinkling modes and miss the smallest (seen: 10.8 after 3.5).
@@ -65,7 +66,7 @@ STALL = 3
 SNAP_STEP = 1 / 16
 
 
-def newton(**settings):
+def newton(**settings: Any) -> NewtonOptions:
     """The Newton options of every stage: at most 12 iterations per step, the directions
     by :data:`LINEAR_SOLVER`, :data:`STEP_HOLD` steps held after a cut, and the stage's own
     ``settings`` (which may change those)."""
@@ -75,7 +76,7 @@ def newton(**settings):
 
 
 @functools.lru_cache(maxsize=32)
-def placing_onset(bilayer, length):
+def placing_onset(bilayer: Bilayer, length: float) -> float | None:
     """theta_c at the onset of the bifurcation analysis of ``bilayer`` with roller ends at
     ``length``, scanned in theta_c steps of 0.02 (it places the perfect branch's steps), or
     None if it finds none. Cached: it only depends on the bilayer (seconds per call), which

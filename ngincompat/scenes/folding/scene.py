@@ -197,7 +197,7 @@ class FoldingScene(Scene):
                                    "(eta in stress x time / length^2)", "time/length^2",
                              range="[1e-3, 1e6]")
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         require(self.order == 2, "order", self.order, "2 (quadratic elements across the "
                 "cortex; from order 3 the triangles have element-internal dofs, which the "
@@ -218,7 +218,7 @@ class FoldingScene(Scene):
             check_time_steps("t_end", self.t_end, step, getattr(self, step))
         self.axon_law()
 
-    def axon_law(self):
+    def axon_law(self) -> ConstantRateLaw | StrainDrivenLaw:
         """The subcortex's law: stretch-driven (eq. 45, gamma = 0) or, without axons, none."""
         if self.axons == "none":
             return ConstantRateLaw(0.0)
@@ -226,29 +226,29 @@ class FoldingScene(Scene):
                                theta_crit=self.stretch_crit)
 
     @property
-    def top_maxh(self):
+    def top_maxh(self) -> float:
         """The mesh size on the top surface, cortex_maxh / top_refinement."""
         return self.cortex_maxh / self.top_refinement
 
     @property
-    def mu_gray(self):
+    def mu_gray(self) -> float:
         return self.mu_ratio * self.mu_white
 
-    def bifurcation_bilayer(self):
+    def bifurcation_bilayer(self) -> Bilayer:
         """The same bilayer for the independent linear bifurcation analysis
         (:mod:`ngincompat.references.bifurcation`)."""
         lam = self.lam_ratio
         return Bilayer(self.height, self.cortex_thickness, self.mu_gray, lam * self.mu_gray,
                        self.mu_white, lam * self.mu_white)
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str]:
         return (estimate.bilayer_elements(length=self.length, height=self.height,
                                           cortex=self.cortex_thickness,
                                           maxh=self.maxh, cortex_maxh=self.cortex_maxh,
                                           top_maxh=self.top_maxh),
                 "triangle")
 
-    def build(self):
+    def build(self) -> FoldingCase:
         mesh = bilayer(length=self.length, height=self.height,
                        cortex=self.cortex_thickness, maxh=self.maxh,
                        cortex_maxh=self.cortex_maxh, top_maxh=self.top_maxh)

@@ -3,6 +3,7 @@ walks (inflation, hold, deflation, release), and what is measured of the result.
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import ngsolve as ngs
 import numpy as np
@@ -19,6 +20,7 @@ from ngincompat.fem.stages import (
     CoupledStage,
     FallbackStage,
     PrescribedGrowthStage,
+    Stage,
     restore_checkpoint,
 )
 from ngincompat.fem.terms import DeadTraction, GrowthEnergy, VolumeConstraint
@@ -29,7 +31,6 @@ from ngincompat.mechanics.growth import AreaGrowth
 from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
-from ngincompat.scenes.base import Scene
 from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.skin import figures, measures
 from ngincompat.workflow.frames import Frames
@@ -56,7 +57,7 @@ DEFLATION_MAX_ITER = 25
 #: initial step).
 INFLATION_STEP_UP = 10
 #: Boundary conditions while the patch is held: the periphery clamped, the base sliding.
-CLAMP = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
+CLAMP: dict[str, Any] = {"dirichlet": "periphery", "symmetry": {"bottom": "z"}}
 
 
 
@@ -86,13 +87,13 @@ class SkinCase(SceneCase):
     kept for what is measured of it.
     """
 
-    scene: Scene
+    scene: Any
     mesh: ngs.Mesh
     noted: dict = field(default_factory=dict)
     end_of_hold: tuple | None = None
     load_end_of_hold: float = float("nan")
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         scene, mesh = self.scene, self.mesh
         self.material = NeoHookean.from_nu(scene.mu, scene.nu)
         self.N0 = fields.constant("e3")
@@ -103,22 +104,23 @@ class SkinCase(SceneCase):
         # volume under the footprint held by a pressure
         self.in_contact = scene.expander == "contact"
         if self.in_contact:
-            self.holder = contact.ExpanderContact(scene.expander_body(), "footprint")
-            self.traction = DeadTraction("footprint")
+            self.holder: contact.ExpanderContact | VolumeConstraint = contact.ExpanderContact(
+                scene.expander_body(), "footprint")
+            self.traction: DeadTraction | None = DeadTraction("footprint")
             terms = [self.growth, self.traction, self.holder]
         else:
             self.holder, self.traction = VolumeConstraint("footprint"), None
             terms = [self.growth, self.holder]
         self.problem = CoupledProblem(mesh, terms, order=scene.order, **CLAMP)
         self.ramp = ngs.Parameter(0.0)
-        self.relaxed = {}
-        self.frames = Frames.of(scene, mesh, lambda: self._frame_fields(self.problem.u))
+        self.relaxed: dict[str, GrowthMechanics] = {}
+        self.frames: Frames = Frames.of(scene, mesh, lambda: self._frame_fields(self.problem.u))
 
-    def stages(self, workdir, t_hold):
+    def stages(self, workdir: Path | None, t_hold: float | None) -> list[Stage]:
         """The load history from the hold time ``t_hold`` on (None: from the start)."""
         scene, problem, holder = self.scene, self.problem, self.holder
         checkpoint = None if workdir is None else Path(workdir) / CHECKPOINT
-        stages = []
+        stages: list[Stage] = []
         if t_hold is None:
             # A cut step grows back after up to INFLATION_STEP_UP iterations: the contact
             # steps take more than Newton's default allows for it, and a step cut once stayed
@@ -131,7 +133,9 @@ class SkinCase(SceneCase):
                                                              step_up=INFLATION_STEP_UP),
                                        observe=lambda s: self.frames.take(s - 1)))
             if self.in_contact:
-                stages.append(ContactControlStage("contact", problem, holder, scene.volume))
+                stages.append(ContactControlStage("contact", problem,
+                                                  holder,  # type: ignore[arg-type]  # in contact
+                                                  scene.volume))
         # the contact model's expander keeps the size that gave the volume
         held = None if self.in_contact else (scene.volume, scene.volume)
         # A hold step changes the tangent little: the hold reuses it while Newton contracts,
@@ -148,7 +152,8 @@ class SkinCase(SceneCase):
         # in the same released state. Where the dead traction's path has a limit point, the
         # deflation starts again from the end of the hold and lowers the dome
         # (docs/measurements/skin.md, "The deflation's path").
-        deflation = dict(t_end=1.0, dt=DEFLATION_STEP, grow=False, observe=self._deflated)
+        deflation: dict[str, Any] = dict(t_end=1.0, dt=DEFLATION_STEP, grow=False,
+                                         observe=self._deflated)
         lowered = CoupledStage("deflation", problem, volume=(None, 0.0), holder=holder,
                                **deflation,
                                options=NewtonOptions(max_iter=DEFLATION_MAX_ITER,
@@ -172,7 +177,8 @@ class SkinCase(SceneCase):
                                                 NewtonOptions(max_iter=30), start=problem.u))
         return stages
 
-    def solve(self, solution: Solution, progress: Progress, workdir=None) -> None:
+    def solve(self, solution: Solution, progress: Progress,
+              workdir: Path | None = None) -> None:
         t_hold = None
         if self.scene.resume and workdir is not None:
             t_hold = restore_checkpoint(self.problem, Path(workdir) / CHECKPOINT)
@@ -187,10 +193,11 @@ class SkinCase(SceneCase):
             solve_stages(stages, progress, solution, after=self._note)
         if not solution.converged and workdir is not None \
                 and (Path(workdir) / CHECKPOINT).is_file():
-            solution.error += (f" (the last converged state of the hold is in {CHECKPOINT}; "
-                               "run again with --set resume=true)")
+            solution.error += (  # type: ignore[operator]  # an error: not converged
+                f" (the last converged state of the hold is in {CHECKPOINT}; "
+                "run again with --set resume=true)")
 
-    def expander_to_traction(self):
+    def expander_to_traction(self) -> float:
         """Hand the expander's load over to the dead traction (the expander being emptied):
         the force the expander exerts on the footprint in the current state becomes the
         traction (scale 1, :meth:`~ngincompat.fem.terms.DeadTraction.hold`) and the
@@ -199,9 +206,9 @@ class SkinCase(SceneCase):
         require(self.in_contact, "expander", self.scene.expander,
                 "contact (a dome whose load a dead traction takes over)")
         self.holder.target.Set(0.0)
-        return self.traction.hold()
+        return self.traction.hold()  # type: ignore[union-attr]  # in contact: a traction
 
-    def _note(self, stage):
+    def _note(self, stage: Stage) -> None:
         if stage.name == "contact":
             self.frames.take(0.0)       # the inflation's end, corrected
         elif stage.name.startswith("deflation_"):
@@ -217,38 +224,40 @@ class SkinCase(SceneCase):
             self.end_of_hold[0].data = self.problem.state.vec
             self.load_end_of_hold = self._holding_load()
 
-    def _back_to_end_of_hold(self):
+    def _back_to_end_of_hold(self) -> None:
         """The state, the expander and no dead traction of the end of the hold."""
-        self.problem.state.vec.data = self.end_of_hold[0]
-        self.holder.target.Set(self.end_of_hold[1])
+        # end_of_hold: kept when the hold ended (this follows it)
+        self.problem.state.vec.data = self.end_of_hold[0]  # type: ignore[index]
+        self.holder.target.Set(self.end_of_hold[1])  # type: ignore[index]
         if self.traction is not None:
             self.traction.scale.Set(0.0)
 
-    def _deflated(self, t) -> bool:
+    def _deflated(self, t: float) -> bool:
         """Whether the deflation has gone far enough: the load that holds the skin up has
         fallen to :data:`DEFLATED` of its value at the end of the hold. (Its step ``t``, the
         fraction of the load taken away, is a frame.)"""
         self.frames.take(self.scene.hold_days + t)
         return self._holding_load() <= DEFLATED * self.load_end_of_hold
 
-    def _holding_load(self):
+    def _holding_load(self) -> float:
         """What holds the skin up in the current state: the pressure, or the contact force
         (the integral of the contact pressure over the footprint)."""
         if not self.in_contact:
-            return self.holder.pressure()
-        scale = self.traction.scale.Get()
+            return self.holder.pressure()  # type: ignore[union-attr]  # a VolumeConstraint
+        scale = self.traction.scale.Get()  # type: ignore[union-attr]  # in contact: a traction
         if scale > 0:                       # the expander handed over to a dead traction
             return scale * self.load_end_of_hold
-        return ngs.Integrate(self.holder.contact_pressure(), self.mesh, ngs.BND,
+        return ngs.Integrate(self.holder.contact_pressure(),  # type: ignore[union-attr]
+                             self.mesh, ngs.BND,
                              definedon=self.mesh.Boundaries("footprint"))
 
-    def _note_inflated(self):
+    def _note_inflated(self) -> None:
         volume = self.holder.volume()
         self.noted.update(volume_inflated=volume,
                           volume_error_rel=abs(volume - self.scene.volume) / self.scene.volume,
                           **self._loads("inflated"))
 
-    def _loads(self, when):
+    def _loads(self, when: str) -> dict[str, float]:
         """What holds the volume at ``when``: the pressure, or the expander and its contact
         (the measures of the problem's terms)."""
         return {f"{k}_{when}": v for k, v in self.problem.measures().items()}
@@ -257,7 +266,7 @@ class SkinCase(SceneCase):
         """The hold's checkpoint."""
         results.files = [CHECKPOINT]
 
-    def _frame_fields(self, u):
+    def _frame_fields(self, u: ngs.GridFunction) -> dict[str, Any]:
         """The fields of a frame at the displacement ``u``: u, theta, J and Je = J / theta
         (area growth: Jg = theta)."""
         J = ngs.Det(kinematics.deformation_gradient(u))
@@ -287,11 +296,13 @@ class SkinCase(SceneCase):
                                                  {"e3": self.N0.cf})
             flds = {"theta": theta, **measured.fields()}
             metrics["burgers_max"], where = sampling.argmax(flds["|b|"], mesh)
-            metrics["burgers_max_radius"] = float(np.hypot(*where[:2]))
+            metrics["burgers_max_radius"] = float(
+                np.hypot(*where[:2]))  # type: ignore[call-overload]  # (X1, X2)
         # the problem's state is back at the end of the hold (the inflated, grown skin)
         flds["u_end_of_hold"] = self.problem.u
         if self.in_contact:
-            flds.update(gap=self.holder.gap(), contact_pressure=self.holder.contact_pressure())
+            flds.update(gap=self.holder.gap(),  # type: ignore[union-attr]  # an ExpanderContact
+                        contact_pressure=self.holder.contact_pressure())  # type: ignore[union-attr]
         for stage, relaxed in self.relaxed.items():
             if f"deflation_{stage}" not in solution.histories:
                 continue
@@ -304,7 +315,8 @@ class SkinCase(SceneCase):
             metrics[f"strain_energy_{stage}"] = relaxed.strain_energy()
         metrics.update(measures.apex(mesh, theta, flds["|b|"]))
         if self.in_contact and "sigma_min_released" in flds:
-            metrics.update(measures.compression(mesh, self.holder, flds["sigma_min_released"]))
+            metrics.update(measures.compression(mesh, self.holder,  # type: ignore[arg-type]
+                                                flds["sigma_min_released"]))
         if "curvature" in scene.output_set():
             # growth computed on the mesh: the Regge path, on the continuous interpolant of Fg
             # that G is computed from (theta itself may jump between elements)

@@ -1,10 +1,14 @@
 """The skin scene's figures (Fig. 6): the maps at mid-thickness and the profiles along X1."""
 
+from collections.abc import Mapping
+from typing import Any
+
+import ngsolve as ngs
 import numpy as np
 
 from geometries.skin_patch import SIDE, THICKNESS
 from ngincompat.fem import postprocess
-from ngincompat.workflow.results import MapsFigure, ProfileFigure
+from ngincompat.workflow.results import Figure, MapsFigure, ProfileFigure
 
 #: The profile along X1 through the middle ends this far inside the patch's edges [cm], where
 #: a point exactly on the edge may be placed outside the mesh by round-off.
@@ -16,7 +20,7 @@ MAPS = {"area growth theta [-]": "theta", "|b| on e3 [1/{L}]": "|b|",
         "min principal stress, released [{stress}]": "sigma_min_released"}
 
 
-def mid_plane(mesh, flds, n=81):
+def mid_plane(mesh: ngs.Mesh, flds: Mapping[str, Any], n: int = 81) -> dict[str, np.ndarray]:
     """The fields of :data:`MAPS` that ``flds`` has on the patch's mid-thickness plane
     X3 = THICKNESS / 2, on an n x n grid (keys "mid_<field>")."""
     u = np.linspace(-SIDE / 2, SIDE / 2, n)
@@ -26,7 +30,7 @@ def mid_plane(mesh, flds, n=81):
     return {"mid_u": u, "mid_v": u, **{f"mid_{k}": v for k, v in sampled.items()}}
 
 
-def figures(scene, grid):
+def figures(scene: Any, grid: Mapping[str, Any]) -> list[Figure]:
     """The profiles along X1 and the maps of the fields that ``grid`` holds."""
     L, stress = scene.units["length"], scene.units["stress"]
     title = scene.title()

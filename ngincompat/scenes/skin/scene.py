@@ -1,6 +1,7 @@
 """The skin scene (section 3.6): its parameters, presets and metrics; the case it builds is
 :class:`~ngincompat.scenes.skin.case.SkinCase`."""
 
+import os
 from dataclasses import dataclass
 
 from geometries import FOOTPRINTS, estimate, footprint_area, footprint_size, skin_patch
@@ -170,7 +171,7 @@ class SkinExpansionScene(Elastic, Scene):
                              range="(1, 10]")
     resume: bool = param(False, "continue an interrupted hold from the folder's checkpoint")
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         super().__post_init__()
         largest = footprint_area(self.footprint, SIDE - 2 * THICKNESS)
         require(self.footprint_area <= largest, "footprint_area", self.footprint_area,
@@ -181,23 +182,23 @@ class SkinExpansionScene(Elastic, Scene):
         NeoHookean.from_nu(self.mu, self.nu)
         self.law()
 
-    def law(self):
+    def law(self) -> HillLaw:
         return HillLaw(self.k, self.K, self.n, self.theta_crit, self.theta_max)
 
-    def expander_body(self):
+    def expander_body(self) -> contact.Expander | None:
         """The contact model's expander (None for the pressure model)."""
         if self.expander == "pressure":
             return None
         return contact.Expander(self.footprint, footprint_size(self.footprint, self.footprint_area),
                                 self.penalty, self.contact_width)
 
-    def resumes(self, out) -> bool:
+    def resumes(self, out: str | os.PathLike) -> bool:
         return self.resume
 
-    def mesh_estimate(self):
+    def mesh_estimate(self) -> tuple[float, str]:
         return estimate.skin_patch_elements(maxh=self.maxh), "tet"
 
-    def build(self):
+    def build(self) -> SkinCase:
         """The patch, the coupled problem and the stages of section 3.6."""
         # the dome vanishes on the true footprint's edge, where the skin is held on the base:
         # a straight-sided edge lies inside a circle, and there the dome stood up to

@@ -35,6 +35,9 @@ for 3.1, ... :mod:`~ngincompat.studies.findings.folding` for 3.7), the rule's da
 shared measurements in :mod:`~ngincompat.studies.findings.rule`.
 """
 
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
+
 from ngincompat.studies.findings import atrophy, cube, cylinder, disc, folding, hemisphere, skin
 from ngincompat.studies.findings.folding import FOLDING
 from ngincompat.studies.findings.rule import (
@@ -49,11 +52,15 @@ from ngincompat.studies.findings.rule import (
 )
 from ngincompat.studies.findings.skin import SKIN
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
+
 #: Every rule, section by section.
 FINDINGS = (*cube.FINDINGS, *hemisphere.FINDINGS, *disc.FINDINGS, *cylinder.FINDINGS,
             *atrophy.FINDINGS, *skin.FINDINGS, *folding.FINDINGS)
 
-def judged(section, results):
+def judged(section: str,
+           results: "Mapping[str, Results]") -> list[tuple[Finding, str, str, str]]:
     """(finding, measured, verdict, reason) of every finding of ``section``."""
     return [(f, *f.judge(results)) for f in FINDINGS if f.section == section]
 
@@ -63,7 +70,7 @@ RULE_COLUMNS = ("section", "Fig.", "the paper's words", "measure",
                 "thresholds and their sources", "verdicts")
 
 
-def rules():
+def rules() -> list[tuple[str, str, str, str, list[str], str]]:
     """The rules as a table, one row per finding in the columns :data:`RULE_COLUMNS`: the
     thresholds as a list of "verdict: condition (source: ...)", the rest as text."""
     return [(f.section, f.figure, f.states, f.measure,

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 from ngincompat.studies.findings.rule import (
     ABOUT,
@@ -25,15 +26,18 @@ from ngincompat.studies.findings.rule import (
     within_about,
 )
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
 
-def _warned(r, verdict, reason):
+
+def _warned(r: Results, verdict: str, reason: str) -> tuple[str, str]:
     """"partly" for "agrees" on a run with warnings (threshold :data:`WARNED`)."""
     if verdict == AGREES and r.warnings:
         return PARTLY, "the run warns: " + "; ".join(w.split(":")[0] for w in r.warnings)
     return verdict, reason
 
 
-def _atrophy_loss(f, r):
+def _atrophy_loss(f: Finding, r: Results) -> tuple[str, str, str]:
     loss = 100 * (1 - r.metrics["theta_min_reached"])
     cap = 100 * (1 - r.params["theta_min"])
     measured = f"largest volume loss {number(loss)} %; the cap 1 - theta_min = {number(cap)} %"
@@ -44,7 +48,7 @@ def _atrophy_loss(f, r):
     return measured, *_warned(r, AGREES, "")
 
 
-def _atrophy_gray(f, r):
+def _atrophy_gray(f: Finding, r: Results) -> tuple[str, str, str]:
     g, w = r.metrics["gray_volume_loss"], r.metrics["white_volume_loss"]
     gray, white = r.params["rate_gray"], r.params["rate_white"]
     measured = (f"volume loss gray {number(100 * g)} %, white {number(100 * w)} % (rates given: "
@@ -56,13 +60,13 @@ def _atrophy_gray(f, r):
     return measured, *_warned(r, AGREES, "")
 
 
-def _near(f, r, key):
+def _near(f: Finding, r: Results, key: str) -> bool:
     """Is the peak ``key`` (its depth below the surface) near the gray-white interface?"""
     gray = r.params["gray_thickness"]
     return abs(r.metrics[key] - gray) <= f.limit("near") * gray
 
 
-def _atrophy_burgers(f, r):
+def _atrophy_burgers(f: Finding, r: Results) -> tuple[str, str, str]:
     share = r.metrics.get("burgers_interface_fraction", math.nan)
     volume = r.metrics.get("interface_band_volume_fraction", math.nan)
     verdict, reason = for_each({"the peak near the interface": _near(f, r, "burgers_peak_depth"),
@@ -73,7 +77,7 @@ def _atrophy_burgers(f, r):
             *_warned(r, verdict, reason))
 
 
-def _atrophy_stress(f, r):
+def _atrophy_stress(f: Finding, r: Results) -> tuple[str, str, str]:
     ratio = r.metrics.get("stress_interface_over_surface", math.nan)
     verdict, reason = for_each({"the peak near the interface": _near(f, r, "stress_peak_depth"),
                              "falling toward the surface": ratio > 1}, FAILS)

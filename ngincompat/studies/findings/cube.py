@@ -4,6 +4,7 @@ judge them and their measurements."""
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -25,8 +26,11 @@ from ngincompat.studies.findings.rule import (
     profile,
 )
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
 
-def _cube_growth(f, r):
+
+def _cube_growth(f: Finding, r: Results) -> tuple[str, str, str]:
     """theta = 1 + X1 t / 4 (eq. 50) is 1.25 at X1 = 1, t = 1: given, not found."""
     theta = profile(r, "theta")
     off = abs(theta.max() - 1.25)
@@ -37,27 +41,27 @@ def _cube_growth(f, r):
             f"|theta_max - 1.25| = {number(off)}: the growth did not reach eq. (50)'s")
 
 
-def _cube_curl(f, r):
+def _cube_curl(f: Finding, r: Results) -> tuple[str, str, str]:
     a, b = ends(r, "curlFg_sq", "X1")
     return (f"Curl Fg : Curl Fg {number(a)} at X1 = 0, {number(b)} at X1 = 1 (1/mm^2)",
             *falls(f, a, b, "Curl Fg : Curl Fg"))
 
 
-def _cube_b_n1(f, r):
+def _cube_b_n1(f: Finding, r: Results) -> tuple[str, str, str]:
     b1 = np.nanmax(profile(r, "|b_n1|"))
     b2 = np.nanmax(profile(r, "|b_n2|"))
     return (f"max |b| on n1 = {number(b1)}, on n2 = {number(b2)} 1/mm",
             *at_most(f, "round_off", b1 / b2, "|b_n1| / |b_n2|"))
 
 
-def _cube_b_trend(f, r):
+def _cube_b_trend(f: Finding, r: Results) -> tuple[str, str, str]:
     a, b = ends(r, "|b_n2|", "X1")
     closed = r.metrics.get("G_error_L2_rel", np.nan)
     return (f"|b| on n2: {number(a)} at X1 = 0, {number(b)} at X1 = 1 (1/mm); G against eq. (16): "
             f"relative L2 error {number(closed)}", *falls(f, a, b, "|b|"))
 
 
-def _cube_stress(f, r):
+def _cube_stress(f: Finding, r: Results) -> tuple[str, str, str]:
     peaks = {k: float(np.nanmax(np.abs(profile(r, k)))) for k in ("S11", "S22", "S33")}
     scale = max(peaks.values())
     s11 = profile(r, "S11")

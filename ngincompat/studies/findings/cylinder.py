@@ -3,6 +3,8 @@ judge them and their measurements."""
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ngincompat.studies.findings.rule import (
     AGREES,
     DIFFERS,
@@ -18,19 +20,22 @@ from ngincompat.studies.findings.rule import (
     otherwise,
 )
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
 
-def _cyl_b(f, r):
+
+def _cyl_b(f: Finding, r: Results) -> tuple[str, str, str]:
     e = r.metrics["b_eq27_error"]
     return f"|b - b(eq. 27)| relative = {number(e)}", *at_most(f, "round_off", e, "error")
 
 
-def _cyl_trend(f, r):
+def _cyl_trend(f: Finding, r: Results) -> tuple[str, str, str]:
     a, b = ends(r, "|b_e3|", "X2")
     return (f"|b| on e3: {number(a)} at the bottom, {number(b)} at the top (1/mm; eq. 27: 1/4 and "
             "1/5)", *falls(f, a, b, "|b|"))
 
 
-def _cyl_rotation(f, r):
+def _cyl_rotation(f: Finding, r: Results) -> tuple[str, str, str]:
     """Fe is the rotation of eq. (56): about e3 at the rate -a along X1, and no stretch."""
     rate, expected = r.metrics["rotation_rate"], r.metrics["rotation_rate_expected"]
     d = r.metrics["Fe_rotation_deviation"]

@@ -4,6 +4,7 @@ judge them and their measurements."""
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,20 +25,23 @@ from ngincompat.studies.findings.rule import (
     profile,
 )
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
 
-def _disc_b(f, r):
+
+def _disc_b(f: Finding, r: Results) -> tuple[str, str, str]:
     e = r.metrics["b_eq22_error"]
     return (f"|b - b(eq. 22)| relative = {number(e)}", *at_most(f, "round_off", e, "error"))
 
 
-def _disc_fibers(f, r):
+def _disc_fibers(f: Finding, r: Results) -> tuple[str, str, str]:
     sr, st = np.nanmax(profile(r, "sigma_r")), np.nanmax(profile(r, "sigma_theta"))
     holds = sr > st
     return (f"radial fibers: max sigma_r = {number(sr)}, max sigma_theta = {number(st)} MPa",
             AGREES if holds else DIFFERS, "" if holds else "sigma_r is not the higher")
 
 
-def _disc_radial(f, r):
+def _disc_radial(f: Finding, r: Results) -> tuple[str, str, str]:
     _, s = finite(r, "sigma_r", "R")
     rim = r.metrics["sigma_r_rim_rel"]
     tol = f.limit("traction_free")
@@ -51,18 +55,18 @@ def _disc_radial(f, r):
             "not " + ", ".join(fails) if fails else "")
 
 
-def _disc_theta(f, r):
+def _disc_theta(f: Finding, r: Results) -> tuple[str, str, str]:
     _, s = finite(r, "sigma_theta", "R")
     holds = s[0] > 0 > s[-1]
     return (f"sigma_theta {number(s[0])} MPa at the centre, {number(s[-1])} MPa at the rim",
             AGREES if holds else DIFFERS, "" if holds else "not tension to compression")
 
 
-def _largest_stress(r):
+def _largest_stress(r: Results) -> float:
     return max(float(np.nanmax(np.abs(profile(r, k)))) for k in ("sigma_r", "sigma_theta"))
 
 
-def _disc_energy(f, radial, circumferential):
+def _disc_energy(f: Finding, radial: Results, circumferential: Results) -> tuple[str, str, str]:
     ea, eb = radial.metrics["strain_energy"], circumferential.metrics["strain_energy"]
     sa, sb = _largest_stress(radial), _largest_stress(circumferential)
     return (f"strain energy radial {number(ea)}, circumferential {number(eb)} N mm; largest "

@@ -4,7 +4,9 @@ judge them and their measurements."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,6 +26,9 @@ from ngincompat.studies.findings.rule import (
     percent,
 )
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
+
 AXONS = names.AXONS
 FOLDING = tuple(f"folding-{a}" for a in AXONS)
 #: The axon fields the paper calls normal to the cortex. Its caption orders Fig. 7a's columns
@@ -42,7 +47,7 @@ SECOND_NORMAL = ("straight",)
 SECOND_TANGENTIAL = "concentric"
 
 
-def _fold_onset(f, *runs):
+def _fold_onset(f: Finding, *runs: Results) -> tuple[str, str, str]:
     onset = [r.metrics.get("onset_growth", math.nan) for r in runs]
     amp = [r.metrics.get("fold_amplitude", math.nan) for r in runs]
     return ("onset at theta_c = " + ", ".join(number(o) for o in onset) + "; fold amplitude "
@@ -51,7 +56,7 @@ def _fold_onset(f, *runs):
                     for axons, o, a in zip(AXONS, onset, amp, strict=True)}))
 
 
-def _fold_interface(f, *runs):
+def _fold_interface(f: Finding, *runs: Results) -> tuple[str, str, str]:
     depth = [r.metrics["burgers_max_depth"] for r in runs]
     t, h = runs[0].params["cortex_thickness"], runs[0].params["cortex_maxh"]
     return ("max |b| at depth " + ", ".join(number(d) for d in depth)
@@ -64,7 +69,7 @@ def _fold_interface(f, *runs):
 AXON_GROWTH_MIN = 1e-3
 
 
-def _axons_idle(runs):
+def _axons_idle(runs: Sequence[Results]) -> str:
     """The reason the axon fields cannot be compared, or "": with theta_a = 1 everywhere
     (the stretch never passed its critical value before the run ended, as on the preview's
     short march) the three fields give the same growth, so equal or shuffled |b| and stress
@@ -76,18 +81,20 @@ def _axons_idle(runs):
             + ", ".join(number(g) for g in grown) + "): their orientation cannot act")
 
 
-def _by_field(runs, metric):
+def _by_field(runs: Sequence[Results], metric: str) -> dict[str, float]:
     return dict(zip(AXONS, (r.metrics.get(metric, np.nan) for r in runs), strict=True))
 
 
-def _readings(f, runs, values, compare, claim):
+def _readings(f: Finding, runs: Sequence[Results], values: Mapping[str, float],
+              compare: Callable[[Finding, Mapping[str, float], str, str], tuple[bool, bool, str]],
+              claim: str) -> tuple[str, str, str]:
     """The verdict of the paper's reading (normal: :data:`NORMAL`, tangential:
     :data:`TANGENTIAL`) and, in the measured text beside it, the second reading's
     (:data:`SECOND_NORMAL`, :data:`SECOND_TANGENTIAL`). ``compare(f, values, normal,
     tangential)`` gives (strict, weak, text) for one normal field: agrees if strict holds
     for every normal field, differs if weak holds for none, partly otherwise; the reason
     says so of the ``claim``."""
-    def judge(normal, tangential):
+    def judge(normal: Sequence[str], tangential: str) -> tuple[str, str]:
         tests = [compare(f, values, a, tangential) for a in normal]
         text = ", ".join(t for _, _, t in tests)
         verdict = (AGREES if all(s for s, _, _ in tests) else
@@ -110,14 +117,15 @@ def _readings(f, runs, values, compare, claim):
     return measured, verdict, reason[verdict]
 
 
-def _more(f, values, normal, tangential):
+def _more(f: Finding, values: Mapping[str, float], normal: str,
+          tangential: str) -> tuple[bool, bool, str]:
     """A normal field's interface |b| over the tangential one's: (strict, weak, text)."""
     change = values[normal] / values[tangential] - 1
     return (change > f.limit("unsettled"), change > 0,
             f"{normal} {percent(change)} over {tangential}")
 
 
-def _fold_axons(f, *runs):
+def _fold_axons(f: Finding, *runs: Results) -> tuple[str, str, str]:
     """The interface |b| of the normal fields against the tangential one's."""
     if idle := _axons_idle(runs):
         return "", NOT_RUN, idle
@@ -127,14 +135,15 @@ def _fold_axons(f, *runs):
     return "burgers_interface_mean [1/cm]: " + measured, verdict, reason
 
 
-def _lower(f, values, normal, tangential):
+def _lower(f: Finding, values: Mapping[str, float], normal: str,
+           tangential: str) -> tuple[bool, bool, str]:
     """The tangential field's released stress over a normal one's: (strict, weak, text)."""
     ratio = values[tangential] / values[normal]
     return (ratio <= f.limit("much_lower"), ratio < 1,
             f"{tangential} {percent(ratio - 1)} against {normal}")
 
 
-def _fold_release(f, *runs):
+def _fold_release(f: Finding, *runs: Results) -> tuple[str, str, str]:
     """The released stress of the tangential field against the normal fields'."""
     values = _by_field(runs, "max_principal_stress_released")
     if not all(np.isfinite(list(values.values()))):

@@ -4,6 +4,7 @@ judge them and their measurements."""
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,26 +24,29 @@ from ngincompat.studies.findings.rule import (
     profile,
 )
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
+
 HEMISPHERES = ("hemisphere-linear", "hemisphere-concave", "hemisphere-convex")
 #: The |b| profiles are read this fraction of the radius in from the centre, a cone point of
 #: the linear and concave profiles (grad theta jumps there), and from the surface.
 INNER = 0.15
 
 
-def _hemi_radial(f, *runs):
+def _hemi_radial(f: Finding, *runs: Results) -> tuple[str, str, str]:
     v = max(r.metrics["b_radial_rel"] for r in runs)
     return (f"max |b| on radial planes / max |b|, largest of the three profiles = {number(v)}",
             *at_most(f, "round_off", v, "the ratio"))
 
 
-def _meridional(r):
+def _meridional(r: Results) -> tuple[float, float, float]:
     """|b| on the meridional planes at R = INNER and 1 - INNER of the radius, and its
     relative change between them."""
     a, b = ends(r, "|b_meridional|", "R", inner=INNER)
     return a, b, abs(a - b) / max(a, b)
 
 
-def _hemi_profiles(f, concave, convex):
+def _hemi_profiles(f: Finding, concave: Results, convex: Results) -> tuple[str, str, str]:
     c0, c1, _ = _meridional(concave)
     v0, v1, _ = _meridional(convex)
     return (f"|b| meridional at R = {INNER:g} and {1 - INNER:g} mm: concave {number(c0)} -> "
@@ -51,7 +55,8 @@ def _hemi_profiles(f, concave, convex):
                     "the convex profile (rising)": v0 < v1}, FAILS))
 
 
-def _hemi_linear(f, linear, concave, convex):
+def _hemi_linear(f: Finding, linear: Results, concave: Results,
+                 convex: Results) -> tuple[str, str, str]:
     a, b, change = _meridional(linear)
     nonlinear = min(_meridional(concave)[2], _meridional(convex)[2])
     return (f"|b| meridional {number(a)} -> {number(b)} 1/mm from R = {INNER:g} to {1 - INNER:g} "
@@ -61,14 +66,14 @@ def _hemi_linear(f, linear, concave, convex):
                     "a change smaller than the nonlinear profiles'": change < nonlinear}, FAILS))
 
 
-def _tension_to_compression(r, key, coord):
+def _tension_to_compression(r: Results, key: str, coord: str) -> bool:
     """Does the profile ``key`` go from tension to compression along ``coord``: positive
     somewhere, negative somewhere, its largest tension before its largest compression?"""
     _, s = finite(r, key, coord)
     return bool(s.max() > 0 > s.min() and np.argmax(s) < np.argmin(s))
 
 
-def _hemi_sign(f, concave, convex):
+def _hemi_sign(f: Finding, concave: Results, convex: Results) -> tuple[str, str, str]:
     ranges = ", ".join(f"{name} {number(np.nanmax(profile(r, 'sigma_thetatheta')))} to "
                        f"{number(np.nanmin(profile(r, 'sigma_thetatheta')))}"
                        for name, r in (("concave", concave), ("convex", convex)))
@@ -77,7 +82,7 @@ def _hemi_sign(f, concave, convex):
                     for name, r in (("concave", concave), ("convex", convex))}))
 
 
-def _hemi_check(f, r):
+def _hemi_check(f: Finding, r: Results) -> tuple[str, str, str]:
     e = max(r.metrics["radial_sigma_rr_error"], r.metrics["radial_sigma_thetatheta_error"])
     return (f"largest deviation from the 1-D radial solution / max stress = {number(e)}",
             *at_most(f, "resolved", e, "deviation"))

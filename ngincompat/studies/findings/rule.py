@@ -3,10 +3,14 @@ measurements and thresholds that the rules of several sections share."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
 
 AGREES, PARTLY, DIFFERS, IMPOSED, NOT_RUN = "agrees", "partly", "differs", "imposed", "not run"
 #: Every verdict, in the order the report counts them.
@@ -25,7 +29,7 @@ class Threshold:
     source: str
     value: float | None = None
 
-    def text(self):
+    def text(self) -> str:
         """The condition in words, with its value."""
         return self.when.format(value=self.value)
 
@@ -67,22 +71,22 @@ class Finding:
     decide: Callable
 
     @property
-    def verdicts(self):
+    def verdicts(self) -> tuple[str, ...]:
         """The verdicts the rule gives (besides "not run"), in the order of its thresholds."""
         return tuple(dict.fromkeys(t.verdict for t in self.thresholds))
 
     @property
-    def states(self):
+    def states(self) -> str:
         """What the paper states, as the report and the rules' table show it: the quote, or
         for a check of ours its claim, marked as ours."""
         return (f"\u201c{self.quote}\u201d" if self.quote else
                 f"a check of ours, not the paper's: {self.claim}")
 
-    def limit(self, name):
+    def limit(self, name: str) -> float:
         """The value of the rule's threshold ``name``."""
         return {t.name: t.value for t in self.thresholds}[name]
 
-    def judge(self, results):
+    def judge(self, results: Mapping[str, Results]) -> tuple[str, str, str]:
         """(measured, verdict, reason) on ``results`` (label -> Results)."""
         missing = [k for k in self.needs if k not in results or not results[k].converged]
         if missing:
@@ -90,26 +94,26 @@ class Finding:
         return self.decide(self, *(results[k] for k in self.needs))
 
 
-def number(v):
+def number(v: float) -> str:
     return f"{v:.3g}"
 
 
-def percent(v):
+def percent(v: float) -> str:
     return f"{100 * v:+.3g} %"
 
 
-def profile(r, key, name="line"):
+def profile(r: Results, key: str, name: str = "line") -> np.ndarray:
     return np.asarray(r.profile(name)[key], float)
 
 
-def finite(r, key, coord):
+def finite(r: Results, key: str, coord: str) -> tuple[np.ndarray, np.ndarray]:
     """A profile and its coordinate where the profile is finite."""
     x, y = profile(r, coord), profile(r, key)
     ok = np.isfinite(y)
     return x[ok], y[ok]
 
 
-def ends(r, key, coord, inner=0.0):
+def ends(r: Results, key: str, coord: str, inner: float = 0.0) -> tuple[float, float]:
     """Values of a profile near its two ends (``inner`` of its length in from each)."""
     x, y = finite(r, key, coord)
     span = x[-1] - x[0]
@@ -117,7 +121,7 @@ def ends(r, key, coord, inner=0.0):
             float(np.interp(x[-1] - inner * span, x, y)))
 
 
-def for_each(holds, fails="not for "):
+def for_each(holds: Mapping[str, bool], fails: str = "not for ") -> tuple[str, str]:
     """The verdict of a statement about each of ``holds`` (a case or a part of the statement
     -> whether it holds): agrees if it holds for all, differs if for none, partly otherwise;
     the reason names those for which it does not, after ``fails``."""
@@ -130,14 +134,14 @@ def for_each(holds, fails="not for "):
 FAILS = "does not hold: "
 
 
-def falls(f, first, second, what):
+def falls(f: Finding, first: float, second: float, what: str) -> tuple[str, str]:
     """Verdict of "``what`` falls from ``first`` to ``second``" (threshold ``falls``)."""
     if first > second * (1 + f.limit("falls")):
         return AGREES, ""
     return DIFFERS, f"{what} does not fall"
 
 
-def at_most(f, name, value, what):
+def at_most(f: Finding, name: str, value: float, what: str) -> tuple[str, str]:
     """Verdict of "``what`` = ``value`` is at most the threshold ``name``"."""
     limit = f.limit(name)
     return (AGREES, "") if value <= limit else (DIFFERS, f"{what} = {number(value)} > {limit:g}")
@@ -199,13 +203,13 @@ NEAR = Threshold(
     "the cortex's thickness", 0.5)
 
 
-def within_about(f, value, paper):
+def within_about(f: Finding, value: float, paper: float) -> bool:
     """Is ``value`` (in the paper's unit) the paper's number ``paper`` to its precision
     (the threshold ``about``)?"""
     return abs(value - paper) <= f.limit("about")
 
 
-def otherwise(when):
+def otherwise(when: str) -> Threshold:
     """The rule's "differs": the statement's negation, ``when``."""
     return Threshold("otherwise", DIFFERS, when, "the paper's statement, negated")
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,11 +27,14 @@ from ngincompat.studies.findings.rule import (
     within_about,
 )
 
+if TYPE_CHECKING:     # the rules read the runs' records (their module imports NGSolve)
+    from ngincompat.workflow.results import Results
+
 FOOTPRINTS = names.FOOTPRINTS
 SKIN = tuple(f"skin-{f}" for f in FOOTPRINTS)
 
 
-def _skin_growth(f, *runs):
+def _skin_growth(f: Finding, *runs: Results) -> tuple[str, str, str]:
     theta = [r.metrics["theta_max"] for r in runs]
     top = 100 * (max(theta) - 1)
     cap = 100 * (min(r.params["theta_max"] for r in runs) - 1)
@@ -46,12 +50,12 @@ def _skin_growth(f, *runs):
     return measured, DIFFERS, "not about 50 %"
 
 
-def _skin_order(f, *runs):
+def _skin_order(f: Finding, *runs: Results) -> tuple[str, str, str]:
     """The expanders by mean growth over the footprint: the square most and the circle
     least; by less than the threshold ``unsettled`` apart from the next, not settled."""
     mean = dict(zip(FOOTPRINTS, (r.metrics["theta_mean_footprint"] for r in runs),
                     strict=True))
-    order = sorted(mean, key=mean.get)
+    order = sorted(mean, key=mean.get)  # type: ignore[arg-type]  # its own keys: no None
     measured = ("mean growth over the footprint, least to most: "
                 + " < ".join(f"{n} {number(mean[n])}" for n in order))
     close = [(a, b) for a, b in (order[:2], order[-2:])
@@ -64,7 +68,7 @@ def _skin_order(f, *runs):
     return measured, PARTLY if close else AGREES, unsettled
 
 
-def _skin_apex(f, *runs):
+def _skin_apex(f: Finding, *runs: Results) -> tuple[str, str, str]:
     """Per expander: the growth at the apex (the footprint's centre) near its largest, and
     |b| there a small part of its largest."""
     holds, parts = {}, []
@@ -77,7 +81,7 @@ def _skin_apex(f, *runs):
             + ", ".join(parts), *for_each(holds))
 
 
-def _skin_stress(f, *runs):
+def _skin_stress(f: Finding, *runs: Results) -> tuple[str, str, str]:
     contact = [r.metrics.get("min_principal_stress_contact_zone", math.nan) for r in runs]
     if not all(np.isfinite(contact)):
         return "", NOT_RUN, "no contact zone measured (the pressure expander)"

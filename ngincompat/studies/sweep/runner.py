@@ -33,16 +33,22 @@ can finish between the Ctrl-C and the pool's shutdown), a case without one is "i
 
 import dataclasses
 import json
+import os
 import uuid
 from collections import deque
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
+from typing import Any
 
 from ngincompat.errors import ParameterError
-from ngincompat.progress import SILENT
+from ngincompat.progress import SILENT, Progress
+from ngincompat.scenes.base import Scene
+from ngincompat.studies.sweep.spec import Case, Sweep
 from ngincompat.studies.sweep.table import (
     FIXED_COLUMNS,
     JOURNAL,
     RECORD,
+    SweepTable,
     make_table,
     write_table,
 )
@@ -56,10 +62,10 @@ from ngincompat.studies.workers import (
     run_side_by_side,
 )
 from ngincompat.workflow import io, output, tables
-from ngincompat.workflow.results import DONE, INTERRUPTED
+from ngincompat.workflow.results import DONE, INTERRUPTED, Results
 
 
-def _record(scene, folder):
+def _record(scene: Scene, folder: Path) -> Results | None:
     """The :class:`~ngincompat.workflow.results.Results` in ``folder`` if it holds a complete
     results.json of ``scene`` (same name and parameters), whatever its status, else None."""
     try:
@@ -71,13 +77,14 @@ def _record(scene, folder):
     return results if same else None
 
 
-def _finished(scene, folder):
+def _finished(scene: Scene, folder: Path) -> Results | None:
     """The record in ``folder`` (:func:`_record`) if it is done, else None."""
     results = _record(scene, folder)
     return results if results is not None and results.status == DONE else None
 
 
-def _settled(case, scene, folder, said):
+def _settled(case: Case, scene: Scene, folder: Path,
+             said: dict[str, Any] | None) -> dict[str, Any]:
     """The outcome of an interrupted sweep's ``case``: what its folder holds, whatever the
     pool ``said`` (None if nothing). A case can end and write its record between the Ctrl-C
     and the pool's shutdown (or be hit by the signal just after writing it); its folder, not
@@ -98,7 +105,8 @@ def _settled(case, scene, folder, said):
 class _Dask:
     """An existing Dask cluster, by the address of its scheduler (or a Client)."""
 
-    def __init__(self, scheduler, workers, threads, progress):
+    def __init__(self, scheduler: Any, workers: int | None, threads: int | None,
+                 progress: Progress) -> None:
         try:
             from dask import distributed
         except ImportError:
@@ -117,22 +125,22 @@ class _Dask:
         self.window = workers or max(1, sum(self.client.nthreads().values()))
         progress.line(f"Dask cluster {self.client.scheduler.address}: up to {self.window} "
                       f"cases at a time, {self.threads} NGSolve threads each")
-        self.futures = set()
+        self.futures: set[Any] = set()
 
-    def submit(self, task):
+    def submit(self, task: dict[str, Any]) -> Any:
         key = f"ngincompat-{Path(task['folder']).name}-{uuid.uuid4().hex[:8]}"
         future = self.client.submit(run_case, {**task, "threads": self.threads}, key=key,
                                     pure=False)
         self.futures.add(future)
         return future
 
-    def wait(self, futures):
+    def wait(self, futures: Iterable[Any]) -> list[Any]:
         self.distributed.wait(list(futures), return_when="FIRST_COMPLETED")
         done = [f for f in futures if f.done()]
         self.futures.difference_update(done)
         return done
 
-    def close(self, cancel):
+    def close(self, cancel: bool) -> None:
         if cancel and self.futures:
             self.client.cancel(list(self.futures))
         if self.own:
@@ -162,33 +170,33 @@ class SweepReport:
     """
 
     out: Path
-    table: object
+    table: SweepTable
     files: list
     computed: int
     reused: int
     pending: int
 
     @property
-    def columns(self):
+    def columns(self) -> list[str]:
         """Columns of the table."""
         return self.table.columns
 
     @property
-    def rows(self):
+    def rows(self) -> list[dict[str, Any]]:
         """Rows of the table."""
         return self.table.rows
 
     @property
-    def done(self):
+    def done(self) -> int:
         """Number of cases that are done."""
         return sum(row["status"] == DONE for row in self.rows)
 
     @property
-    def failed(self):
+    def failed(self) -> int:
         """Number of finished cases that are not done (failed or not converged)."""
         return len(self.rows) - self.done
 
-    def summary(self):
+    def summary(self) -> list[str]:
         """Lines for the command line: the table (errors below it), the counts, the files."""
         columns = [c for c in self.columns if c != "error"]
         lines = [tables.markdown(self.rows, columns, self.table.units)]
@@ -204,8 +212,9 @@ class SweepReport:
         return lines
 
 
-def run_sweep(sweep, out, *, workers=None, threads=None, scheduler=None, resume=False,
-              max_cases=None, progress=SILENT):
+def run_sweep(sweep: Sweep, out: str | os.PathLike, *, workers: int | None = None,
+              threads: int | None = None, scheduler: Any = None, resume: bool = False,
+              max_cases: int | None = None, progress: Progress = SILENT) -> SweepReport:
     """Run the cases of a sweep that are not done yet and write the table.
 
     Parameters
@@ -250,7 +259,8 @@ def run_sweep(sweep, out, *, workers=None, threads=None, scheduler=None, resume=
                          max_cases, progress)
 
 
-def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progress):
+def _sweep_in(sweep: Sweep, out: Path, workers: int | None, threads: int | None, scheduler: Any,
+              resume: bool, max_cases: int | None, progress: Progress) -> SweepReport:
     """:func:`run_sweep` in its folder, prepared and held."""
     record = sweep.record()
     _check_record(out, record, resume)
@@ -277,7 +287,7 @@ def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progre
 
     journal = out / JOURNAL
 
-    def finish(case, outcome):
+    def finish(case: Case, outcome: dict[str, Any]) -> None:
         outcomes[case.index] = {"varied": case.varied, **outcome}
         line = json.dumps(io.jsonable({"case": case.index, **outcomes[case.index]}))
         with open(journal, "a", encoding="utf-8") as stream:
@@ -295,8 +305,9 @@ def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progre
     try:
         for case in todo:
             if case.index in rejected:
-                err = rejected[case.index]
-                finish(case, failed(out / case.name, err, 0.0, f"{error_message(err)}\n"))
+                err = rejected[case.index]  # type: ignore[misc]  # not the except clause's
+                finish(case, failed(out / case.name, err, 0.0,  # type: ignore[misc]
+                                    f"{error_message(err)}\n"))  # type: ignore[misc]
         if runnable:
             _run_all(runnable, scenes, out, workers, threads, scheduler, progress, finish)
     except KeyboardInterrupt:
@@ -313,11 +324,13 @@ def _sweep_in(sweep, out, workers, threads, scheduler, resume, max_cases, progre
     return SweepReport(out, table, files, len(todo), reused, len(cases) - reused - len(todo))
 
 
-def _run_all(cases, scenes, out, workers, threads, scheduler, progress, finish):
+def _run_all(cases: deque[Case], scenes: Mapping[int, Scene], out: Path, workers: int | None,
+             threads: int | None, scheduler: Any, progress: Progress,
+             finish: Callable[[Case, dict[str, Any]], None]) -> None:
     """Run ``cases`` (a deque) on local processes or Dask, ``finish(case, outcome)`` as each
     ends; on an interruption the running cases are cancelled and the error re-raised."""
     if scheduler is not None:
-        backend = _Dask(scheduler, workers, threads, progress)
+        backend: _Dask | LocalPool = _Dask(scheduler, workers, threads, progress)
     else:
         backend = LocalPool(workers or min(2, len(cases)), threads, progress)
     tasks = deque((case, {"scene": scenes[case.index], "folder": str(out / case.name),
@@ -330,11 +343,11 @@ def _run_all(cases, scenes, out, workers, threads, scheduler, progress, finish):
         raise
 
 
-def _describe(varied):
+def _describe(varied: Mapping[str, Any]) -> str:
     return "(" + ", ".join(f"{k}={v!r}" for k, v in varied.items()) + ")"
 
 
-def _check_record(out, record, resume):
+def _check_record(out: Path, record: Mapping[str, Any], resume: bool) -> None:
     """Refuse a folder that holds another sweep, unless resuming."""
     path = out / RECORD
     if resume or not path.is_file():

@@ -38,13 +38,18 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import os
 import tomllib
+from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import Any, NoReturn, Self
 
 import numpy as np
 
 from ngincompat.errors import ParameterError
+from ngincompat.parameters import Parameter
 from ngincompat.scenes import SCENES, get_scene
+from ngincompat.scenes.base import Scene
 
 SWEEP_KEYS = ("scene", "fixed", "vary", "zip", "metrics")
 RANGE_KEYS = ("start", "stop", "num", "step")
@@ -76,17 +81,17 @@ class Case:
     varied: dict
 
     @property
-    def key(self):
+    def key(self) -> str:
         """Short hash of the scene and the parameters."""
         text = json.dumps({"scene": self.scene, "params": self.params}, sort_keys=True)
         return hashlib.sha1(text.encode()).hexdigest()[:8]
 
     @property
-    def name(self):
+    def name(self) -> str:
         """Folder name of the case, ``case_<index>_<hash>``."""
         return f"case_{self.index:03d}_{self.key}"
 
-    def build(self):
+    def build(self) -> Scene:
         """The case's scene.
 
         Raises
@@ -122,16 +127,16 @@ class Sweep:
     metrics: tuple | None = None
 
     @property
-    def varied(self):
+    def varied(self) -> list[str]:
         """Names of the varied parameters, in the table's order."""
         return [*self.zipped, *self.vary]
 
     @property
-    def scene_class(self):
+    def scene_class(self) -> type[Scene]:
         """The class of the sweep's scene (its parameters, metrics and units)."""
         return SCENES[self.scene]
 
-    def with_settings(self, settings):
+    def with_settings(self, settings: Mapping[str, Any]) -> Self:
         """The sweep with ``settings`` (parameter -> string or value, as ``run --set`` gives
         them) added to its fixed parameters, replacing those of the file: every case runs
         with them, and they are part of the sweep's cases (their folder names and the record
@@ -152,7 +157,7 @@ class Sweep:
         typed = self.scene_class.typed_settings(settings)
         return dataclasses.replace(self, fixed={**self.fixed, **typed})
 
-    def record(self):
+    def record(self) -> dict[str, Any]:
         """The sweep and its cases as a JSON-ready dict (recorded beside the table)."""
         return {"scene": self.scene, "fixed": self.fixed, "vary": self.vary,
                 "zip": self.zipped, "metrics": list(self.metrics) if self.metrics else None,
@@ -160,7 +165,7 @@ class Sweep:
                 "cases": [{"case": c.index, "folder": c.name, "params": c.params}
                           for c in self.cases()]}
 
-    def cases(self):
+    def cases(self) -> list[Case]:
         """The cases: rows of ``zipped`` (outer) times the product of ``vary``.
 
         Returns
@@ -178,7 +183,7 @@ class Sweep:
         return cases
 
 
-def load_sweep(path):
+def load_sweep(path: str | os.PathLike) -> Sweep:
     """Read and validate a sweep file.
 
     Parameters
@@ -208,7 +213,7 @@ def load_sweep(path):
     return parse_sweep(data, source=str(path))
 
 
-def parse_sweep(data, source="sweep"):
+def parse_sweep(data: Mapping[str, Any], source: str = "sweep") -> Sweep:
     """Validate the contents of a sweep file (a dict as ``tomllib`` returns it).
 
     Parameters
@@ -222,7 +227,7 @@ def parse_sweep(data, source="sweep"):
     -------
     Sweep
     """
-    def fail(message):
+    def fail(message: str) -> NoReturn:
         raise ParameterError(f"{source}: {message}")
 
     for key in data:
@@ -235,7 +240,7 @@ def parse_sweep(data, source="sweep"):
         fail(f"scene = {scene!r} is unknown: allowed {', '.join(sorted(SCENES))}")
     allowed = SCENES[scene].declarations()
 
-    tables = {}
+    tables: dict[str, dict] = {}
     for section in ("fixed", "vary", "zip"):
         table = data.get(section, {})
         if not isinstance(table, dict):
@@ -284,22 +289,23 @@ def parse_sweep(data, source="sweep"):
     return Sweep(scene, fixed, vary, zipped, metrics)
 
 
-def _is_scalar(value):
+def _is_scalar(value: object) -> bool:
     return isinstance(value, (str, int, float, bool))
 
 
-def _is_value(value, parameter):
+def _is_value(value: object, parameter: Parameter) -> bool:
     """Whether ``value`` is one value of ``parameter`` (a list of numbers for a tuple)."""
     if parameter.takes_list and isinstance(value, list):
         return all(_is_number(v) for v in value)
     return _is_scalar(value)
 
 
-def _is_number(value):
+def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _values(name, raw, fail, parameter):
+def _values(name: str, raw: object, fail: Callable[[str], NoReturn],
+            parameter: Parameter) -> list:
     """The list of values of one varied parameter: a list or a range table."""
     if isinstance(raw, dict):
         values = _range(name, raw, fail)
@@ -316,7 +322,7 @@ def _values(name, raw, fail, parameter):
     return list(values)
 
 
-def _range(name, spec, fail):
+def _range(name: str, spec: Mapping[str, Any], fail: Callable[[str], NoReturn]) -> list:
     for key in spec:
         if key not in RANGE_KEYS:
             fail(f"{name}.{key}: unknown key of a range: allowed start, stop and num or step")

@@ -13,10 +13,17 @@ Units: a parameter's from the scene's parameter metadata (:meth:`Scene.parameter
 """
 
 import dataclasses
+import os
+from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import Any
+
+from matplotlib.figure import Figure
 
 from ngincompat.atomic import atomic_path
 from ngincompat.errors import ParameterError
+from ngincompat.scenes.base import Scene
+from ngincompat.studies.sweep.spec import Sweep
 from ngincompat.workflow import io, plots, tables
 
 NAME = "sweep"
@@ -27,7 +34,7 @@ JOURNAL = f"{NAME}.journal.jsonl"
 FIXED_COLUMNS = ("case", "status", "warnings", "seconds", "error")
 
 
-def column_units(scene_class, columns):
+def column_units(scene_class: type[Scene], columns: Iterable[str]) -> dict[str, str]:
     """Column -> unit of a sweep of ``scene_class``: parameters with a unit, every metric,
     and the seconds."""
     parameters = scene_class.parameters()
@@ -67,12 +74,12 @@ class SweepTable:
     units: dict
     rows: list
 
-    def label(self, column):
+    def label(self, column: str) -> str:
         """An axis label: the column with its unit, ``"a [1/mm]"``."""
         return tables.header(column, self.units)
 
 
-def make_table(sweep, outcomes):
+def make_table(sweep: Sweep, outcomes: Mapping[int, Mapping[str, Any]]) -> SweepTable:
     """The table of ``sweep`` from the outcomes of its finished cases.
 
     Parameters
@@ -102,7 +109,8 @@ def make_table(sweep, outcomes):
                       column_units(sweep.scene_class, columns), rows)
 
 
-def write_table(out, table, record):
+def write_table(out: str | os.PathLike, table: SweepTable,
+                record: Mapping[str, Any]) -> list[str]:
     """Write ``table`` into the folder ``out`` (atomically), with ``record`` (the sweep, see
     :meth:`Sweep.record`) in sweep.json; returns the names of the files written."""
     files = tables.write(out, NAME, table.rows, table.columns, table.units, **record)
@@ -124,7 +132,7 @@ def write_table(out, table, record):
     return [*files, PARQUET]
 
 
-def read_table(sweep_dir):
+def read_table(sweep_dir: str | os.PathLike) -> SweepTable:
     """The table of a sweep folder (from its sweep.json, values with their types).
 
     Parameters
@@ -153,7 +161,7 @@ def read_table(sweep_dir):
         raise ParameterError(f"{path} is not the table of a sweep ({err})") from None
 
 
-def _parse(text):
+def _parse(text: str) -> int | float | str:
     """A --where value as the table holds it: int, float or text."""
     for kind in (int, float):
         try:
@@ -163,7 +171,9 @@ def _parse(text):
     return text
 
 
-def sweep_figure(table, metric, x, hue=None, where=None, logx=False, logy=False):
+def sweep_figure(table: SweepTable, metric: str, x: str, hue: str | None = None,
+                 where: Mapping[str, Any] | None = None, logx: bool = False,
+                 logy: bool = False) -> Figure:
     """A metric against a varied parameter, one curve per value of another.
 
     Parameters
@@ -206,7 +216,7 @@ def sweep_figure(table, metric, x, hue=None, where=None, logx=False, logy=False)
         rows = [r for r in rows if r[key] == wanted]
     if not rows:
         raise ParameterError(f"metric {metric!r}: no finished case has a value")
-    groups = {}
+    groups: dict[Any, list[dict[str, Any]]] = {}
     for r in rows:
         groups.setdefault(r[hue] if hue else None, []).append(r)
     curves = {}
@@ -227,7 +237,9 @@ def sweep_figure(table, metric, x, hue=None, where=None, logx=False, logy=False)
                                logy=logy)
 
 
-def plot_sweep(sweep_dir, metric, x, out, hue=None, where=None, logx=False, logy=False):
+def plot_sweep(sweep_dir: str | os.PathLike, metric: str, x: str, out: str | os.PathLike,
+               hue: str | None = None, where: Mapping[str, Any] | None = None,
+               logx: bool = False, logy: bool = False) -> Path:
     """Draw :func:`sweep_figure` of the sweep in ``sweep_dir`` into the PNG file ``out``
     (atomically); returns its path."""
     plots.save(sweep_figure(read_table(sweep_dir), metric, x, hue=hue, where=where, logx=logx,
@@ -235,11 +247,11 @@ def plot_sweep(sweep_dir, metric, x, out, hue=None, where=None, logx=False, logy
     return Path(out)
 
 
-def _sort_key(value):
+def _sort_key(value: object) -> tuple[int, Any, str]:
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         return (0, value, "")
     return (1, 0, str(value))
 
 
-def _text(value):
+def _text(value: object) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
