@@ -3,7 +3,7 @@
 import math
 
 import pytest
-from studies.findings.test_rule import assert_gives_every_verdict, assert_unfinished_not_judged, run
+from studies.findings.test_rule import rule_of, run, section_tests
 
 from ngincompat.studies.findings import AGREES, DIFFERS, IMPOSED, PARTLY, atrophy
 
@@ -40,19 +40,12 @@ CASES = {
 }
 
 
+test_every_rule_gives_every_verdict_it_lists, test_a_case_that_did_not_finish_is_not_judged = \
+    section_tests(atrophy.FINDINGS, CASES)
+
+
 def _rule(key):
-    (finding,) = [f for f in atrophy.FINDINGS if f.key == key]
-    return finding
-
-
-@pytest.mark.parametrize("finding", atrophy.FINDINGS, ids=lambda f: f.key)
-def test_every_rule_gives_every_verdict_it_lists(finding):
-    assert_gives_every_verdict(finding, CASES[finding.key])
-
-
-@pytest.mark.parametrize("finding", atrophy.FINDINGS, ids=lambda f: f.key)
-def test_a_case_that_did_not_finish_is_not_judged(finding):
-    assert_unfinished_not_judged(finding, CASES[finding.key])
+    return rule_of(atrophy.FINDINGS, key)
 
 
 def test_the_cap_of_the_atrophy_law_is_imposed_not_agreement():

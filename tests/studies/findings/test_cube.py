@@ -3,8 +3,7 @@
 # theta = 1 + X1 / 4 at t = 1 (eq. 50), |b| and Curl Fg : Curl Fg of eq. 16
 
 import numpy as np
-import pytest
-from studies.findings.test_rule import assert_gives_every_verdict, assert_unfinished_not_judged, run
+from studies.findings.test_rule import rule_of, run, section_tests
 
 from ngincompat.studies.findings import AGREES, DIFFERS, IMPOSED, cube
 
@@ -31,19 +30,12 @@ CASES = {
 }
 
 
+test_every_rule_gives_every_verdict_it_lists, test_a_case_that_did_not_finish_is_not_judged = \
+    section_tests(cube.FINDINGS, CASES)
+
+
 def _rule(key):
-    (finding,) = [f for f in cube.FINDINGS if f.key == key]
-    return finding
-
-
-@pytest.mark.parametrize("finding", cube.FINDINGS, ids=lambda f: f.key)
-def test_every_rule_gives_every_verdict_it_lists(finding):
-    assert_gives_every_verdict(finding, CASES[finding.key])
-
-
-@pytest.mark.parametrize("finding", cube.FINDINGS, ids=lambda f: f.key)
-def test_a_case_that_did_not_finish_is_not_judged(finding):
-    assert_unfinished_not_judged(finding, CASES[finding.key])
+    return rule_of(cube.FINDINGS, key)
 
 
 def test_a_stress_component_that_is_absent_differs_and_is_named():

@@ -3,8 +3,7 @@
 # |b| = 1 / (4 theta) (eq. 27), Fe a rotation about e3 (eq. 56)
 
 import numpy as np
-import pytest
-from studies.findings.test_rule import assert_gives_every_verdict, assert_unfinished_not_judged, run
+from studies.findings.test_rule import rule_of, run, section_tests
 
 from ngincompat.studies.findings import AGREES, DIFFERS, PARTLY, cylinder
 
@@ -28,19 +27,12 @@ CASES = {
 }
 
 
+test_every_rule_gives_every_verdict_it_lists, test_a_case_that_did_not_finish_is_not_judged = \
+    section_tests(cylinder.FINDINGS, CASES)
+
+
 def _rule(key):
-    (finding,) = [f for f in cylinder.FINDINGS if f.key == key]
-    return finding
-
-
-@pytest.mark.parametrize("finding", cylinder.FINDINGS, ids=lambda f: f.key)
-def test_every_rule_gives_every_verdict_it_lists(finding):
-    assert_gives_every_verdict(finding, CASES[finding.key])
-
-
-@pytest.mark.parametrize("finding", cylinder.FINDINGS, ids=lambda f: f.key)
-def test_a_case_that_did_not_finish_is_not_judged(finding):
-    assert_unfinished_not_judged(finding, CASES[finding.key])
+    return rule_of(cylinder.FINDINGS, key)
 
 
 def test_the_rotation_rate_is_judged_relative_to_eq_56():

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from studies.findings.test_rule import assert_gives_every_verdict, assert_unfinished_not_judged, run
+from studies.findings.test_rule import rule_of, run, section_tests
 
 from ngincompat.studies.findings import AGREES, DIFFERS, PARTLY, disc
 
@@ -32,19 +32,12 @@ CASES = {
 }
 
 
+test_every_rule_gives_every_verdict_it_lists, test_a_case_that_did_not_finish_is_not_judged = \
+    section_tests(disc.FINDINGS, CASES)
+
+
 def _rule(key):
-    (finding,) = [f for f in disc.FINDINGS if f.key == key]
-    return finding
-
-
-@pytest.mark.parametrize("finding", disc.FINDINGS, ids=lambda f: f.key)
-def test_every_rule_gives_every_verdict_it_lists(finding):
-    assert_gives_every_verdict(finding, CASES[finding.key])
-
-
-@pytest.mark.parametrize("finding", disc.FINDINGS, ids=lambda f: f.key)
-def test_a_case_that_did_not_finish_is_not_judged(finding):
-    assert_unfinished_not_judged(finding, CASES[finding.key])
+    return rule_of(disc.FINDINGS, key)
 
 
 @pytest.mark.parametrize("sigma_r, rim, failing", [

@@ -3,8 +3,7 @@
 # the three axon fields (curved, concentric, straight), judged under the paper's labels of
 # Fig. 7a
 
-import pytest
-from studies.findings.test_rule import assert_gives_every_verdict, assert_unfinished_not_judged, run
+from studies.findings.test_rule import rule_of, run, section_tests
 
 from ngincompat.studies import findings
 from ngincompat.studies.findings import AGREES, DIFFERS, NOT_RUN, PARTLY
@@ -37,19 +36,12 @@ CASES = {
 }
 
 
+test_every_rule_gives_every_verdict_it_lists, test_a_case_that_did_not_finish_is_not_judged = \
+    section_tests(rules.FINDINGS, CASES)
+
+
 def _rule(key):
-    (finding,) = [f for f in rules.FINDINGS if f.key == key]
-    return finding
-
-
-@pytest.mark.parametrize("finding", rules.FINDINGS, ids=lambda f: f.key)
-def test_every_rule_gives_every_verdict_it_lists(finding):
-    assert_gives_every_verdict(finding, CASES[finding.key])
-
-
-@pytest.mark.parametrize("finding", rules.FINDINGS, ids=lambda f: f.key)
-def test_a_case_that_did_not_finish_is_not_judged(finding):
-    assert_unfinished_not_judged(finding, CASES[finding.key])
+    return rule_of(rules.FINDINGS, key)
 
 
 def test_axon_findings_take_the_papers_labels_of_fig_7a():

@@ -3,8 +3,7 @@
 # the three profiles, |b| ~ theta^(-4/3) |grad theta| along R (eq. 16)
 
 import numpy as np
-import pytest
-from studies.findings.test_rule import assert_gives_every_verdict, assert_unfinished_not_judged, run
+from studies.findings.test_rule import rule_of, run, section_tests
 
 from ngincompat.studies.findings import AGREES, DIFFERS, PARTLY, hemisphere
 
@@ -56,19 +55,12 @@ CASES = {
 }
 
 
+test_every_rule_gives_every_verdict_it_lists, test_a_case_that_did_not_finish_is_not_judged = \
+    section_tests(hemisphere.FINDINGS, CASES)
+
+
 def _rule(key):
-    (finding,) = [f for f in hemisphere.FINDINGS if f.key == key]
-    return finding
-
-
-@pytest.mark.parametrize("finding", hemisphere.FINDINGS, ids=lambda f: f.key)
-def test_every_rule_gives_every_verdict_it_lists(finding):
-    assert_gives_every_verdict(finding, CASES[finding.key])
-
-
-@pytest.mark.parametrize("finding", hemisphere.FINDINGS, ids=lambda f: f.key)
-def test_a_case_that_did_not_finish_is_not_judged(finding):
-    assert_unfinished_not_judged(finding, CASES[finding.key])
+    return rule_of(hemisphere.FINDINGS, key)
 
 
 def test_the_radial_planes_are_judged_on_the_largest_of_the_three_profiles():

@@ -60,6 +60,29 @@ def assert_unfinished_not_judged(finding, cases):
     assert finding.judge(results) == ("", NOT_RUN, f"not finished: {label}")
 
 
+def section_tests(section_findings, cases):
+    """The two tests every section's rules pass, parametrised over its findings: each gives
+    every verdict it lists on ``cases`` (key -> verdict -> results, see
+    :func:`assert_gives_every_verdict`), and none judges a case that did not finish
+    (:func:`assert_unfinished_not_judged`). A section's test module binds them to test names."""
+
+    @pytest.mark.parametrize("finding", section_findings, ids=lambda f: f.key)
+    def gives_every_verdict(finding):
+        assert_gives_every_verdict(finding, cases[finding.key])
+
+    @pytest.mark.parametrize("finding", section_findings, ids=lambda f: f.key)
+    def does_not_judge_the_unfinished(finding):
+        assert_unfinished_not_judged(finding, cases[finding.key])
+
+    return gives_every_verdict, does_not_judge_the_unfinished
+
+
+def rule_of(section_findings, key):
+    """The finding of ``section_findings`` with this key."""
+    (finding,) = [f for f in section_findings if f.key == key]
+    return finding
+
+
 def all_cases():
     """Every section's cases, rule key -> verdict -> results."""
     from studies.findings import (

@@ -2,8 +2,7 @@
 
 # the four expanders (rectangle, circle, square, crescent)
 
-import pytest
-from studies.findings.test_rule import assert_gives_every_verdict, assert_unfinished_not_judged, run
+from studies.findings.test_rule import rule_of, run, section_tests
 
 from ngincompat.studies import findings
 from ngincompat.studies.findings import AGREES, DIFFERS, IMPOSED, NOT_RUN, PARTLY
@@ -38,19 +37,12 @@ CASES = {
 }
 
 
+test_every_rule_gives_every_verdict_it_lists, test_a_case_that_did_not_finish_is_not_judged = \
+    section_tests(rules.FINDINGS, CASES)
+
+
 def _rule(key):
-    (finding,) = [f for f in rules.FINDINGS if f.key == key]
-    return finding
-
-
-@pytest.mark.parametrize("finding", rules.FINDINGS, ids=lambda f: f.key)
-def test_every_rule_gives_every_verdict_it_lists(finding):
-    assert_gives_every_verdict(finding, CASES[finding.key])
-
-
-@pytest.mark.parametrize("finding", rules.FINDINGS, ids=lambda f: f.key)
-def test_a_case_that_did_not_finish_is_not_judged(finding):
-    assert_unfinished_not_judged(finding, CASES[finding.key])
+    return rule_of(rules.FINDINGS, key)
 
 
 def test_the_expanders_order_differs_where_it_fails_and_says_what_the_mesh_settles():
