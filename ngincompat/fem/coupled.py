@@ -57,7 +57,7 @@ class CoupledProblem:
         Static condensation of element-interior dofs (theta's among them).
     realcompile : bool or None
         Compile the residual of the growth term to C++
-        (:func:`~ngincompat.fem.problem.compiled`); None: from
+        (:func:`~ngincompat.fem.compiler.compiled`); None: from
         :data:`~ngincompat.fem.problem.REALCOMPILE_NDOF` dofs on.
 
     Attributes

@@ -14,18 +14,13 @@ components at three vertices without symmetry planes: it carries no reaction for
 self-equilibrated body, so it gives the same solution as Lagrange multipliers on the rigid
 modes while keeping the tangent symmetric positive definite near equilibrium).
 
-The displacement space, the pins, the local heap and the compiled residual here serve the
-coupled problem too (:class:`~ngincompat.fem.coupled.CoupledProblem`, a sum of the energy
-terms of :mod:`ngincompat.fem.terms`).
+The displacement space, the pins and the local heap here serve the coupled problem too
+(:class:`~ngincompat.fem.coupled.CoupledProblem`, a sum of the energy terms of
+:mod:`ngincompat.fem.terms`); its residual is compiled by :mod:`ngincompat.fem.compiler`.
 """
 
-import logging
 import numbers
-import os
-import shutil
-import sys
 from collections.abc import Iterable, Mapping, Sequence
-from pathlib import Path
 from typing import Literal
 
 import ngsolve as ngs
@@ -45,8 +40,6 @@ from ngincompat.mechanics.materials import (
     grown_energy_density,
     intermediate_fibers,
 )
-
-log = logging.getLogger(__name__)
 
 
 def ensure_heap(order: int) -> None:
@@ -70,43 +63,6 @@ def ensure_heap(order: int) -> None:
 #: problems of the tests (measured on the skin: ``docs/measurements/solver-costs.md``, "The
 #: coupled residual").
 REALCOMPILE_NDOF = 10000
-
-
-def find_compiler() -> str | None:
-    """Put NGSolve's compiler script ``ngscxx`` on ``PATH`` if it is not there but beside the
-    running interpreter, where NGSolve's wheels install it: a virtual environment used
-    without activating it (``.venv/bin/ngincompat``, as in the README) has its ``bin`` off
-    ``PATH``, and ``Compile(realcompile=True)`` then fails to find it. Returns the script's
-    path, or None."""
-    found = shutil.which("ngscxx")
-    beside = Path(sys.executable).parent / "ngscxx"
-    if found is None and beside.is_file():
-        os.environ["PATH"] = os.pathsep.join([str(beside.parent), os.environ.get("PATH", "")])
-        found = shutil.which("ngscxx")
-    return found
-
-
-def compiled(cf: ngs.CoefficientFunction, realcompile: bool,
-             maxderiv: int = 1) -> ngs.CoefficientFunction:
-    """``cf`` compiled: to C++ by the system's compiler if ``realcompile`` (and that works),
-    else by NGSolve's own step list, with derivatives up to ``maxderiv``.
-
-    A residual, linear in the test function, is evaluated and linearised in the trial
-    function for the tangent, never differentiated twice: its C++ is generated up to first
-    derivatives (``maxderiv=1``, NGSolve's default is 2): half the compilation time, the same
-    tangents; with ``maxderiv=0`` the tangent falls back to the interpreted derivative and a
-    run takes more than twice as long (``docs/measurements/solver-costs.md``, "The coupled
-    residual"). An energy (a ``Variation``) is differentiated twice for its tangent:
-    ``maxderiv=2``.
-    """
-    if realcompile and find_compiler() is None:
-        log.warning("no C++ compiler (ngscxx) found; assembling uncompiled")
-    elif realcompile:
-        try:
-            return cf.Compile(realcompile=True, wait=True, maxderiv=maxderiv)
-        except Exception as err:  # no headers: NGSolve raises its own kinds
-            log.warning("compiling to C++ failed (%s); assembling uncompiled", err)
-    return cf.Compile()
 
 
 #: The smallest Poisson's ratio of the mixed formulation. Its pressure term -p^2 / (2 lambda),

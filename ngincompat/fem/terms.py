@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING, Any
 import ngsolve as ngs
 import numpy as np
 
-from ngincompat.fem.problem import compiled
+from ngincompat.fem.compiler import compiled
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.mechanics.growth import GrowthKind, growth_kind

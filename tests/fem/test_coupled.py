@@ -1,9 +1,6 @@
 """ngincompat.fem.coupled: coupled growth by implicit Euler, its tangent, supports and terms."""
 
-import os
 import shutil
-import sys
-from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
@@ -12,8 +9,8 @@ from scipy.optimize import brentq
 
 from geometries import bilayer, cube, skin_patch
 from ngincompat.errors import ParameterError
+from ngincompat.fem.compiler import find_compiler
 from ngincompat.fem.coupled import CoupledProblem
-from ngincompat.fem.problem import find_compiler
 from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.stepping import solve_coupled
@@ -86,18 +83,6 @@ def test_global_newton_converges_quadratically_with_coupled_growth():
     above = res[res > 1e-15 * res[0]]
     orders = np.diff(np.log(above))[1:] / np.diff(np.log(above))[:-1]
     assert max(orders[-2:]) > 1.7, (res, orders)
-
-
-def test_ngscxx_is_found_beside_the_interpreter_of_an_unactivated_environment(monkeypatch):
-    """``.venv/bin/ngincompat`` runs without ``.venv/bin`` on PATH, where NGSolve's wheels put
-    its compiler script: :func:`~ngincompat.fem.problem.find_compiler` puts it there."""
-    beside = Path(sys.executable).parent / "ngscxx"
-    if not beside.is_file():
-        pytest.skip("NGSolve's ngscxx is not installed beside this interpreter")
-    monkeypatch.setenv("PATH", "/nonexistent")
-    assert shutil.which("ngscxx") is None
-    assert find_compiler() == str(beside)
-    assert os.environ["PATH"].split(os.pathsep)[0] == str(beside.parent)
 
 
 def test_residual_compiled_to_cpp_gives_the_same_residual_and_tangent(caplog):
