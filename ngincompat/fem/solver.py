@@ -363,8 +363,10 @@ class NewtonSolver:
         return du
 
     def _acceptable(self, E: float, E_new: float, alpha: float, slope: float,
-                    r_norm: float) -> bool:
-        """Is the trial state (already in u) acceptable?
+                    r_norm: float, r_new: float | None) -> tuple[bool, float | None]:
+        """Is the trial state (already in u) acceptable? ``r_new`` is its residual norm where
+        already computed (in the solver's residual vector), else None. Returns the answer
+        and the trial's residual norm where it is known (then in the residual vector).
 
         A non-finite energy (Je <= 0 somewhere) never is. Otherwise, with ``backtrack``
         "finite" any state with a finite residual is; with "descent" a step is accepted if it
@@ -375,19 +377,22 @@ class NewtonSolver:
         start of a step is indefinite).
         """
         if not math.isfinite(E_new):
-            return False
+            return False, r_new
+        if self.options.backtrack != "finite" and self.has_energy and (
+                E_new <= E + 1e-4 * alpha * min(slope, 0.0)):
+            return True, r_new
+        if r_new is None:
+            r_new = self.residual().Norm()
         if self.options.backtrack == "finite":
-            return math.isfinite(self.residual().Norm())
-        if self.has_energy and E_new <= E + 1e-4 * alpha * min(slope, 0.0):
-            return True
-        r_new = self.residual().Norm()
-        return math.isfinite(r_new) and r_new <= (1 - 1e-4 * alpha) * r_norm
+            return math.isfinite(r_new), r_new
+        return math.isfinite(r_new) and r_new <= (1 - 1e-4 * alpha) * r_norm, r_new
 
-    def _step(self, E: float, r: ngs.BaseVector) -> tuple[float, float]:
+    def _step(self, E: float, r: ngs.BaseVector) -> tuple[float, float, bool]:
         """One line-searched step along the Newton direction from the current state.
 
-        Returns (alpha, energy) of the accepted step, or (0, E) with the state unchanged when
-        no step length was acceptable."""
+        Returns (alpha, energy, known) of the accepted step, known where the solver's
+        residual vector holds the residual there already (the line search computed it), or
+        (0, E, True) with the state unchanged when no step length was acceptable."""
         opts = self.options
         u = self.problem.state.vec
         du = self.direction()
@@ -397,19 +402,23 @@ class NewtonSolver:
         if not opts.line_search:
             # the full step; without an energy the caller's residual there is the merit
             u.data = self._u0 - du
-            return 1.0, self.energy(u) if self.has_energy else E
-        trial = {}
+            return 1.0, self.energy(u) if self.has_energy else E, False
+        trial: dict[str, float] = {}
+        known: list[bool] = []
 
         def acceptable(alpha: float) -> bool:
-            trial["E"] = E_new = self.energy(u) if self.has_energy else _merit(
-                self.residual().Norm())
-            return self._acceptable(E, E_new, alpha, slope, r_norm)
+            r_new = None if self.has_energy else self.residual().Norm()
+            E_new = self.energy(u) if self.has_energy else _merit(r_new)  # type: ignore[arg-type]
+            ok, r_new = self._acceptable(E, E_new, alpha, slope, r_norm, r_new)
+            trial["E"] = E_new
+            known[:] = [r_new is not None]
+            return ok
 
         alpha = self._backtrack(du, acceptable, opts.max_backtracks)
         if alpha == 0.0:
             self.residual()
-            return 0.0, E
-        return alpha, trial["E"]
+            return 0.0, E, True
+        return alpha, trial["E"], known[0]
 
     def _backtrack(self, du: ngs.BaseVector, acceptable: Callable[[float], bool],
                    tries: int) -> float:
@@ -474,7 +483,7 @@ class NewtonSolver:
                 self.factorise()
                 record.tangents += 1
             r_old = r.Norm()
-            alpha, E_new = self._step(E, r)
+            alpha, E_new, known = self._step(E, r)
             record.line_search.append(alpha)
             if self._linear is not None:
                 record.linear_iterations.append(self._linear.iterations)
@@ -486,7 +495,8 @@ class NewtonSolver:
                 record.reason = "line search found no acceptable step"
                 return False
             E = E_new
-            r = self.residual()
+            # the line search's last trial is the new state: its residual, if it took one
+            r = self._res if known else self.residual()
             record.residuals.append(r.Norm())
             if not math.isfinite(record.residuals[-1]):
                 record.reason = "residual is not finite"

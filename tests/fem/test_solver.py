@@ -83,10 +83,37 @@ def test_finite_backtracking_takes_a_full_step_that_raises_the_residual():
             E_new = solver.energy(problem.u.vec)
             if np.isfinite(E_new):
                 assert E_new > E and solver.residual().Norm() > r
-            verdicts[backtrack].append(solver._acceptable(E, E_new, 1.0, -1.0, r))
+            verdicts[backtrack].append(solver._acceptable(E, E_new, 1.0, -1.0, r, None)[0])
     assert verdicts == {"descent": [False, False], "finite": [True, False]}
     with pytest.raises(ParameterError, match="backtrack"):
         NewtonOptions(backtrack="armijo")
+
+
+def test_a_newton_iteration_evaluates_the_residual_once(monkeypatch):
+    """The line search's residual at the state it accepts is the next iteration's: each
+    iteration assembles one residual (with "finite" it was three: the line search's merit,
+    its finiteness test and the next iteration's), and both line searches converge to the
+    same state."""
+    problem, time = cube_problem(a=1.0, order=2)
+    time.Set(0.5)
+    start = problem.u.vec.CreateVector()
+    start.data = problem.u.vec
+    ends = []
+    for backtrack in BACKTRACKS:
+        problem.u.vec.data = start
+        solver = NewtonSolver(problem, NewtonOptions(backtrack=backtrack))
+        calls = []
+        residual = solver.residual
+        monkeypatch.setattr(solver, "residual",
+                            lambda vec=None, calls=calls, residual=residual:
+                            calls.append(1) or residual(vec))
+        record = StepRecord(t=0.5, dt=0.5, converged=False)
+        assert solver.minimise(record)
+        assert record.iterations >= 3
+        assert len(calls) == 1 + record.iterations, (backtrack, len(calls), record.iterations)
+        assert record.residuals[-1] < 1e-9 * record.residuals[0]
+        ends.append(problem.u.vec.FV().NumPy().copy())
+    assert np.allclose(ends[0], ends[1], rtol=0, atol=1e-12 * np.abs(ends[0]).max())
 
 
 def test_one_newton_step_is_taken_as_far_as_it_is_acceptable():
