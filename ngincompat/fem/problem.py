@@ -30,7 +30,7 @@ from ngsolve.krylovspace import CGSolver
 from ngincompat import config, parallel
 from ngincompat.errors import require
 from ngincompat.fem.quadrature import resolve, volume_measure
-from ngincompat.fem.solver import NewtonProblem
+from ngincompat.fem.solver import NewtonProblem, resolve_linear_solver
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
 from ngincompat.mechanics.growth import GrowthModel
@@ -136,12 +136,17 @@ class GrowthMechanics:
         problem is a saddle point, so the line search tests the residual instead of the energy.
         Needs a :class:`~ngincompat.mechanics.materials.MixedMaterial`, one with such a bulk term
         (neo-Hookean, g = ln Je), and order >= 2.
-    components : bool
+    components : bool or None
         Assemble the energy on three scalar H1 spaces (:func:`component_space`): the same
         energy, residual and tangent as on VectorH1, the tangent in half the time. False
         assembles it on VectorH1, as NGSolve's BDDC preconditioner (the iterative linear
         solvers) needs: built on the component spaces, its coarse problem is singular
-        (GMRES then stalls on the cube).
+        (GMRES then stalls on the cube). None: as ``linear_solver`` needs.
+    linear_solver : str
+        Newton's linear solver for this problem (:data:`~ngincompat.fem.solver.LINEAR_SOLVERS`;
+        "auto" resolved by :func:`~ngincompat.fem.solver.resolve_linear_solver` for its size
+        and its ``iterative``, the attribute ``linear_solver`` the solver it means): it
+        decides ``components`` where that is None, component spaces for "direct".
     quadrature : {"gauss", "symmetric", "auto"}
         The rule of energy, residual and tangent (:mod:`ngincompat.fem.quadrature`): NGSolve's
         Gauss rule of degree 2 order - 2, or on tetrahedra the symmetric rule of that degree
@@ -153,7 +158,8 @@ class GrowthMechanics:
                  fibers: Sequence[DirectionField] = (), dirichlet: str = "",
                  symmetry: Mapping[str, str] | None = None, condense: bool = True,
                  formulation: Literal["displacement", "mixed"] = "displacement",
-                 components: bool = True, quadrature: str = "gauss") -> None:
+                 components: bool | None = None, quadrature: str = "gauss",
+                 linear_solver: str = "auto") -> None:
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         check_formulation(material, formulation, order)
         self.quadrature = resolve(quadrature, mesh, order)
@@ -178,6 +184,9 @@ class GrowthMechanics:
             self.u, self.pressure = self.state.components
             self.has_energy = False
             self.inverse = "sparsecholesky" if condense else "umfpack"
+            # a saddle point, but its pressure is element-local: condensed, the tangent on the
+            # displacement is the Hessian of the energy with p eliminated, which CG suits
+            self.iterative = "cg" if condense else None
         else:
             self.fes = self.space
             self.u = self.state = ngs.GridFunction(self.fes, name="displacement")
@@ -191,6 +200,10 @@ class GrowthMechanics:
         else:
             self.pinned = ()
         self._fit_inverse: _ComponentLaplaceInverse | None = None
+        self.linear_solver = resolve_linear_solver(linear_solver, mesh, self.fes.ndof,
+                                                   self.iterative)
+        if components is None:
+            components = self.linear_solver == "direct"
         if components:
             form_space = component_space(self.space, [self.fes.components[1]] if mixed else [],
                                          self.bubbles)
@@ -208,6 +221,9 @@ class GrowthMechanics:
 
     has_energy = True
     inverse = "sparsecholesky"
+    #: The iterative solver its tangent suits, the Hessian of an energy (symmetric, positive
+    #: definite near a stable equilibrium): "auto" takes it for a large problem.
+    iterative: str | None = "cg"
 
     @property
     def ndof(self) -> int:

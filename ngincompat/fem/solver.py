@@ -83,12 +83,25 @@ LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres")
 INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 
 
-def resolve_linear_solver(name: str, mesh: ngs.Mesh) -> str:
-    """The linear solver that ``name`` (one of :data:`LINEAR_SOLVERS`) means on ``mesh``:
-    "auto" is "direct" in a serial run and "cg" on a distributed mesh."""
+#: From this many unknowns on, "auto" solves a tangent that an iterative solver suits (the
+#: symmetric positive definite Hessian of an energy minimisation: CG) iteratively,
+#: preconditioned by BDDC, instead of factorising it: the factorisation's time and memory
+#: grow far faster than the unknowns, and above this size it is the slower and the larger
+#: of the two (``docs/performance.md``, "Scaling").
+ITERATIVE_NDOF = 40_000
+
+
+def resolve_linear_solver(name: str, mesh: ngs.Mesh, ndof: int = 0,
+                          iterative: str | None = None) -> str:
+    """The linear solver that ``name`` (one of :data:`LINEAR_SOLVERS`) means on ``mesh`` for
+    a problem of ``ndof`` unknowns whose tangent ``iterative`` suits (None: no iterative
+    solver does, e.g. a non-symmetric tangent): "auto" is "cg" on a distributed mesh, else
+    ``iterative`` from :data:`ITERATIVE_NDOF` unknowns on and "direct" below."""
     if name != "auto":
         return name
-    return "cg" if parallel.distributed(mesh) else "direct"
+    if parallel.distributed(mesh):
+        return "cg"
+    return iterative if iterative is not None and ndof >= ITERATIVE_NDOF else "direct"
 
 
 @dataclass(frozen=True)
@@ -164,16 +177,19 @@ class NewtonOptions:
         How the tangent system is solved: "direct" factorises it (``inverse``); "cg" and
         "gmres" iterate, preconditioned by BDDC (NGSolve's balancing domain decomposition by
         constraints, on the condensed system where the problem condenses), to a residual
-        ``krylov_rtol`` relative to the right-hand side. "symmetric-gmres" iterates with
+        ``krylov_rtol`` relative to the right-hand side (far below Newton's ``rtol``: the
+        iterates are Newton's, and the answer the direct solver's). "symmetric-gmres" iterates with
         GMRES preconditioned by the sparse Cholesky factorisation (LDL^T) of the tangent's
         symmetric part (K + K^T) / 2: for a tangent that is symmetric but for a weak
         coupling, as coupled growth's (the condensed growth block), where it needs a few
         iterations and costs far less than an LU factorisation of K (serial only). CG
         needs a positive definite tangent, as near equilibrium; GMRES also copes with the
         indefinite tangent that the start of a load step can have (and with the indefinite
-        BDDC built from it). "auto": "direct" in a serial run, "cg" on a distributed mesh
-        (the pip wheels have no distributed direct solver; a direct inverse there is
-        gathered onto rank 0).
+        BDDC built from it). "auto": in a serial run "direct", or from
+        :data:`ITERATIVE_NDOF` unknowns on the iterative solver the problem declares
+        (``iterative``: "cg" for an energy minimisation), "cg" on a distributed mesh (the
+        pip wheels have no distributed direct solver; a direct inverse there is gathered
+        onto rank 0).
     krylov_rtol : float
         Relative residual at which the iterative linear solver stops.
     krylov_maxiter : int
@@ -292,7 +308,9 @@ class NewtonSolver:
         self._fixed[list(problem.pinned)] = True
         mesh = problem.fes.mesh
         self._mesh = mesh
-        self.linear_solver = resolve_linear_solver(options.linear_solver, mesh)
+        self.linear_solver = resolve_linear_solver(options.linear_solver, mesh,
+                                                   problem.fes.ndof,
+                                                   getattr(problem, "iterative", None))
         self._preconditioner: ngs.Preconditioner | None = None
         self._linear: CGSolver | GMResSolver | None = None
         self._symmetric: SymmetricPart | None = None

@@ -21,6 +21,7 @@ import ngsolve as ngs
 
 from ngincompat import parallel
 from ngincompat.errors import ParameterError, require
+from ngincompat.fem.solver import ITERATIVE_NDOF, LINEAR_SOLVERS
 from ngincompat.parameters import (
     PRESETS,
     Outputs,
@@ -63,6 +64,10 @@ UNKNOWNS_PER_ELEMENT = {"tet": lambda k: 3 * k ** 3 / 6, "hex": lambda k: 3 * k 
 #: finer computation but a run that does not end (each step is a Newton solve).
 MAX_STEPS = 1000
 STEPS = Param("initial number of load steps (adaptive: cut on failure)", range=f"[1, {MAX_STEPS}]")
+#: Newton's linear solver (:func:`~ngincompat.fem.solver.resolve_linear_solver`).
+LINEAR_SOLVER = Param(f"Newton's linear solver: direct, cg or gmres (BDDC preconditioned); "
+                      f"auto: cg from {ITERATIVE_NDOF:,} unknowns on (or with MPI), direct "
+                      "below", choices=LINEAR_SOLVERS)
 #: The most time steps a scene's duration may take at its time step (atrophy's 40 / 0.2 is
 #: 200): past it a run is a hang, not a finer result.
 MAX_TIME_STEPS = 10_000

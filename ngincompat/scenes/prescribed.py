@@ -21,7 +21,7 @@ from ngincompat import config, sampling
 from ngincompat.fem import postprocess
 from ngincompat.fem.problem import GrowthMechanics, check_formulation
 from ngincompat.fem.quadrature import CHECK_DEGREE, QUADRATURES, check_quadrature
-from ngincompat.fem.solver import LINEAR_SOLVERS, NewtonOptions, resolve_linear_solver
+from ngincompat.fem.solver import NewtonOptions
 from ngincompat.fem.stages import PrescribedGrowthStage
 from ngincompat.incompatibility import curvature as cv
 from ngincompat.incompatibility import operators as inc
@@ -31,7 +31,7 @@ from ngincompat.mechanics.kinematics import deformation_gradient
 from ngincompat.mechanics.materials import Material, MaterialKind, NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
-from ngincompat.scenes.base import Scene, param
+from ngincompat.scenes.base import LINEAR_SOLVER, Scene, param
 from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.material import Elastic
 from ngincompat.scenes.metrics import CURVATURE, INCOMPATIBILITY, MECHANICS, Metric, registry
@@ -107,14 +107,14 @@ class PrescribedCase(SceneCase):
     def mechanics(self, linear_solver: str | None = None) -> GrowthMechanics:
         """The scene's mechanics problem (:class:`~ngincompat.fem.problem.GrowthMechanics`), at
         the growth time the case's ``time`` holds, for Newton's ``linear_solver`` (default
-        the scene's): its energy form on the component spaces for a direct solver, on
-        VectorH1 for BDDC."""
+        the scene's; "auto" resolved for the problem's size): its energy form on the
+        component spaces for a direct solver, on VectorH1 for BDDC."""
         scene = self.scene
-        solver = resolve_linear_solver(linear_solver or scene.linear_solver, self.mesh)
         return GrowthMechanics(self.mesh, self.growth, self.material, order=scene.order,
                                fibers=self.fibers, dirichlet=self.dirichlet,
                                symmetry=self.symmetry, formulation=scene.formulation,
-                               components=solver == "direct", quadrature=scene.quadrature)
+                               quadrature=scene.quadrature,
+                               linear_solver=linear_solver or scene.linear_solver)
 
     def solve(self, solution: Solution, progress: Progress,
               workdir: Path | None = None) -> None:
@@ -145,9 +145,7 @@ class PrescribedScene(Elastic, Scene):
     reuse_tangent: bool = param(True, "keep the factorised tangent while each Newton "
                                 "iteration at least halves the residual (the free hemisphere: "
                                 "6 tangents for 18 iterations against 14 fresh ones)")
-    linear_solver: str = param("auto", "Newton's linear solver: direct, cg or gmres (BDDC "
-                               "preconditioned); auto: direct serially, cg with MPI",
-                               choices=LINEAR_SOLVERS)
+    linear_solver: str = LINEAR_SOLVER("auto")
     quadrature: str = param("auto", "rule of energy, residual and tangent: gauss (NGSolve's, "
                             "degree 2 order - 2), or symmetric on tetrahedra (the same degree, "
                             "74 points instead of 216 at order 6, order <= 8; the energy "

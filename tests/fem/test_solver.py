@@ -6,6 +6,7 @@ import pytest
 from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
+from ngincompat.fem import solver as solver_module
 from ngincompat.fem.solver import (
     BACKTRACKS,
     NewtonOptions,
@@ -13,6 +14,7 @@ from ngincompat.fem.solver import (
     StepRecord,
     _at_roundoff,
     _stalled,
+    resolve_linear_solver,
 )
 from ngincompat.fem.stepping import solve_growth
 from ngincompat.scenes.cube import CubeScene
@@ -224,6 +226,38 @@ def test_newton_with_bddc_matches_the_direct_solver(linear_solver):
     assert [len(s.linear_iterations) for s in steps] == [s.iterations for s in steps]
     assert all(n >= 3 for s in steps for n in s.linear_iterations)
     assert iterative.newton_iterations == direct.newton_iterations
+
+
+def test_auto_takes_the_problems_iterative_solver_from_its_size_on(unit_cube_tet):
+    """"auto" is the direct solver below ITERATIVE_NDOF unknowns and the problem's iterative
+    solver from there on; a problem without one (a non-symmetric tangent) stays direct; a
+    named solver is taken as it is."""
+    n = solver_module.ITERATIVE_NDOF
+    assert resolve_linear_solver("auto", unit_cube_tet, n - 1, "cg") == "direct"
+    assert resolve_linear_solver("auto", unit_cube_tet, n, "cg") == "cg"
+    assert resolve_linear_solver("auto", unit_cube_tet, 10 * n, None) == "direct"
+    assert resolve_linear_solver("gmres", unit_cube_tet, 1, None) == "gmres"
+    assert resolve_linear_solver("direct", unit_cube_tet, 10 * n, "cg") == "direct"
+
+
+@pytest.mark.parametrize("formulation", ["displacement", "mixed"])
+def test_a_problem_above_the_switch_is_solved_by_cg_with_the_direct_answer(monkeypatch,
+                                                                            formulation):
+    """With the switch below the cube's size, "auto" builds the problem on VectorH1 and Newton
+    solves it by CG and BDDC (every direction a CG solve); its metrics are the direct
+    solver's within 1e-6 (the condensed mixed tangent too: its pressure is element-local)."""
+    settings = {**CUBE, "formulation": formulation, "nu": 0.49}
+    direct = CubeScene(**settings).run()
+    monkeypatch.setattr(solver_module, "ITERATIVE_NDOF", 100)
+    switched = CubeScene(**settings).run()
+    steps = switched.solver["growth"].steps
+    assert all(len(s.linear_iterations) == s.iterations > 0 for s in steps)
+    assert not any(s.linear_iterations for s in direct.solver["growth"].steps)
+    compared = [k for k, v in direct.metrics.items()
+                if isinstance(v, float) and abs(v) > 1e-12]
+    assert {"strain_energy", "max_principal_stress"} <= set(compared)
+    for key in compared:
+        assert switched.metrics[key] == pytest.approx(direct.metrics[key], rel=1e-6), key
 
 
 def test_linear_solver_is_checked():

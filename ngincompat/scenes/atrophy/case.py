@@ -140,9 +140,11 @@ class AtrophyCase(SceneCase):
         if self.problem is None:
             self.problem = GrowthMechanics(self.mesh, self.growth, self.material,
                                            order=self.scene.order,
-                                           formulation=self.scene.formulation)
+                                           formulation=self.scene.formulation,
+                                           linear_solver=self.scene.linear_solver)
         self.ramp.Set(0.0)
-        options = NewtonOptions(steps=self.scene.steps, reuse_tangent=True)
+        options = NewtonOptions(steps=self.scene.steps, reuse_tangent=True,
+                                linear_solver=self.scene.linear_solver)
         history = solve_growth(self.problem, self.ramp, options, 1.0, progress=progress,
                                stage=stage)
         self.exposure_solved.vec.data = self.exposure.vec

@@ -21,6 +21,7 @@ from ngincompat.scenes.atrophy.tissues import TISSUES, bounding_box
 from ngincompat.scenes.base import (
     G_ORDER,
     LENGTH_FLOOR,
+    LINEAR_SOLVER,
     MAX_STEPS,
     MAXH,
     ORDER,
@@ -209,6 +210,7 @@ class AtrophyScene(Scene):
     nu: float = NU(0.49)                # both tissues
     formulation: Literal["mixed", "displacement"] = param(
         "mixed", "mixed (pressure against volumetric locking, on Je) or displacement")
+    linear_solver: str = LINEAR_SOLVER("auto")
 
     def trust(self, results: Results) -> list[str]:
         """The elastic volume change |Je - 1| = |J / theta - 1| above :data:`JE_DEVIATION`
