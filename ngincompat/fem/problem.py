@@ -184,9 +184,11 @@ class GrowthMechanics:
             self.u, self.pressure = self.state.components
             self.has_energy = False
             self.inverse = "sparsecholesky" if condense else "umfpack"
-            # a saddle point, but its pressure is element-local: condensed, the tangent on the
-            # displacement is the Hessian of the energy with p eliminated, which CG suits
-            self.iterative = "cg" if condense else None
+            # a saddle point whose pressure is element-local: condensed, CG solves it (asked
+            # for by name), but "auto" keeps the factorisation, which the atrophy scene's
+            # ellipsoid solves faster at its size (docs/performance.md, "Where auto switches
+            # to CG")
+            self.iterative = None
         else:
             self.fes = self.space
             self.u = self.state = ngs.GridFunction(self.fes, name="displacement")
