@@ -87,7 +87,7 @@ INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 #: symmetric positive definite Hessian of an energy minimisation: CG) iteratively,
 #: preconditioned by BDDC, instead of factorising it: the factorisation's time and memory
 #: grow far faster than the unknowns, and above this size it is the slower and the larger
-#: of the two (``docs/performance.md``, "Scaling").
+#: of the two (``docs/performance.md``, "Where auto switches to CG").
 ITERATIVE_NDOF = 40_000
 
 
