@@ -10,8 +10,7 @@ on ``PATH`` (:func:`compile_cache`, ccache's "masquerade" mode: it finds the rea
 after itself on ``PATH``). A form compiled before, in any process on the machine, is then
 read back from ccache's store (``~/.cache/ccache``, or ``CCACHE_DIR``) in a fraction of the
 time (``docs/measurements/folding.md``, "What a field costs at the defaults that
-crease"). ``CCACHE_DISABLE=1``
-switches the store off.
+crease"). ``CCACHE_DISABLE=1`` switches the store off.
 """
 
 import atexit
