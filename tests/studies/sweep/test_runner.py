@@ -271,13 +271,13 @@ def test_ctrl_c_ends_a_sweep_with_130_finished_rows_kept_the_rest_interrupted(
     _, rest = process.communicate(timeout=300)
     err = "".join(lines) + rest
     assert process.returncode == 130, err
-    assert "Traceback" not in err and "KeyboardInterrupt" not in err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     rows = read_table(out).rows
-    assert [r["case"] for r in rows] == list(range(8))
+    assert [r["case"] for r in rows] == list(range(8)), (rows, err)
     statuses = [r["status"] for r in rows]
     assert "interrupted" in statuses and set(statuses) <= {"done", "interrupted"}, \
-        [(r["status"], r["error"]) for r in rows]
-    assert statuses.count("done") <= most_done
+        ([(r["status"], r["error"]) for r in rows], err)
+    assert statuses.count("done") <= most_done, (statuses, err)
     cases = load_sweep(path).cases()
     for row, case in zip(rows, cases, strict=True):
         folder = out / case.name
