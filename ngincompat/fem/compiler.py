@@ -48,10 +48,11 @@ def find_compiler() -> str | None:
     ``PATH``, and ``Compile(realcompile=True)`` then fails to find it. Then sets up
     :func:`compile_cache`. Returns the script's path, or None."""
     found = beside_interpreter("ngscxx")
-    if found is not None and shutil.which("ngscxx") is None:
+    if found is None:
+        return None
+    if shutil.which("ngscxx") is None:
         _prepend_path(Path(found).parent)
-    if found is not None:
-        compile_cache()
+    compile_cache()
     return found
 
 
