@@ -30,6 +30,7 @@ from ngsolve.krylovspace import CGSolver
 from ngincompat import config, parallel
 from ngincompat.errors import require
 from ngincompat.fem.quadrature import resolve, volume_measure
+from ngincompat.fem.rigid import rigid_modes, vertex_dofs
 from ngincompat.fem.solver import NewtonProblem, resolve_linear_solver
 from ngincompat.mechanics import kinematics
 from ngincompat.mechanics.fields import DirectionField
@@ -146,7 +147,7 @@ class GrowthMechanics:
         Newton's linear solver for this problem (:data:`~ngincompat.fem.solver.LINEAR_SOLVERS`;
         "auto" resolved by :func:`~ngincompat.fem.solver.resolve_linear_solver` for its size
         and its ``iterative``, the attribute ``linear_solver`` the solver it means): it
-        decides ``components`` where that is None, component spaces for "direct".
+        decides ``components`` where that is None, component spaces for "direct" and "amg".
     quadrature : {"gauss", "symmetric", "auto"}
         The rule of energy, residual and tangent (:mod:`ngincompat.fem.quadrature`): NGSolve's
         Gauss rule of degree 2 order - 2, or on tetrahedra the symmetric rule of that degree
@@ -205,7 +206,7 @@ class GrowthMechanics:
         self.linear_solver = resolve_linear_solver(linear_solver, mesh, self.fes.ndof,
                                                    self.iterative)
         if components is None:
-            components = self.linear_solver == "direct"
+            components = self.linear_solver in ("direct", "amg")
         if components:
             form_space = component_space(self.space, [self.fes.components[1]] if mixed else [],
                                          self.bubbles)
@@ -459,9 +460,7 @@ def rigid_pins(mesh: ngs.Mesh, fes: ngs.FESpace, held: Iterable[int] = ()) -> tu
     equilibrium.
     """
     d = mesh.dim
-    pts = np.array([v.point for v in mesh.vertices]).reshape(-1, d)
-    dofs = np.array([fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, v))[:d]
-                     for v in range(len(pts))], dtype=int).reshape(-1, d)
+    pts, dofs = vertex_dofs(fes)
     free = np.array(fes.FreeDofs(), dtype=bool)
     free[list(held)] = False
     free = free[dofs]
@@ -488,16 +487,7 @@ def pin_reactions(problem: NewtonProblem) -> np.ndarray:
 def _pin_nodes(pts: np.ndarray, free: np.ndarray) -> list[tuple[int, int]]:
     """The (vertex, component) pairs that :func:`rigid_pins` pins, for vertex coordinates
     ``pts`` (n, d) and the free flags ``free`` of their d displacement components."""
-    d = pts.shape[1]
-    size = max(np.ptp(pts, axis=0).max(), 1e-300)
-    centred = (pts - pts.mean(axis=0)) / size
-    rotations = ([np.cross(np.eye(3)[k], centred) for k in range(3)] if d == 3 else
-                 [np.column_stack([-centred[:, 1], centred[:, 0]])])
-    modes = np.zeros((len(pts), d, d + len(rotations)))   # mode m in component c at a vertex
-    for c in range(d):
-        modes[:, c, c] = 1.0
-        for k, rotation in enumerate(rotations):
-            modes[:, c, d + k] = rotation[:, c]
+    modes = rigid_modes(pts)
     fixed = modes[~free]
     basis = np.eye(modes.shape[2])
     if len(fixed):

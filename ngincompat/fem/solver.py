@@ -29,6 +29,8 @@ from ngsolve.krylovspace import CGSolver, GMResSolver
 
 from ngincompat import parallel
 from ngincompat.errors import require
+from ngincompat.fem.amg import SmoothedAggregation
+from ngincompat.fem.rigid import rigid_body_modes
 from ngincompat.fem.sparse_lu import SuperLUInverse
 from ngincompat.fem.symmetric import SymmetricPart
 from ngincompat.fem.work import part
@@ -77,7 +79,7 @@ class NewtonProblem(Protocol):
 #: What the line search asks of a trial state (see :class:`NewtonOptions`).
 BACKTRACKS = ("descent", "finite")
 #: Linear solvers of the Newton directions (see :class:`NewtonOptions`).
-LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres")
+LINEAR_SOLVERS = ("auto", "direct", "cg", "gmres", "symmetric-gmres", "amg")
 #: Sparse direct solvers of the "direct" linear solver: NGSolve's, and SuperLU from SciPy
 #: (:mod:`ngincompat.fem.sparse_lu`, the coupled problems' non-symmetric tangents).
 INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
@@ -173,7 +175,7 @@ class NewtonOptions:
         factorising cost far more than a residual (high order, few elements).
     reuse_contraction : float
         The contraction in (0, 1) a reused tangent must achieve per iteration.
-    linear_solver : {"auto", "direct", "cg", "gmres", "symmetric-gmres"}
+    linear_solver : {"auto", "direct", "cg", "gmres", "symmetric-gmres", "amg"}
         How the tangent system is solved: "direct" factorises it (``inverse``); "cg" and
         "gmres" iterate, preconditioned by BDDC (NGSolve's balancing domain decomposition by
         constraints, on the condensed system where the problem condenses), to a residual
@@ -182,7 +184,10 @@ class NewtonOptions:
         GMRES preconditioned by the sparse Cholesky factorisation (LDL^T) of the tangent's
         symmetric part (K + K^T) / 2: for a tangent that is symmetric but for a weak
         coupling, as coupled growth's (the condensed growth block), where it needs a few
-        iterations and costs far less than an LU factorisation of K (serial only). CG
+        iterations and costs far less than an LU factorisation of K (serial only). "amg"
+        iterates with CG preconditioned by one V-cycle of a smoothed-aggregation algebraic
+        multigrid built from the rigid motions (:mod:`ngincompat.fem.amg`, PyAMG: the
+        ``amg`` extra; serial only), for an energy's Hessian on a displacement space. CG
         needs a positive definite tangent, as near equilibrium; GMRES also copes with the
         indefinite tangent that the start of a load step can have (and with the indefinite
         BDDC built from it). "auto": in a serial run "direct", or from
@@ -317,6 +322,11 @@ class NewtonSolver:
         if self.linear_solver in ("cg", "gmres"):
             # registered with the form: rebuilt by every AssembleLinearization
             self._preconditioner = ngs.Preconditioner(problem.form, "bddc")
+        self._modes: np.ndarray | None = None
+        if self.linear_solver == "amg":
+            require(not parallel.distributed(mesh), "linear_solver", "amg",
+                    "a serial run's solver (distributed: cg)")
+            self._modes = rigid_body_modes(problem.fes)
 
     def energy(self, vec: ngs.BaseVector) -> float:
         """The problem's energy at ``vec``, summed over the ranks of a distributed mesh; with
@@ -354,6 +364,11 @@ class NewtonSolver:
                 preconditioner = self._symmetric.of(p.form.mat).Inverse(
                     p.freedofs, inverse="sparsecholesky")
             krylov = GMResSolver
+        elif self.linear_solver == "amg":
+            with part("factorisation"):
+                preconditioner = SmoothedAggregation(p.form.mat, p.freedofs,
+                                                     self._modes)  # type: ignore[arg-type]
+            krylov = CGSolver
         else:
             free = ngs.Projector(p.freedofs, True)
             # made with the solver for cg and gmres

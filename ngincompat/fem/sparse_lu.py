@@ -23,29 +23,28 @@ from scipy.sparse.linalg import splu
 
 def free_block(matrix: ngs.BaseMatrix, free: np.ndarray | Sequence[int]) -> sp.csr_matrix:
     """The rows and columns ``free`` (indices or a boolean mask) of an assembled NGSolve sparse
-    matrix, as a SciPy CSR matrix."""
-    rows, cols, values = matrix.COO()
-    full = sp.csr_matrix((np.asarray(values), (np.asarray(rows), np.asarray(cols))),
-                         shape=(matrix.height, matrix.width))
-    return full[free][:, free]
+    matrix (full storage), as a SciPy CSR matrix. NGSolve's CSR arrays are read in place:
+    the block is the only copy."""
+    values, cols, rows = (np.asarray(a) for a in matrix.CSR())
+    index = np.int32 if len(values) < 2**31 else np.int64   # one type for both, as SciPy's
+    full = sp.csr_matrix((values, cols.astype(index, copy=False), rows.astype(index)),
+                         shape=(matrix.height, matrix.width), copy=False)
+    return full[free][:, free].tocsr()
 
 
-class SuperLUInverse(ngs.BaseMatrix):
-    """The inverse of ``matrix`` (an assembled NGSolve sparse matrix) restricted to the dofs
-    set in ``freedofs``, factorised once by SuperLU; applied like an NGSolve inverse (zero on
-    the other dofs).
-
-    Raises
-    ------
-    RuntimeError
-        SuperLU found the free block exactly singular.
-    """
+class FreeBlockOperator(ngs.BaseMatrix):
+    """An operator on the dofs set in ``freedofs`` of the assembled NGSolve sparse matrix
+    ``matrix``, zero on the other dofs, applied like an NGSolve inverse or preconditioner:
+    a subclass maps the free entries of x to those of y (:meth:`apply`)."""
 
     def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray) -> None:
         super().__init__()
         self._matrix = matrix
         self._free = np.flatnonzero(np.fromiter(freedofs, dtype=bool, count=len(freedofs)))
-        self._lu = splu(free_block(matrix, self._free).tocsc())
+
+    def apply(self, x: np.ndarray) -> np.ndarray:
+        """y_f for x_f (the free entries)."""
+        raise NotImplementedError
 
     def IsComplex(self) -> bool:
         return False
@@ -63,6 +62,25 @@ class SuperLUInverse(ngs.BaseMatrix):
         return self._matrix.CreateRowVector()
 
     def Mult(self, x: ngs.BaseVector, y: ngs.BaseVector) -> None:
-        solution = np.zeros(self._matrix.height)
-        solution[self._free] = self._lu.solve(x.FV().NumPy()[self._free])
-        y.FV().NumPy()[:] = solution
+        result = np.zeros(self._matrix.height)
+        result[self._free] = self.apply(x.FV().NumPy()[self._free])
+        y.FV().NumPy()[:] = result
+
+
+class SuperLUInverse(FreeBlockOperator):
+    """The inverse of ``matrix`` (an assembled NGSolve sparse matrix) restricted to the dofs
+    set in ``freedofs``, factorised once by SuperLU; applied like an NGSolve inverse (zero on
+    the other dofs).
+
+    Raises
+    ------
+    RuntimeError
+        SuperLU found the free block exactly singular.
+    """
+
+    def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray) -> None:
+        super().__init__(matrix, freedofs)
+        self._lu = splu(free_block(matrix, self._free).tocsc())
+
+    def apply(self, x: np.ndarray) -> np.ndarray:
+        return self._lu.solve(x)

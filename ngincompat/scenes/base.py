@@ -65,7 +65,8 @@ UNKNOWNS_PER_ELEMENT = {"tet": lambda k: 3 * k ** 3 / 6, "hex": lambda k: 3 * k 
 MAX_STEPS = 1000
 STEPS = Param("initial number of load steps (adaptive: cut on failure)", range=f"[1, {MAX_STEPS}]")
 #: Newton's linear solver (:func:`~ngincompat.fem.solver.resolve_linear_solver`).
-LINEAR_SOLVER = Param(f"Newton's linear solver: direct, cg or gmres (BDDC preconditioned); "
+LINEAR_SOLVER = Param(f"Newton's linear solver: direct, cg or gmres (BDDC preconditioned), "
+                      "amg (CG with smoothed-aggregation multigrid, the amg extra); "
                       f"auto: cg with MPI, and from {ITERATIVE_NDOF:,} unknowns on in the "
                       "displacement formulation; else direct", choices=LINEAR_SOLVERS)
 #: The most time steps a scene's duration may take at its time step (atrophy's 40 / 0.2 is

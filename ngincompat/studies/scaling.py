@@ -21,6 +21,11 @@ condensation) from about 1e3 to more than 5e5 dofs, so that the solver can be ch
 ``bddc-amg``
     The same with an algebraic multigrid as BDDC's coarse space (``coarsetype="h1amg"``) in
     place of the factorised wirebasket problem, whose memory grows faster than the unknowns.
+``amg``
+    CG on the same condensed system, preconditioned by one V-cycle of PyAMG's
+    smoothed-aggregation multigrid built from the rigid motions (:mod:`ngincompat.fem.amg`,
+    as Newton's ``linear_solver="amg"``; the ``amg`` extra: without PyAMG its cases are
+    skipped). Its set-up is the hierarchy's construction from the assembled matrix.
 ``pardiso``
     MKL Pardiso, only where NGSolve can load MKL. The pip NGSolve links OpenBLAS; without the
     ``mkl`` package its cases are skipped with NGSolve's reason.
@@ -65,6 +70,7 @@ environment; ``docs/measurements/solver-costs.md``, "Choosing the linear solver"
 """
 
 import contextlib
+import importlib.util
 import itertools
 import logging
 import math
@@ -93,7 +99,7 @@ if TYPE_CHECKING:     # NGSolve is imported where a case runs
 log = logging.getLogger(__name__)
 
 #: The linear solvers, in table order.
-SOLVERS = ("sparsecholesky", "umfpack", "bddc", "bddc-amg", "pardiso")
+SOLVERS = ("sparsecholesky", "umfpack", "bddc", "bddc-amg", "amg", "pardiso")
 #: The BDDC-preconditioned CG solvers and the options of their preconditioner.
 PRECONDITIONERS: dict[str, dict[str, str]] = {"bddc": {}, "bddc-amg": {"coarsetype": "h1amg"}}
 #: Relative tolerance and iteration limit of the BDDC-preconditioned CG.
@@ -122,7 +128,8 @@ def mechanics(maxh: float, order: int, solver: str | None = None) -> "GrowthMech
     case = CubeScene(maxh=maxh, order=order, elements="hex", max_dofs=10**10,
                      max_elements=10**9).build()
     case.time.Set(1.0)
-    return case.mechanics("cg" if solver in PRECONDITIONERS else "direct")
+    return case.mechanics("cg" if solver in PRECONDITIONERS else
+                          "amg" if solver == "amg" else "direct")
 
 
 def first_state(problem: "GrowthMechanics") -> np.ndarray:
@@ -162,6 +169,8 @@ def newton_step(problem: "GrowthMechanics", solver: str, tol: float = CG_TOL,
     import ngsolve as ngs
     from ngsolve.krylovspace import CGSolver
 
+    from ngincompat.fem.amg import SmoothedAggregation
+    from ngincompat.fem.rigid import rigid_body_modes
     from ngincompat.fem.solver import NewtonSolver
 
     a, u, free = problem.form, problem.u.vec, problem.freedofs
@@ -183,6 +192,11 @@ def newton_step(problem: "GrowthMechanics", solver: str, tol: float = CG_TOL,
         project = ngs.Projector(free, True)
         inverse = CGSolver(a.mat, project @ pre.mat @ project, tol=tol, maxiter=maxiter)
         row["setup_s"] = _time.perf_counter() - start - row["assembly_s"]
+    elif solver == "amg":
+        pre = SmoothedAggregation(a.mat, free, rigid_body_modes(problem.fes))
+        inverse = CGSolver(a.mat, pre, tol=tol, maxiter=maxiter)
+        row["setup_s"] = _time.perf_counter() - start
+        row["amg_levels"] = pre.levels
     else:
         inverse = a.mat.Inverse(free, inverse=solver)
         row["setup_s"] = _time.perf_counter() - start
@@ -203,7 +217,7 @@ def newton_step(problem: "GrowthMechanics", solver: str, tol: float = CG_TOL,
     mask = np.array(list(free), dtype=bool)
     row["residual"] = (np.linalg.norm(check.FV().NumPy()[mask])
                        / np.linalg.norm(r.FV().NumPy()))
-    if solver in PRECONDITIONERS:
+    if solver in PRECONDITIONERS or solver == "amg":
         row["cg_iterations"] = len(inverse.residuals) - 1
         if inverse.residuals[-1] > tol * inverse.residuals[0]:
             row["error"] = f"CG did not reach the tolerance in {maxiter} iterations"
@@ -404,6 +418,8 @@ def run_grid(grid: Iterable[tuple[float, int]], solvers: Sequence[str] = SOLVERS
                        "elements": cells_per_edge(maxh) ** 3}
                 if solver == "pardiso" and not pardiso[0]:
                     row.update(status="skipped", error=pardiso[1])
+                elif solver == "amg" and importlib.util.find_spec("pyamg") is None:
+                    row.update(status="skipped", error="PyAMG is not installed (the amg extra)")
                 elif solver in limited and size > limited[solver]:
                     row.update(status="skipped",
                                error=f"hit its limit at {limited[solver]} dofs")

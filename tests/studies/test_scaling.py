@@ -14,7 +14,7 @@ from ngincompat.fem.solver import NewtonSolver
 from ngincompat.studies import scaling
 from ngincompat.workflow import io
 
-IN_PROCESS = ("sparsecholesky", "umfpack", "bddc", "bddc-amg")
+IN_PROCESS = ("sparsecholesky", "umfpack", "bddc", "bddc-amg", "amg")
 
 
 def cube_problem(solver=None):
@@ -42,6 +42,22 @@ def test_the_solvers_agree_on_the_newton_direction(steps):
         assert row["ndof"] == 375 and 0 < row["coupling"] < 375
         assert min(row["first_assembly_s"], row["assembly_s"], row["solve_s"]) >= 0
         assert row["total_s"] > 0 and (solver in scaling.PRECONDITIONERS or row["setup_s"] >= 0)
+
+
+def test_the_multigrid_row_reports_its_levels_and_cg_iterations(steps):
+    """On 375 unknowns the hierarchy is its coarsest level alone, solved directly: CG needs
+    one iteration to the direct solver's residual."""
+    row = steps["amg"][1]
+    assert row["amg_levels"] == 1 and row["cg_iterations"] == 1
+    assert row["residual"] < 1e-12 and "error" not in row
+
+
+def test_the_multigrid_is_skipped_with_its_reason_without_pyamg(monkeypatch):
+    real = scaling.importlib.util.find_spec
+    monkeypatch.setattr(scaling.importlib.util, "find_spec",
+                        lambda name, *a: None if name == "pyamg" else real(name, *a))
+    rows, _ = scaling.run_grid([(0.5, 2)], ["amg"], timeout=120.0, memory_limit=4.0)
+    assert rows[0]["status"] == "skipped" and "PyAMG" in rows[0]["error"]
 
 
 def test_residuals_show_the_accuracy_of_each_solver(steps):
