@@ -10,13 +10,12 @@ the hierarchy's memory is a small multiple of the matrix's, where a sparse facto
 3-D problem grows far faster (``docs/performance.md``, "One Newton step against problem size
 and linear solver").
 
-PyAMG is an optional dependency (the ``amg`` extra).
 """
 
 import ngsolve as ngs
 import numpy as np
+import pyamg
 
-from ngincompat.errors import ParameterError
 from ngincompat.fem.sparse_lu import FreeBlockOperator, free_block
 
 #: The largest coarsest level, which PyAMG solves by a sparse LU factorisation: small beside
@@ -37,20 +36,11 @@ class SmoothedAggregation(FreeBlockOperator):
     operator_complexity : float
         Nonzeros of all levels' matrices over the fine level's.
 
-    Raises
-    ------
-    ParameterError
-        PyAMG is not installed.
     """
 
     def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray,
                  modes: np.ndarray) -> None:
         super().__init__(matrix, freedofs)
-        try:
-            import pyamg
-        except ImportError:
-            raise ParameterError('linear_solver = amg needs PyAMG: pip install -e ".[amg]"') \
-                from None
         hierarchy = pyamg.smoothed_aggregation_solver(
             free_block(matrix, self._free), B=np.ascontiguousarray(modes[self._free]),
             symmetry="hermitian", strength=("symmetric", {"theta": 0.0}),

@@ -225,8 +225,11 @@ class GrowthMechanics:
     has_energy = True
     inverse = "sparsecholesky"
     #: The iterative solver its tangent suits, the Hessian of an energy (symmetric, positive
-    #: definite near a stable equilibrium): "auto" takes it for a large problem.
-    iterative: str | None = "cg"
+    #: definite near a stable equilibrium): "auto" takes it for a large problem. CG with the
+    #: smoothed-aggregation multigrid: above the switch faster and leaner than CG with BDDC,
+    #: its iterations flat as the mesh is refined (``docs/performance.md``, "Where auto
+    #: switches to CG").
+    iterative: str | None = "amg"
 
     @property
     def ndof(self) -> int:

@@ -86,10 +86,10 @@ INVERSES = ("sparsecholesky", "umfpack", "pardiso", "superlu")
 
 
 #: From this many unknowns on, "auto" solves a tangent that an iterative solver suits (the
-#: symmetric positive definite Hessian of an energy minimisation: CG) iteratively,
-#: preconditioned by BDDC, instead of factorising it: the factorisation's time and memory
-#: grow far faster than the unknowns, and above this size it is the slower and the larger
-#: of the two (``docs/performance.md``, "Where auto switches to CG").
+#: symmetric positive definite Hessian of an energy minimisation: CG with the smoothed-
+#: aggregation multigrid, "amg") iteratively instead of factorising it: the factorisation's
+#: time and memory grow far faster than the unknowns, and above this size it is the slower
+#: and the larger (``docs/performance.md``, "Where auto switches to CG").
 ITERATIVE_NDOF = 40_000
 
 
@@ -186,8 +186,8 @@ class NewtonOptions:
         coupling, as coupled growth's (the condensed growth block), where it needs a few
         iterations and costs far less than an LU factorisation of K (serial only). "amg"
         iterates with CG preconditioned by one V-cycle of a smoothed-aggregation algebraic
-        multigrid built from the rigid motions (:mod:`ngincompat.fem.amg`, PyAMG: the
-        ``amg`` extra; serial only), for an energy's Hessian on a displacement space. CG
+        multigrid built from the rigid motions (:mod:`ngincompat.fem.amg`, PyAMG; serial
+        only), for an energy's Hessian on a displacement space. CG
         needs a positive definite tangent, as near equilibrium; GMRES also copes with the
         indefinite tangent that the start of a load step can have (and with the indefinite
         BDDC built from it). "auto": in a serial run "direct", or from

@@ -66,9 +66,9 @@ MAX_STEPS = 1000
 STEPS = Param("initial number of load steps (adaptive: cut on failure)", range=f"[1, {MAX_STEPS}]")
 #: Newton's linear solver (:func:`~ngincompat.fem.solver.resolve_linear_solver`).
 LINEAR_SOLVER = Param(f"Newton's linear solver: direct, cg or gmres (BDDC preconditioned), "
-                      "amg (CG with smoothed-aggregation multigrid, the amg extra); "
-                      f"auto: cg with MPI, and from {ITERATIVE_NDOF:,} unknowns on in the "
-                      "displacement formulation; else direct", choices=LINEAR_SOLVERS)
+                      "amg (CG with smoothed-aggregation multigrid); "
+                      f"auto: cg with MPI, amg from {ITERATIVE_NDOF:,} unknowns on in the "
+                      "displacement formulation, else direct", choices=LINEAR_SOLVERS)
 #: The most time steps a scene's duration may take at its time step (atrophy's 40 / 0.2 is
 #: 200): past it a run is a hang, not a finer result.
 MAX_TIME_STEPS = 10_000

@@ -24,8 +24,8 @@ condensation) from about 1e3 to more than 5e5 dofs, so that the solver can be ch
 ``amg``
     CG on the same condensed system, preconditioned by one V-cycle of PyAMG's
     smoothed-aggregation multigrid built from the rigid motions (:mod:`ngincompat.fem.amg`,
-    as Newton's ``linear_solver="amg"``; the ``amg`` extra: without PyAMG its cases are
-    skipped). Its set-up is the hierarchy's construction from the assembled matrix.
+    as Newton's ``linear_solver="amg"``). Its set-up is the hierarchy's construction from
+    the assembled matrix.
 ``pardiso``
     MKL Pardiso, only where NGSolve can load MKL. The pip NGSolve links OpenBLAS; without the
     ``mkl`` package its cases are skipped with NGSolve's reason.
@@ -70,7 +70,6 @@ environment; ``docs/measurements/solver-costs.md``, "Choosing the linear solver"
 """
 
 import contextlib
-import importlib.util
 import itertools
 import logging
 import math
@@ -418,8 +417,6 @@ def run_grid(grid: Iterable[tuple[float, int]], solvers: Sequence[str] = SOLVERS
                        "elements": cells_per_edge(maxh) ** 3}
                 if solver == "pardiso" and not pardiso[0]:
                     row.update(status="skipped", error=pardiso[1])
-                elif solver == "amg" and importlib.util.find_spec("pyamg") is None:
-                    row.update(status="skipped", error="PyAMG is not installed (the amg extra)")
                 elif solver in limited and size > limited[solver]:
                     row.update(status="skipped",
                                error=f"hit its limit at {limited[solver]} dofs")

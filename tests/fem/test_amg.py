@@ -1,21 +1,16 @@
 """ngincompat.fem.rigid and ngincompat.fem.amg: the rigid motions of a displacement space, and
 CG preconditioned by smoothed-aggregation multigrid built from them."""
 
-import sys
-
 import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import cube_problem
 from netgen.geom2d import unit_square
 
-from ngincompat.errors import ParameterError
 from ngincompat.fem.amg import SmoothedAggregation
 from ngincompat.fem.rigid import rigid_body_modes, rigid_modes
 from ngincompat.fem.solver import NewtonSolver
 from ngincompat.scenes.cube import CubeScene
-
-pytest.importorskip("pyamg")
 
 
 def _motion(pts, mode):
@@ -118,11 +113,3 @@ def test_newton_with_amg_gives_the_direct_solvers_metrics():
     assert {"strain_energy", "max_principal_stress"} <= set(compared)
     for key in compared:
         assert amg.metrics[key] == pytest.approx(direct.metrics[key], rel=1e-8), key
-
-
-def test_without_pyamg_the_error_names_the_extra(monkeypatch):
-    problem, _ = cube_problem(maxh=0.5, elements="tet")
-    problem.form.AssembleLinearization(problem.u.vec)
-    monkeypatch.setitem(sys.modules, "pyamg", None)
-    with pytest.raises(ParameterError, match=r"\.\[amg\]"):
-        SmoothedAggregation(problem.form.mat, problem.freedofs, rigid_body_modes(problem.fes))

@@ -241,12 +241,13 @@ def test_auto_takes_the_problems_iterative_solver_from_its_size_on(unit_cube_tet
 
 
 def test_a_problem_above_the_switch_is_solved_by_cg_with_the_direct_answer(monkeypatch):
-    """With the switch below the cube's size, "auto" builds the problem on VectorH1 and Newton
-    solves it by CG and BDDC (every direction a CG solve); its metrics are the direct
-    solver's within 1e-6. The mixed formulation stays direct under "auto"; asked for by
-    name, CG solves its condensed tangent to the direct answer too."""
+    """With the switch below the cube's size, "auto" means CG with the multigrid and Newton
+    solves by it (every direction a CG solve); its metrics are the direct solver's within
+    1e-6. The mixed formulation stays direct under "auto"; asked for by name, CG with BDDC
+    and CG with the multigrid solve its condensed tangent to the direct answer too."""
     monkeypatch.setattr(solver_module, "ITERATIVE_NDOF", 100)
-    for formulation, solver in (("displacement", "auto"), ("mixed", "cg")):
+    assert CubeScene(**CUBE).build().mechanics().linear_solver == "amg"
+    for formulation, solver in (("displacement", "auto"), ("mixed", "cg"), ("mixed", "amg")):
         settings = {**CUBE, "formulation": formulation, "nu": 0.49}
         direct = CubeScene(**settings, linear_solver="direct").run()
         switched = CubeScene(**settings, linear_solver=solver).run()

@@ -52,14 +52,6 @@ def test_the_multigrid_row_reports_its_levels_and_cg_iterations(steps):
     assert row["residual"] < 1e-12 and "error" not in row
 
 
-def test_the_multigrid_is_skipped_with_its_reason_without_pyamg(monkeypatch):
-    real = scaling.importlib.util.find_spec
-    monkeypatch.setattr(scaling.importlib.util, "find_spec",
-                        lambda name, *a: None if name == "pyamg" else real(name, *a))
-    rows, _ = scaling.run_grid([(0.5, 2)], ["amg"], timeout=120.0, memory_limit=4.0)
-    assert rows[0]["status"] == "skipped" and "PyAMG" in rows[0]["error"]
-
-
 def test_residuals_show_the_accuracy_of_each_solver(steps):
     for solver in ("sparsecholesky", "umfpack"):
         assert steps[solver][1]["residual"] < 1e-12
