@@ -2,7 +2,7 @@
 an energy minimisation on a displacement space.
 
 The near-nullspace of elasticity is the rigid motions: the hierarchy is built from them
-(:func:`~ngincompat.fem.problem.rigid_body_modes`, restricted to the free dofs), so that its
+(:func:`~ngincompat.fem.rigid.rigid_body_modes`, restricted to the free dofs), so that its
 coarse levels carry the smooth modes a pointwise smoother cannot reduce (Vanek, Mandel and
 Brezina, Computing 56 (1996) 179). One V-cycle applied to a residual approximates K^-1; CG
 with it needs a number of iterations that stays about the same as the mesh is refined, and

@@ -35,7 +35,7 @@ def free_block(matrix: ngs.BaseMatrix, free: np.ndarray | Sequence[int]) -> sp.c
 class FreeBlockOperator(ngs.BaseMatrix):
     """An operator on the dofs set in ``freedofs`` of the assembled NGSolve sparse matrix
     ``matrix``, zero on the other dofs, applied like an NGSolve inverse or preconditioner:
-    a subclass maps the free entries of x to those of y (:meth:`apply`)."""
+    a subclass maps the free entries of x to those of y (:meth:`FreeBlockOperator.apply`)."""
 
     def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray) -> None:
         super().__init__()
