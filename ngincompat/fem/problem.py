@@ -140,9 +140,9 @@ class GrowthMechanics:
     components : bool or None
         Assemble the energy on three scalar H1 spaces (:func:`component_space`): the same
         energy, residual and tangent as on VectorH1, the tangent in half the time. False
-        assembles it on VectorH1, as NGSolve's BDDC preconditioner (the iterative linear
-        solvers) needs: built on the component spaces, its coarse problem is singular
-        (GMRES then stalls on the cube). None: as ``linear_solver`` needs.
+        assembles it on VectorH1, as NGSolve's BDDC preconditioner ("cg", "gmres") needs:
+        built on the component spaces, its coarse problem is singular (GMRES then stalls on
+        the cube). None: as ``linear_solver`` needs.
     linear_solver : str
         Newton's linear solver for this problem (:data:`~ngincompat.fem.solver.LINEAR_SOLVERS`;
         "auto" resolved by :func:`~ngincompat.fem.solver.resolve_linear_solver` for its size

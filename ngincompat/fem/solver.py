@@ -192,7 +192,7 @@ class NewtonOptions:
         indefinite tangent that the start of a load step can have (and with the indefinite
         BDDC built from it). "auto": in a serial run "direct", or from
         :data:`ITERATIVE_NDOF` unknowns on the iterative solver the problem declares
-        (``iterative``: "cg" for an energy minimisation), "cg" on a distributed mesh (the
+        (``iterative``: "amg" for an energy minimisation), "cg" on a distributed mesh (the
         pip wheels have no distributed direct solver; a direct inverse there is gathered
         onto rank 0).
     krylov_rtol : float
