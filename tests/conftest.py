@@ -2,6 +2,7 @@
 
 import contextlib
 import os
+import signal
 
 import ngsolve as ngs
 import numpy as np
@@ -55,6 +56,16 @@ def local_dask_cluster():
         os.environ.clear()
         os.environ.update(environment)
         yield cluster
+
+
+@pytest.fixture
+def ctrl_c_raises():
+    """SIGINT raises KeyboardInterrupt in the test, as in a terminal, also where the suite was
+    started with SIGINT ignored (a background job of a non-interactive shell: Python then
+    installs no handler, and a test's own SIGINT is lost); the previous handler after it."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
 
 
 @pytest.fixture(scope="session")

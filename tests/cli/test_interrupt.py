@@ -13,6 +13,8 @@ from ngincompat.progress import Progress
 from ngincompat.scenes import CubeScene, prescribed
 from ngincompat.workflow import output
 
+pytestmark = pytest.mark.usefixtures("ctrl_c_raises")
+
 ARGS = ["run", "cube", "--maxh", "1", "--order", "2", "-q"]
 
 

@@ -19,6 +19,8 @@ from ngincompat.scenes import FoldingScene
 from ngincompat.workflow import io
 from ngincompat.workflow.frames import Frames
 
+pytestmark = pytest.mark.usefixtures("ctrl_c_raises")
+
 
 def series(folder, collection="fields.pvd"):
     """(time, frame read by meshio) of every data set of the collection, in its order; the
