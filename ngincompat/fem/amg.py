@@ -9,14 +9,13 @@ with it needs a number of iterations that stays about the same as the mesh is re
 the hierarchy's memory is a small multiple of the matrix's, where a sparse factorisation of a
 3-D problem grows far faster (``docs/performance.md``, "One Newton step against problem size
 and linear solver").
-
 """
 
 import ngsolve as ngs
 import numpy as np
 import pyamg
 
-from ngincompat.fem.sparse_lu import FreeBlockOperator, free_block
+from ngincompat.fem.sparse_lu import FreeBlockOperator, free_block, free_indices
 
 #: The largest coarsest level, which PyAMG solves by a sparse LU factorisation: small beside
 #: the fine level's unknowns, large enough that the hierarchy has few levels.
@@ -27,27 +26,14 @@ class SmoothedAggregation(FreeBlockOperator):
     """One V-cycle of PyAMG's smoothed-aggregation hierarchy for the free block of
     ``matrix`` (an assembled NGSolve sparse matrix, symmetric positive definite on the dofs
     set in ``freedofs``), built with the near-nullspace ``modes`` (ndof, m); applied like an
-    NGSolve preconditioner (zero on the other dofs).
-
-    Attributes
-    ----------
-    levels : int
-        Levels of the hierarchy.
-    operator_complexity : float
-        Nonzeros of all levels' matrices over the fine level's.
-
-    """
+    NGSolve preconditioner (zero on the other dofs). ``levels``: the hierarchy's levels."""
 
     def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray,
                  modes: np.ndarray) -> None:
-        super().__init__(matrix, freedofs)
+        free = free_indices(freedofs)
         hierarchy = pyamg.smoothed_aggregation_solver(
-            free_block(matrix, self._free), B=np.ascontiguousarray(modes[self._free]),
+            free_block(matrix, free), B=np.ascontiguousarray(modes[free]),
             symmetry="hermitian", strength=("symmetric", {"theta": 0.0}),
             max_coarse=MAX_COARSE, coarse_solver="splu")
         self.levels = len(hierarchy.levels)
-        self.operator_complexity = float(hierarchy.operator_complexity())
-        self._cycle = hierarchy.aspreconditioner(cycle="V")
-
-    def apply(self, x: np.ndarray) -> np.ndarray:
-        return self._cycle @ x
+        super().__init__(matrix, free, hierarchy.aspreconditioner(cycle="V").matvec)

@@ -13,7 +13,7 @@ solid, COLAMD fills in far more than the sparse Cholesky factorisation, which
 as NGSolve's ``mat.Inverse(freedofs)`` solves it.
 """
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import ngsolve as ngs
 import numpy as np
@@ -32,19 +32,20 @@ def free_block(matrix: ngs.BaseMatrix, free: np.ndarray | Sequence[int]) -> sp.c
     return full[free][:, free].tocsr()
 
 
+def free_indices(freedofs: ngs.BitArray) -> np.ndarray:
+    """The indices of the dofs set in ``freedofs``."""
+    return np.flatnonzero(np.fromiter(freedofs, dtype=bool, count=len(freedofs)))
+
+
 class FreeBlockOperator(ngs.BaseMatrix):
-    """An operator on the dofs set in ``freedofs`` of the assembled NGSolve sparse matrix
-    ``matrix``, zero on the other dofs, applied like an NGSolve inverse or preconditioner:
-    a subclass maps the free entries of x to those of y (:meth:`FreeBlockOperator.apply`)."""
+    """The operator ``apply`` (x_f -> y_f) on the dofs ``free`` (indices) of the assembled
+    NGSolve sparse matrix ``matrix``, zero on the other dofs, applied like an NGSolve inverse
+    or preconditioner."""
 
-    def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray) -> None:
+    def __init__(self, matrix: ngs.BaseMatrix, free: np.ndarray,
+                 apply: Callable[[np.ndarray], np.ndarray]) -> None:
         super().__init__()
-        self._matrix = matrix
-        self._free = np.flatnonzero(np.fromiter(freedofs, dtype=bool, count=len(freedofs)))
-
-    def apply(self, x: np.ndarray) -> np.ndarray:
-        """y_f for x_f (the free entries)."""
-        raise NotImplementedError
+        self._matrix, self._free, self._apply = matrix, free, apply
 
     def IsComplex(self) -> bool:
         return False
@@ -63,7 +64,7 @@ class FreeBlockOperator(ngs.BaseMatrix):
 
     def Mult(self, x: ngs.BaseVector, y: ngs.BaseVector) -> None:
         result = np.zeros(self._matrix.height)
-        result[self._free] = self.apply(x.FV().NumPy()[self._free])
+        result[self._free] = self._apply(x.FV().NumPy()[self._free])
         y.FV().NumPy()[:] = result
 
 
@@ -79,8 +80,5 @@ class SuperLUInverse(FreeBlockOperator):
     """
 
     def __init__(self, matrix: ngs.BaseMatrix, freedofs: ngs.BitArray) -> None:
-        super().__init__(matrix, freedofs)
-        self._lu = splu(free_block(matrix, self._free).tocsc())
-
-    def apply(self, x: np.ndarray) -> np.ndarray:
-        return self._lu.solve(x)
+        free = free_indices(freedofs)
+        super().__init__(matrix, free, splu(free_block(matrix, free).tocsc()).solve)
