@@ -193,9 +193,12 @@ class GrowthEnergy(Term):
     def held_energy(self, u: ngs.CoefficientFunction) -> ngs.comp.SumOfIntegrals:
         """int Jg Psi(F(u) Fg(theta)^-1) dV at the current theta, by the rule of the residual:
         NGSolve's default rule has degree 2 p - 2 for an energy in the gradient of u of
-        order p, and 2 q for the residual with theta eta, theta of order q."""
+        order p, and 2 max(p, q) for the residual on the compound space of u and theta (of
+        order q), so the energy's rule is raised by the difference: a coarser rule (3
+        points a triangle for quadratic u and linear theta, where the residual takes 6) is
+        another discrete problem, 6e-5 apart in the residual on the folding bilayer."""
         p, q = self.u.space.globalorder, self.theta.space.globalorder
-        bonus = max(2 * q - (2 * p - 2), 0)
+        bonus = 2 * max(p, q) - (2 * p - 2)
         density = self.energy_density(kinematics.deformation_gradient(u))
         return compiled(density, self.realcompile, maxderiv=2) * ngs.dx(bonus_intorder=bonus)
 

@@ -223,3 +223,29 @@ def test_stress_form_equals_the_symbolic_derivative_in_u():
     symbolic.AssembleLinearization(x)
     K, K_symbolic = (np.array(f.mat.COO()[2]) for f in (problem.form, symbolic))
     assert np.abs(K - K_symbolic).max() < 1e-12 * np.abs(K).max()
+
+
+@pytest.mark.parametrize("order, growth_order", [(2, 1), (2, 2), (2, 3), (3, 1), (3, 2)])
+def test_frozen_problem_has_the_coupled_residual_whatever_the_orders(order, growth_order):
+    """At frozen growth the problem on the displacement alone
+    (:meth:`CoupledProblem.frozen`, the held energies differentiated) has the displacement
+    rows of the coupled residual: its energy is integrated by the coupled residual's rule,
+    of degree twice the larger order of u and theta, also where theta's order is below
+    u's (a coarser rule solved another discrete problem, 6e-5 apart in the residual on the
+    folding bilayer)."""
+    from ngincompat.fem.solver import NewtonSolver
+
+    growth = GrowthEnergy("fiber", fields.constant("e1"), LAW, NeoHookean.from_nu(1.0, 0.45),
+                          growth_order=growth_order)
+    problem = CoupledProblem(bilayer(length=1.0, height=0.5, cortex=0.1, maxh=0.25),
+                             [growth], order=order, symmetry={"left": "x", "bottom": "y"})
+    problem.u.Set(ngs.CF((0.05 * ngs.sin(3 * ngs.x) * ngs.y, 0.04 * ngs.cos(2 * ngs.x) * ngs.y)))
+    growth.theta.Set(1.1 + 0.05 * ngs.sin(4 * ngs.x) * ngs.y)
+    problem.accept_step()                   # theta_n = theta: the growth rows vanish
+    problem.dt.Set(0.0)
+    n = problem.space.ndof
+    free = np.array(problem.frozen().freedofs, dtype=bool)
+    r, r_alone = (NewtonSolver(p).residual().FV().NumPy()[:n][free]
+                  for p in (problem, problem.frozen()))
+    assert np.linalg.norm(r) > 1e-3
+    assert np.linalg.norm(r_alone - r) <= 1e-12 * np.linalg.norm(r)
