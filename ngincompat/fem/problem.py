@@ -153,6 +153,9 @@ class GrowthMechanics:
         Gauss rule of degree 2 order - 2, or on tetrahedra the symmetric rule of that degree
         with about a third of the points at order 6; "auto" the symmetric one where it has at
         most half the points. The rule taken is the attribute ``quadrature``.
+    coarse : {"edges", "vertices"}
+        The coarse space of the BDDC preconditioner of "cg" and "gmres"
+        (:data:`COARSE_SPACES`), also of the distributed compatible fit's.
     """
 
     def __init__(self, mesh: ngs.Mesh, growth: GrowthModel, material: Material, order: int = 2,
@@ -160,7 +163,7 @@ class GrowthMechanics:
                  symmetry: Mapping[str, str] | None = None, condense: bool = True,
                  formulation: Literal["displacement", "mixed"] = "displacement",
                  components: bool | None = None, quadrature: str = "gauss",
-                 linear_solver: str = "auto") -> None:
+                 linear_solver: str = "auto", coarse: str = "edges") -> None:
         require(isinstance(order, int) and order >= 1, "order", order, "an integer >= 1")
         check_formulation(material, formulation, order)
         self.quadrature = resolve(quadrature, mesh, order)
@@ -178,7 +181,8 @@ class GrowthMechanics:
         self.formulation = formulation
         symmetry = dict(symmetry or {})
         self.bubbles = bubbles(mesh, order, formulation)
-        self.space = displacement_space(mesh, order, dirichlet, symmetry, self.bubbles)
+        self.coarse = coarse
+        self.space = displacement_space(mesh, order, dirichlet, symmetry, self.bubbles, coarse)
         if mixed:
             self.fes = ngs.FESpace([self.space, ngs.L2(mesh, order=order - 1)])
             self.state = ngs.GridFunction(self.fes, name="state")
@@ -297,7 +301,7 @@ class GrowthMechanics:
         is only anchored at one dof against its constant.
         """
         if self._fit_inverse is None:
-            self._fit_inverse = _ComponentLaplaceInverse(self.space, self.bubbles)
+            self._fit_inverse = _ComponentLaplaceInverse(self.space, self.bubbles, self.coarse)
         return self._fit_inverse.solve(load)
 
 
@@ -309,12 +313,14 @@ class _ComponentLaplaceInverse:
     scalar space are a ninth of the vector space's). Free dofs per component as in ``fes``; a
     component without fixed dofs is anchored against its constant at one vertex (the first,
     or on a distributed mesh the one with the lexicographically smallest coordinates; the
-    anchor only shifts the fit by a translation)."""
+    anchor only shifts the fit by a translation). BDDC's coarse space is that of ``coarse``
+    (:data:`COARSE_SPACES`)."""
 
-    def __init__(self, fes: ngs.FESpace, enrichment: Mapping[str, int] | None = None) -> None:
+    def __init__(self, fes: ngs.FESpace, enrichment: Mapping[str, int] | None = None,
+                 coarse: str = "edges") -> None:
         mesh = fes.mesh
         self.distributed = parallel.distributed(mesh)
-        scalar = ngs.H1(mesh, order=fes.globalorder, **(enrichment or {}))
+        scalar = ngs.H1(mesh, order=fes.globalorder, **(enrichment or {}), **_wirebasket(coarse))
         self.n = scalar.ndof
         require(3 * self.n == fes.ndof, "displacement space", fes,
                 "VectorH1 of three H1 components")
@@ -423,13 +429,24 @@ def bubbles(mesh: ngs.Mesh, order: int, formulation: str) -> dict[str, int]:
     return {"orderface": order + 1, "orderinner": order + 2}
 
 
+#: The coarse spaces of NGSolve's BDDC preconditioner (``linear_solver`` cg or gmres), its
+#: wirebasket: "edges", the vertex and edge dofs (NGSolve's default; at order 2 every dof of
+#: the condensed system but the mixed formulation's face bubbles, so CG needs few iterations
+#: and the coarse problem, factorised on rank 0 of a distributed run, is nearly the whole
+#: system), or "vertices", the vertex dofs alone (a coarse problem of three unknowns per
+#: vertex: rank 0 as light as the others, at several times the CG iterations;
+#: ``docs/measurements/mpi.md``, "Rank 0 and the coarse space").
+COARSE_SPACES = ("edges", "vertices")
+
 def displacement_space(mesh: ngs.Mesh, order: int, dirichlet: str = "",
                        symmetry: Mapping[str, str] | None = None,
-                       enrichment: Mapping[str, int] | None = None) -> ngs.FESpace:
+                       enrichment: Mapping[str, int] | None = None,
+                       coarse: str = "edges") -> ngs.FESpace:
     """VectorH1 of ``order`` (with the H1 flags ``enrichment``, :func:`bubbles`) with u = 0
     on ``dirichlet`` and the normal component zero on the symmetry planes (boundary name ->
     axis "x", "y" or "z"; "x" or "y" on the section of a body in plane strain, a mesh of
-    dimension 2)."""
+    dimension 2); its wirebasket, BDDC's coarse space, is that of ``coarse``
+    (:data:`COARSE_SPACES`)."""
     symmetry = dict(symmetry or {})
     axes = ("x", "y", "z")[:mesh.dim]
     for name, axis in symmetry.items():
@@ -438,7 +455,14 @@ def displacement_space(mesh: ngs.Mesh, order: int, dirichlet: str = "",
                 ", ".join(sorted(set(mesh.GetBoundaries()))))
     planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
               for axis in axes if axis in symmetry.values()}
-    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}))
+    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}),
+                        **_wirebasket(coarse))
+
+
+def _wirebasket(coarse: str) -> dict[str, bool]:
+    """The H1 flags of the wirebasket of the coarse space ``coarse`` (:data:`COARSE_SPACES`)."""
+    require(coarse in COARSE_SPACES, "coarse", coarse, " or ".join(COARSE_SPACES))
+    return {"wb_withedges": coarse == "edges"}
 
 
 def rigid_pins(mesh: ngs.Mesh, fes: ngs.FESpace, held: Iterable[int] = ()) -> tuple[int, ...]:

@@ -21,6 +21,7 @@ import ngsolve as ngs
 
 from ngincompat import parallel
 from ngincompat.errors import ParameterError, require
+from ngincompat.fem.problem import COARSE_SPACES
 from ngincompat.fem.solver import ITERATIVE_NDOF, LINEAR_SOLVERS
 from ngincompat.parameters import (
     PRESETS,
@@ -69,6 +70,11 @@ LINEAR_SOLVER = Param(f"Newton's linear solver: direct, cg or gmres (BDDC precon
                       "amg (CG with smoothed-aggregation multigrid); "
                       f"auto: cg with MPI, amg from {ITERATIVE_NDOF:,} unknowns on in the "
                       "displacement formulation, else direct", choices=LINEAR_SOLVERS)
+#: BDDC's coarse space (:data:`~ngincompat.fem.problem.COARSE_SPACES`).
+COARSE = Param("coarse space of the BDDC preconditioner of linear_solver cg and gmres: edges "
+               "(vertex and edge dofs, few CG iterations, the coarse problem on MPI rank 0) or "
+               "vertices (rank 0 as light as the others, more CG iterations)",
+               choices=COARSE_SPACES)
 #: The most time steps a scene's duration may take at its time step (atrophy's 40 / 0.2 is
 #: 200): past it a run is a hang, not a finer result.
 MAX_TIME_STEPS = 10_000

@@ -31,7 +31,7 @@ from ngincompat.mechanics.kinematics import deformation_gradient
 from ngincompat.mechanics.materials import Material, MaterialKind, NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
-from ngincompat.scenes.base import LINEAR_SOLVER, Scene, param
+from ngincompat.scenes.base import COARSE, LINEAR_SOLVER, Scene, param
 from ngincompat.scenes.case import SceneCase
 from ngincompat.scenes.material import Elastic
 from ngincompat.scenes.metrics import CURVATURE, INCOMPATIBILITY, MECHANICS, Metric, registry
@@ -114,7 +114,8 @@ class PrescribedCase(SceneCase):
                                fibers=self.fibers, dirichlet=self.dirichlet,
                                symmetry=self.symmetry, formulation=scene.formulation,
                                quadrature=scene.quadrature,
-                               linear_solver=linear_solver or scene.linear_solver)
+                               linear_solver=linear_solver or scene.linear_solver,
+                               coarse=scene.coarse)
 
     def solve(self, solution: Solution, progress: Progress,
               workdir: Path | None = None) -> None:
@@ -146,6 +147,7 @@ class PrescribedScene(Elastic, Scene):
                                 "iteration at least halves the residual (the free hemisphere: "
                                 "6 tangents for 18 iterations against 14 fresh ones)")
     linear_solver: str = LINEAR_SOLVER("auto")
+    coarse: str = COARSE("edges")
     quadrature: str = param("auto", "rule of energy, residual and tangent: gauss (NGSolve's, "
                             "degree 2 order - 2), or symmetric on tetrahedra (the same degree, "
                             "74 points instead of 216 at order 6, order <= 8; the energy "

@@ -266,3 +266,31 @@ def test_a_problem_above_the_switch_is_solved_by_cg_with_the_direct_answer(monke
 def test_linear_solver_is_checked():
     with pytest.raises(ParameterError, match="linear_solver"):
         CubeScene(linear_solver="mumps")
+
+
+def test_bddc_on_the_vertices_alone_meets_the_same_equilibrium_in_more_iterations():
+    """BDDC's coarse space ``coarse``: the vertices alone (a coarse problem of three
+    unknowns per vertex, which a distributed run factorises on rank 0) give the strain
+    energy of the default vertices and edges, with more CG iterations per direction."""
+    edges = CubeScene(**CUBE, linear_solver="cg").run()
+    vertices = CubeScene(**CUBE, linear_solver="cg", coarse="vertices").run()
+    assert vertices.metrics["strain_energy"] == pytest.approx(
+        edges.metrics["strain_energy"], rel=1e-10)
+    counts = [[n for s in run.solver["growth"].steps for n in s.linear_iterations]
+              for run in (edges, vertices)]
+    assert min(counts[1]) > max(counts[0]) >= 3
+
+
+@pytest.mark.parametrize("coarse", ["edges", "vertices"])
+def test_the_coarse_space_is_the_wirebasket_of_the_displacement_space(unit_cube_tet, coarse):
+    """The wirebasket of VectorH1 of order 2 on tetrahedra: every vertex and edge dof
+    ("edges"), or three dofs per vertex ("vertices"); another name is refused."""
+    from ngincompat.fem.problem import displacement_space
+
+    space = displacement_space(unit_cube_tet, 2, coarse=coarse)
+    types = [space.CouplingType(i) for i in range(space.ndof)]
+    basket = types.count(ngs.COUPLING_TYPE.WIREBASKET_DOF)
+    vertices = 3 * unit_cube_tet.nv
+    assert basket == (space.ndof if coarse == "edges" else vertices)
+    with pytest.raises(ParameterError, match="coarse"):
+        displacement_space(unit_cube_tet, 2, coarse="faces")

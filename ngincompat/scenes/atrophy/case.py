@@ -141,7 +141,8 @@ class AtrophyCase(SceneCase):
             self.problem = GrowthMechanics(self.mesh, self.growth, self.material,
                                            order=self.scene.order,
                                            formulation=self.scene.formulation,
-                                           linear_solver=self.scene.linear_solver)
+                                           linear_solver=self.scene.linear_solver,
+                                           coarse=self.scene.coarse)
         self.ramp.Set(0.0)
         options = NewtonOptions(steps=self.scene.steps, reuse_tangent=True,
                                 linear_solver=self.scene.linear_solver)

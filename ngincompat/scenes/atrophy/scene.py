@@ -19,6 +19,7 @@ from ngincompat.mechanics.materials import NeoHookean
 from ngincompat.scenes.atrophy.case import JE_DEVIATION, AtrophyCase
 from ngincompat.scenes.atrophy.tissues import TISSUES, bounding_box
 from ngincompat.scenes.base import (
+    COARSE,
     G_ORDER,
     LENGTH_FLOOR,
     LINEAR_SOLVER,
@@ -211,6 +212,7 @@ class AtrophyScene(Scene):
     formulation: Literal["mixed", "displacement"] = param(
         "mixed", "mixed (pressure against volumetric locking, on Je) or displacement")
     linear_solver: str = LINEAR_SOLVER("auto")
+    coarse: str = COARSE("edges")
 
     def trust(self, results: Results) -> list[str]:
         """The elastic volume change |Je - 1| = |J / theta - 1| above :data:`JE_DEVIATION`
