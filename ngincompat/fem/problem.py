@@ -434,9 +434,11 @@ def bubbles(mesh: ngs.Mesh, order: int, formulation: str) -> dict[str, int]:
 #: the condensed system but the mixed formulation's face bubbles, so CG needs few iterations
 #: and the coarse problem, factorised on rank 0 of a distributed run, is nearly the whole
 #: system), or "vertices", the vertex dofs alone (a coarse problem of three unknowns per
-#: vertex: rank 0 as light as the others, at several times the CG iterations;
+#: vertex: rank 0 lighter than the workers on the atrophy ellipsoid, at several times the
+#: CG iterations; on the fsaverage brain Newton's first step with it failed;
 #: ``docs/measurements/mpi.md``, "Rank 0 and the coarse space").
 COARSE_SPACES = ("edges", "vertices")
+
 
 def displacement_space(mesh: ngs.Mesh, order: int, dirichlet: str = "",
                        symmetry: Mapping[str, str] | None = None,
