@@ -73,7 +73,8 @@ LINEAR_SOLVER = Param(f"Newton's linear solver: direct, cg or gmres (BDDC precon
 #: BDDC's coarse space (:data:`~ngincompat.fem.problem.COARSE_SPACES`).
 COARSE = Param("coarse space of the BDDC preconditioner of linear_solver cg and gmres: edges "
                "(vertex and edge dofs, few CG iterations, the coarse problem on MPI rank 0) or "
-               "vertices (rank 0 as light as the others, more CG iterations)",
+               "vertices (rank 0 lighter, several times the CG iterations; Newton failed with "
+               "it on the fsaverage brain)",
                choices=COARSE_SPACES)
 #: The most time steps a scene's duration may take at its time step (atrophy's 40 / 0.2 is
 #: 200): past it a run is a hang, not a finer result.

@@ -11,7 +11,7 @@ from geometries import bilayer, cube, skin_patch
 from ngincompat.errors import ParameterError
 from ngincompat.fem.compiler import find_compiler
 from ngincompat.fem.coupled import CoupledProblem
-from ngincompat.fem.solver import NewtonOptions
+from ngincompat.fem.solver import NewtonOptions, NewtonSolver
 from ngincompat.fem.stages import CoupledStage
 from ngincompat.fem.stepping import solve_coupled
 from ngincompat.fem.terms import GrowthEnergy, ViscousRegularisation, VolumeConstraint
@@ -233,8 +233,6 @@ def test_frozen_problem_has_the_coupled_residual_whatever_the_orders(order, grow
     of degree twice the larger order of u and theta, also where theta's order is below
     u's (a coarser rule solved another discrete problem, 6e-5 apart in the residual on the
     folding bilayer)."""
-    from ngincompat.fem.solver import NewtonSolver
-
     growth = GrowthEnergy("fiber", fields.constant("e1"), LAW, NeoHookean.from_nu(1.0, 0.45),
                           growth_order=growth_order)
     problem = CoupledProblem(bilayer(length=1.0, height=0.5, cortex=0.1, maxh=0.25),

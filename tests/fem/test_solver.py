@@ -7,6 +7,7 @@ from conftest import cube_problem
 
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.fem import solver as solver_module
+from ngincompat.fem.problem import displacement_space
 from ngincompat.fem.solver import (
     BACKTRACKS,
     NewtonOptions,
@@ -285,8 +286,6 @@ def test_bddc_on_the_vertices_alone_meets_the_same_equilibrium_in_more_iteration
 def test_the_coarse_space_is_the_wirebasket_of_the_displacement_space(unit_cube_tet, coarse):
     """The wirebasket of VectorH1 of order 2 on tetrahedra: every vertex and edge dof
     ("edges"), or three dofs per vertex ("vertices"); another name is refused."""
-    from ngincompat.fem.problem import displacement_space
-
     space = displacement_space(unit_cube_tet, 2, coarse=coarse)
     types = [space.CouplingType(i) for i in range(space.ndof)]
     basket = types.count(ngs.COUPLING_TYPE.WIREBASKET_DOF)
