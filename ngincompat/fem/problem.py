@@ -320,7 +320,7 @@ class _ComponentLaplaceInverse:
                  coarse: str = "edges") -> None:
         mesh = fes.mesh
         self.distributed = parallel.distributed(mesh)
-        scalar = ngs.H1(mesh, order=fes.globalorder, **(enrichment or {}), **_wirebasket(coarse))
+        scalar = wirebasket(ngs.H1(mesh, order=fes.globalorder, **(enrichment or {})), coarse)
         self.n = scalar.ndof
         require(3 * self.n == fes.ndof, "displacement space", fes,
                 "VectorH1 of three H1 components")
@@ -430,8 +430,9 @@ def bubbles(mesh: ngs.Mesh, order: int, formulation: str) -> dict[str, int]:
 
 
 #: The coarse spaces of NGSolve's BDDC preconditioner (``linear_solver`` cg or gmres), its
-#: wirebasket: "edges", the vertex and edge dofs (NGSolve's default; at order 2 every dof of
-#: the condensed system but the mixed formulation's face bubbles, so CG needs few iterations
+#: wirebasket: "edges", the vertex and edge dofs (NGSolve's default in three dimensions; at
+#: order 2 every dof of the condensed system but the mixed formulation's face bubbles, so CG
+#: needs few iterations
 #: and the coarse problem, factorised on rank 0 of a distributed run, is nearly the whole
 #: system), or "vertices", the vertex dofs alone (a coarse problem of three unknowns per
 #: vertex: rank 0 lighter than the workers on the atrophy ellipsoid, at several times the
@@ -457,14 +458,27 @@ def displacement_space(mesh: ngs.Mesh, order: int, dirichlet: str = "",
                 ", ".join(sorted(set(mesh.GetBoundaries()))))
     planes = {f"dirichlet{axis}": "|".join(n for n, a in symmetry.items() if a == axis)
               for axis in axes if axis in symmetry.values()}
-    return ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes, **(enrichment or {}),
-                        **_wirebasket(coarse))
+    return wirebasket(ngs.VectorH1(mesh, order=order, dirichlet=dirichlet, **planes,
+                                   **(enrichment or {})), coarse)
 
 
-def _wirebasket(coarse: str) -> dict[str, bool]:
-    """The H1 flags of the wirebasket of the coarse space ``coarse`` (:data:`COARSE_SPACES`)."""
+def wirebasket(space: ngs.FESpace, coarse: str) -> ngs.FESpace:
+    """``space`` with the wirebasket of the coarse space ``coarse`` (:data:`COARSE_SPACES`):
+    its edge dofs made wirebasket or interface dofs where NGSolve's default (the edges in
+    three dimensions, the vertices alone in two) is the other. Set on the dofs, not by the
+    H1 flag ``wb_withedges``, which VectorH1 takes but reports on every construction as an
+    undocumented option."""
     require(coarse in COARSE_SPACES, "coarse", coarse, " or ".join(COARSE_SPACES))
-    return {"wb_withedges": coarse == "edges"}
+    edges = coarse == "edges"
+    if edges == (space.mesh.dim == 3):
+        return space
+    kinds = ngs.COUPLING_TYPE.WIREBASKET_DOF, ngs.COUPLING_TYPE.INTERFACE_DOF
+    old, new = kinds[::-1] if edges else kinds
+    for edge in space.mesh.edges:
+        for dof in space.GetDofNrs(edge):
+            if dof >= 0 and space.CouplingType(dof) == old:
+                space.SetCouplingType(dof, new)
+    return space
 
 
 def rigid_pins(mesh: ngs.Mesh, fes: ngs.FESpace, held: Iterable[int] = ()) -> tuple[int, ...]:

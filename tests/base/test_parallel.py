@@ -90,6 +90,24 @@ def test_distributed_cube_solves_with_bddc_and_reports_its_iterations(runs):
         assert all(3 <= n < 2000 for n in s["linear_iterations"])
 
 
+def test_distributed_bddc_on_the_vertices_alone_meets_the_serial_equilibrium(runs, tmp_path):
+    """``coarse=vertices`` on 3 ranks: the serial energy to 1e-10, in more CG iterations per
+    direction than any of the default coarse space's (the vertex and edge dofs)."""
+    serial, default, _, _ = runs
+    launcher, _ = _mpiexec()
+    settings = [f"--set={k}={v}" for k, v in {**SETTINGS, "outputs": "none"}.items()]
+    done = _run(launcher, 3, "cube", "--out", str(tmp_path / "v"), "-q", *settings,
+                "--set=coarse=vertices")
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert "undocumented" not in done.stdout + done.stderr
+    vertices = json.loads((tmp_path / "v" / "results.json").read_text())
+    assert vertices["metrics"]["strain_energy"] == pytest.approx(
+        serial.metrics["strain_energy"], rel=1e-10)
+    counts = [[n for s in run["solver"]["growth"]["steps"] for n in s["linear_iterations"]]
+              for run in (default, vertices)]
+    assert min(counts[1]) > max(counts[0])
+
+
 def test_distributed_run_writes_results_once_and_a_parallel_vtk(runs):
     _, parallel, out, stdout = runs
     assert stdout.count("cube: done") == 1          # rank 0 alone reports

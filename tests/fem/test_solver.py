@@ -4,10 +4,11 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import cube_problem
+from netgen.geom2d import unit_square
 
 from ngincompat.errors import ConvergenceError, ParameterError
 from ngincompat.fem import solver as solver_module
-from ngincompat.fem.problem import displacement_space
+from ngincompat.fem.problem import displacement_space, wirebasket
 from ngincompat.fem.solver import (
     BACKTRACKS,
     NewtonOptions,
@@ -293,3 +294,20 @@ def test_the_coarse_space_is_the_wirebasket_of_the_displacement_space(unit_cube_
     assert basket == (space.ndof if coarse == "edges" else vertices)
     with pytest.raises(ParameterError, match="coarse"):
         displacement_space(unit_cube_tet, 2, coarse="faces")
+
+
+@pytest.mark.parametrize("coarse", ["edges", "vertices"])
+def test_the_coarse_space_of_a_section_and_no_warning_of_ngsolve(coarse, capfd):
+    """On a mesh of triangles (NGSolve's default wirebasket there: the vertices alone) the
+    edges are added for "edges"; the scalar space of the compatible fit gets the same; and
+    building the spaces prints nothing (a flag VectorH1 does not document did, every run)."""
+    mesh = ngs.Mesh(unit_square.GenerateMesh(maxh=0.3))
+    capfd.readouterr()
+    space = displacement_space(mesh, 2, coarse=coarse)
+    scalar = wirebasket(ngs.H1(mesh, order=3), coarse)
+    for fes, per_vertex in ((space, 2), (scalar, 1)):
+        types = [fes.CouplingType(i) for i in range(fes.ndof)]
+        basket = types.count(ngs.COUPLING_TYPE.WIREBASKET_DOF)
+        edges = per_vertex * (fes.globalorder - 1) * mesh.nedge
+        assert basket == per_vertex * mesh.nv + (edges if coarse == "edges" else 0)
+    assert capfd.readouterr() == ("", "")
