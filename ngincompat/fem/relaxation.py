@@ -90,9 +90,15 @@ class RelaxationStage:
     saddle, Newton returns to the saddle; the flow then goes on from the state before, or,
     with ``kick`` > 0, from the saddle moved along its unstable mode by ``kick`` (at the
     mode's largest dof; a saddle met again, the other way), with the first pseudo-time
-    step ``dt`` again: a flow that has
-    reached a saddle itself does not leave it (seen on the folding bilayer: a residual of
-    5e-10 at the saddle, the smallest eigenvalue -1.8e4, tau doubled to 1e98).
+    step ``dt`` again, or half of eta / |omega| if that is shorter (omega the saddle's
+    smallest eigenvalue): a flow that has reached a saddle itself does not leave it (seen
+    on the folding bilayer: a residual of 5e-10 at the saddle, the smallest eigenvalue
+    -1.8e4, tau doubled to 1e98), and one kicked off it in steps tau > eta / |omega| goes
+    back: its linearly implicit step runs up the unstable mode toward the saddle, and the
+    energy test accepts it where the other modes' descent outweighs the climb (the
+    concentric bilayer at 62.8 days, kick after kick either way, energies repeating to ten
+    digits). In steps below eta / |omega| the mode grows at each step, as the flow's own
+    does.
     :attr:`final_residual` is the residual without viscosity at the end, :attr:`eigenvalue`
     the smallest eigenvalue there (of ``eigenpairs`` computed). The history's steps are
     the pseudo-time steps (``t`` the pseudo time, ``dt`` tau; one Newton iteration each)
@@ -177,7 +183,8 @@ class RelaxationStage:
                             energy = problem.frozen_energy()
                             saved.data = problem.state.vec
                             attempt = self._residual(solver)
-                            tau, held = self.dt, 0
+                            tau = min(self.dt, 0.5 * self.viscosity / abs(self.eigenvalue))
+                            held = 0
                             continue
                     if alpha < 1:
                         tau *= alpha

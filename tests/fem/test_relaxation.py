@@ -259,16 +259,22 @@ def test_a_step_shortened_below_min_step_ends_the_relaxation(monkeypatch):
 def test_a_saddle_is_left_along_its_unstable_mode(monkeypatch):
     """Newton's first equilibrium is a saddle (smallest eigenvalue -5): with ``kick`` the
     state moves along the unstable mode by ``kick`` at its largest dof and the flow goes on
-    from there with its first step again; the next equilibrium is stable. Without ``kick``
-    the state goes back to before the saddle and the flow goes on with its step."""
+    from there with its first step again, or, if that is shorter, half of eta / |omega|
+    (here 0.1: eta 1, omega -5), a step in which the unstable mode grows; the next
+    equilibrium is stable. Without ``kick`` the state goes back to before the saddle and the
+    flow goes on with its step."""
     stage, history, accepted = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1,
                                                   eigenvalues=(-5.0, 1.0), kick=0.25)
     frozen = [i for i, step in enumerate(history.steps) if step.dt == 0]
     assert history.converged and len(frozen) == 2 and stage.eigenvalue == 1.0
     assert not history.steps[frozen[0]].converged
     assert "unstable: smallest eigenvalue -5" in history.steps[frozen[0]].reason
-    assert history.steps[frozen[0] + 1].dt == 1.0       # the first step again
+    assert history.steps[frozen[0] + 1].dt == pytest.approx(0.1)   # below eta / |omega|
     assert np.all(stage.problem.state.vec.FV().NumPy() == 0.25)
+    _, gentle, _ = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1,
+                                      eigenvalues=(-0.2, 1.0), kick=0.25)
+    first = next(i for i, step in enumerate(gentle.steps) if step.dt == 0)
+    assert gentle.steps[first + 1].dt == 1.0        # the first step, below 0.5 / 0.2
     _, plain, _ = _relax_a_fake_flow(monkeypatch, lambda tau: False, 0.1,
                                      eigenvalues=(-5.0, 1.0))
     first = next(i for i, step in enumerate(plain.steps) if step.dt == 0)
