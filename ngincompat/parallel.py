@@ -16,7 +16,10 @@ from __future__ import annotations
 
 import functools
 import os
+import shutil
+import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, SupportsFloat, TypeVar
 
 import numpy as np
@@ -30,6 +33,13 @@ T = TypeVar("T")
 #: Environment variables by which MPI launchers (MPICH's Hydra, Open MPI, Slurm) announce
 #: the number of ranks of the job.
 _SIZE_VARIABLES = ("PMI_SIZE", "OMPI_COMM_WORLD_SIZE", "PMIX_SIZE")
+
+
+def launcher() -> str | None:
+    """The ``mpiexec`` that launches this Python's ranks: the one beside the interpreter (the
+    mpich wheel's, in the same environment), else the first on PATH; None without one."""
+    beside = Path(sys.executable).parent / "mpiexec"
+    return str(beside) if beside.exists() else shutil.which("mpiexec")
 
 
 @functools.cache
@@ -160,6 +170,15 @@ def gather_rows(mesh: ngs.Mesh, rows: np.ndarray) -> np.ndarray:
     if not distributed(mesh):
         return rows
     return np.concatenate(mesh.comm.mpi4py.allgather(np.asarray(rows)), axis=0)
+
+
+def per_rank(value: SupportsFloat) -> list[float]:
+    """A rank-local number of every rank, in rank order, on every rank (collective: every
+    rank calls it); ``[value]`` in a serial run."""
+    comm = world()
+    if comm is None:
+        return [float(value)]
+    return [float(v) for v in comm.allgather(float(value))]
 
 
 def on_root(function: Callable[..., T], *args: Any, **kwargs: Any) -> T:

@@ -74,7 +74,6 @@ import itertools
 import logging
 import math
 import os
-import resource
 import signal
 import subprocess
 import sys
@@ -88,6 +87,7 @@ import numpy as np
 
 from ngincompat import config
 from ngincompat.errors import require
+from ngincompat.resources import peak_mib
 from ngincompat.workflow import io, tables
 
 if TYPE_CHECKING:     # NGSolve is imported where a case runs
@@ -136,23 +136,6 @@ def first_state(problem: "GrowthMechanics") -> np.ndarray:
     the first Newton iteration of a solve); returns u as an array."""
     problem.u.vec.data = problem.compatible_displacement(problem.growth_load())
     return problem.u.vec.FV().NumPy().copy()
-
-
-def peak_mib() -> float:
-    """Peak resident set size of this process so far [MiB].
-
-    Linux's ``VmHWM`` (/proc/self/status) belongs to the process image: ru_maxrss is not
-    reset by exec and so carries the peak of the process that spawned this one (under pytest,
-    over a GiB). ``ru_maxrss`` is the fallback where /proc is missing.
-    """
-    try:
-        with open("/proc/self/status") as status:
-            for line in status:
-                if line.startswith("VmHWM:"):
-                    return int(line.split()[1]) / 1024
-    except OSError:
-        pass
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
 
 def newton_step(problem: "GrowthMechanics", solver: str, tol: float = CG_TOL,

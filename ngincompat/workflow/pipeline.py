@@ -38,6 +38,7 @@ from ngincompat.fem import work
 from ngincompat.fem.solver import SolverHistory
 from ngincompat.fem.stages import Stage
 from ngincompat.progress import SILENT, Progress
+from ngincompat.resources import peak_mib
 from ngincompat.workflow import output
 from ngincompat.workflow.results import DONE, INTERRUPTED, NOT_CONVERGED, Results
 
@@ -212,6 +213,9 @@ def _run(scene: Any, out: Path | None, progress: Progress, label: str | None) ->
                 results = case.interrupted(solution)
             else:
                 results = case.measure(solution, progress)
+                # every rank's peak memory so far (the solve and the measures), rank 0 first
+                results.provenance["peak_mib"] = [round(m) for m in
+                                                  parallel.per_rank(peak_mib())]
                 _refuse_non_finite(solution, results)
                 _warn(scene, results)
             results.timings = {**timings, **solution.timings, **results.timings}

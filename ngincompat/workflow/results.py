@@ -236,7 +236,9 @@ class Results:
         The command line of the process.
     provenance : dict
         Date, host, threads, the full command line and the git commit
-        (:func:`ngincompat.workflow.io.run_record`); empty in results.json of older runs.
+        (:func:`ngincompat.workflow.io.run_record`), and ``peak_mib``: the peak memory of
+        each rank (one in a serial run) [MiB], rank 0 first, as the measures ended; empty
+        in results.json of older runs.
     files : list
         Files written for this run, relative to its folder.
     fields : dict

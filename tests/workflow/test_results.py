@@ -44,6 +44,9 @@ def test_results_round_trip_through_json(cube):
 def test_results_record_their_provenance(cube):
     data = json.loads(json.dumps(cube.to_dict()))
     assert {"date", "host", "threads", "command"} <= set(data["provenance"])
+    # one rank's peak memory in a serial run: at least the NGSolve it loaded
+    (peak,) = data["provenance"]["peak_mib"]
+    assert peak > 50
     assert set(data["versions"]) >= {"ngincompat", "ngsolve", "netgen", "numpy", "scipy",
                                      "python"}
 
