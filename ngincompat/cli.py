@@ -224,8 +224,8 @@ def _cmd_sweep_plot(args: argparse.Namespace) -> int:
 
 
 def _add_bench(sub: argparse._SubParsersAction) -> None:
-    """``bench scenes | cube | accuracy | curvature | validation | skin | inputs | peer |
-    stability | scaling`` and their options."""
+    """``bench scenes | folding | cube | accuracy | curvature | validation | skin | inputs |
+    peer | stability | mpi | scaling`` and their options."""
     from ngincompat.studies.scaling import MEMORY_LIMIT, SOLVERS, TIMEOUT
     bench = sub.add_parser("bench", help="benchmarks: run time against error, the "
                                          "stress-test matrix, cost per Newton step")
@@ -332,6 +332,19 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--threads", type=int, default=1,
                    help="NGSolve threads (default 1: the cells are small, and times on a "
                         "shared machine stay comparable)")
+    p = case("mpi", "what a distributed run costs per rank (the atrophy scene on the "
+                    "idealized brain on 2, 3, ... ranks: each rank's memory, the times) and "
+                    "the cost model fitted to it (see ngincompat.studies.mpi_costs)",
+             "mpi_costs", lambda a, m: m.main(a.maxh, a.ranks, _settings(a.set),
+                                              timeout=a.timeout, out=a.out))
+    p.add_argument("--maxh", type=float, nargs="+", default=[1.4, 1.0, 0.8],
+                   help="mesh sizes of the idealized brain (default: 1.4 1.0 0.8)")
+    p.add_argument("--ranks", type=int, nargs="+", default=[2, 3],
+                   help="MPI ranks of each run, >= 2 (default: 2 3)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="an atrophy parameter for every run (repeatable)")
+    p.add_argument("--timeout", type=float, default=3600.0,
+                   help="seconds a run may take before it is stopped (default 3600)")
     p = case("scaling", "one Newton step of the cube against ndof and linear solver (see "
                         "ngincompat.studies.scaling)", "scaling",
              lambda a, m: m.main(a.maxh, a.orders, quick=a.quick, solvers=a.solvers,

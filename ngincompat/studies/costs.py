@@ -23,6 +23,7 @@ from collections.abc import Collection, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ngincompat import parallel
 from ngincompat.errors import ParameterError
 from ngincompat.parameters import PRESETS
 from ngincompat.progress import SILENT, Progress
@@ -53,8 +54,8 @@ TIMEOUT = 3600.0
 
 
 def measure(scene: str, preset: str, timeout: float = TIMEOUT, threads: int = 1,
-            settings: Mapping[str, Any] | None = None, source: str | os.PathLike | None = None
-            ) -> tuple[dict[str, Any] | None, dict[str, Any]]:
+            settings: Mapping[str, Any] | None = None, source: str | os.PathLike | None = None,
+            ranks: int = 1) -> tuple[dict[str, Any] | None, dict[str, Any]]:
     """Run ``scene`` at ``preset`` (and the parameters ``settings``, name -> value) in a
     fresh process; returns its results.json as a dict (None when the run wrote none) and the
     row's cost columns (with ``status`` when the run failed or was stopped after ``timeout``
@@ -64,11 +65,26 @@ def measure(scene: str, preset: str, timeout: float = TIMEOUT, threads: int = 1,
     keeps times on a shared machine comparable). ``source``: a checkout of another version
     of the program (the folder holding its ``ngincompat`` package), run instead of this one
     in the same environment: from that folder, which ``python -m`` puts first on the
-    module path (relative paths in ``settings`` are then relative to it)."""
+    module path (relative paths in ``settings`` are then relative to it). ``ranks`` > 1:
+    launched on that many MPI ranks (:func:`ngincompat.parallel.launcher`); the CPU time is
+    then that of every rank, the peak memory the launcher's own (each rank's is in the
+    results' ``provenance["peak_mib"]``).
+
+    Raises
+    ------
+    ParameterError
+        ``ranks`` > 1 without an MPI launcher."""
+    mpi: list[str] = []
+    if ranks > 1:
+        mpiexec = parallel.launcher()
+        if mpiexec is None:
+            raise ParameterError(f"ranks = {ranks} needs mpiexec beside this Python or on "
+                                 "PATH: pip install 'ngincompat[mpi]'")
+        mpi = [mpiexec, "-n", str(ranks)]
     with tempfile.TemporaryDirectory(prefix="ngincompat-cost-") as tmp:
         out, log = Path(tmp) / "run", Path(tmp) / "log"
-        command = [sys.executable, "-m", "ngincompat.cli", "run", scene, "--out", str(out),
-                   "--preset", preset, "--set", "outputs=none", "-q",
+        command = [*mpi, sys.executable, "-m", "ngincompat.cli", "run", scene, "--out",
+                   str(out), "--preset", preset, "--set", "outputs=none", "-q",
                    *(f"--set={key}={value}" for key, value in (settings or {}).items())]
         load = os.getloadavg()[0]
         start = time.perf_counter()

@@ -40,6 +40,7 @@ COARSE = {
                 "--set", "release=false"],
     "peer": ["--peer", "peer", "--pairs", "1", "--set", "order=2", "--set", "maxh=1"],
     "scaling": ["--quick", "--solvers", "sparsecholesky"],
+    "mpi": ["--maxh", "4", "--ranks", "2", "--set", "t_end=2", "--set", "dt=1"],
 }
 #: Benchmarks whose coarse settings take more than about 30 s.
 SLOW = {"validation", "skin"}

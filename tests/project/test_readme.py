@@ -81,6 +81,8 @@ BENCH = {
     "peer": ["--peer", "peer", "--pairs", "1", "--set", "order=2", "--set", "maxh=1"],
     "stability": ["--quick"],
     "scaling": ["--quick", "--solvers", "sparsecholesky"],
+    # two launches of a small brain on 2 ranks (the mpi extra: mpi4py, mpich)
+    "mpi": ["--maxh", "4", "--ranks", "2", "--set", "t_end=2", "--set", "dt=1"],
 }
 #: What each subcommand prints when it is done.
 SUMMARY = {
