@@ -507,7 +507,7 @@ class NewtonSolver:
         if not (math.isfinite(E) and math.isfinite(r0)):   # inf <= rtol * inf would pass
             record.reason = "energy or residual is not finite at the start of the step"
             return False
-        fresh = True
+        fresh, short = True, 0      # short: iterative solves stopped at their limit
         for it in range(1, opts.max_iter + 1):
             if r.Norm() <= max(opts.rtol * r0, opts.atol):
                 record.iterations, record.energy = it - 1, E
@@ -520,12 +520,13 @@ class NewtonSolver:
             record.line_search.append(alpha)
             if self._linear is not None:
                 record.linear_iterations.append(self._linear.iterations)
+                short += not self._solved()
             if alpha == 0.0:
                 if not fresh and opts.reuse_tangent:
                     fresh = True    # an old tangent failed: retry with a new one
                     continue
                 record.iterations = it
-                record.reason = "line search found no acceptable step"
+                record.reason = "line search found no acceptable step" + self._note(short)
                 return False
             E = E_new
             # the line search's last trial is the new state: its residual, if it took one
@@ -541,14 +542,33 @@ class NewtonSolver:
             if _stalled(record.residuals, opts.stall):
                 record.iterations = it
                 record.reason = (f"the residual stayed above its smallest value for "
-                                 f"{opts.stall} iterations")
+                                 f"{opts.stall} iterations" + self._note(short))
                 return False
         record.iterations = opts.max_iter
         if r.Norm() <= max(opts.rtol * r0, opts.atol):
             record.energy = E
             return True
-        record.reason = f"no convergence in {opts.max_iter} iterations"
+        record.reason = f"no convergence in {opts.max_iter} iterations" + self._note(short)
         return False
+
+    def _solved(self) -> bool:
+        """Did the last iterative solve reach its tolerance (``krylov_rtol`` of its first
+        residual) rather than stop at ``krylov_maxiter``?"""
+        linear = self._linear
+        assert linear is not None
+        residuals = linear.residuals
+        return (linear.iterations < self.options.krylov_maxiter or not residuals
+                or residuals[-1] <= self.options.krylov_rtol * residuals[0])
+
+    def _note(self, short: int) -> str:
+        """What a failed step's reason adds where ``short`` of its iterative solves stopped
+        at their limit: their directions were not the tangent's, which is a reason of its
+        own for a line search that finds no step."""
+        if not short:
+            return ""
+        return (f" ({short} of its linear solves stopped at krylov_maxiter = "
+                f"{self.options.krylov_maxiter} iterations above their tolerance: a "
+                "preconditioner too weak for this tangent)")
 
 
 #: A step whose residual has fallen below this fraction of the largest of its iterations

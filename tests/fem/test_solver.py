@@ -311,3 +311,19 @@ def test_the_coarse_space_of_a_section_and_no_warning_of_ngsolve(coarse, capfd):
         edges = per_vertex * (fes.globalorder - 1) * mesh.nedge
         assert basket == per_vertex * mesh.nv + (edges if coarse == "edges" else 0)
     assert capfd.readouterr() == ("", "")
+
+
+def test_a_step_whose_linear_solves_stop_at_their_limit_says_so():
+    """CG held to 2 iterations per direction gives directions that are not the tangent's:
+    the step fails, and its reason names the solves that stopped above their tolerance; with
+    CG converged the same step does not."""
+    problem, time = cube_problem(a=0.5)
+    time.Set(1.0)
+    record = StepRecord(t=1.0, dt=1.0, converged=False)
+    limited = NewtonOptions(max_iter=4, linear_solver="cg", krylov_maxiter=2)
+    assert not NewtonSolver(problem, limited).minimise(record)
+    assert "stopped at krylov_maxiter = 2 iterations above their tolerance" in record.reason
+    problem.u.vec[:] = 0.0
+    record = StepRecord(t=1.0, dt=1.0, converged=False)
+    assert NewtonSolver(problem, NewtonOptions(max_iter=30, linear_solver="cg")).minimise(record)
+    assert "krylov_maxiter" not in record.reason
