@@ -520,7 +520,9 @@ class NewtonSolver:
             record.line_search.append(alpha)
             if self._linear is not None:
                 record.linear_iterations.append(self._linear.iterations)
-                short += not self._solved()
+                last = self._linear.residuals or [0.0]
+                short += (self._linear.iterations >= opts.krylov_maxiter
+                          and last[-1] > opts.krylov_rtol * last[0])
             if alpha == 0.0:
                 if not fresh and opts.reuse_tangent:
                     fresh = True    # an old tangent failed: retry with a new one
@@ -551,24 +553,13 @@ class NewtonSolver:
         record.reason = f"no convergence in {opts.max_iter} iterations" + self._note(short)
         return False
 
-    def _solved(self) -> bool:
-        """Did the last iterative solve reach its tolerance (``krylov_rtol`` of its first
-        residual) rather than stop at ``krylov_maxiter``?"""
-        linear = self._linear
-        assert linear is not None
-        residuals = linear.residuals
-        return (linear.iterations < self.options.krylov_maxiter or not residuals
-                or residuals[-1] <= self.options.krylov_rtol * residuals[0])
-
     def _note(self, short: int) -> str:
-        """What a failed step's reason adds where ``short`` of its iterative solves stopped
-        at their limit: their directions were not the tangent's, which is a reason of its
-        own for a line search that finds no step."""
-        if not short:
-            return ""
-        return (f" ({short} of its linear solves stopped at krylov_maxiter = "
-                f"{self.options.krylov_maxiter} iterations above their tolerance: a "
-                "preconditioner too weak for this tangent)")
+        """A failed step's reason's addition where ``short`` of its iterative solves stopped
+        at ``krylov_maxiter`` above their tolerance: directions not the tangent's."""
+        return "" if not short else (f" ({short} of its linear solves stopped at "
+                                     f"krylov_maxiter = {self.options.krylov_maxiter} "
+                                     "iterations above their tolerance: a preconditioner "
+                                     "too weak for this tangent)")
 
 
 #: A step whose residual has fallen below this fraction of the largest of its iterations
