@@ -20,7 +20,7 @@ B the footprint of a rank before it holds a mesh (Python, NGSolve, the package:
 gathers and factorises (the pip wheels have no distributed direct solver): its memory does not
 fall with W. T is fitted to the runs with one worker only: on a machine with fewer cores
 than ranks the others share cores, and their times are reported but not fitted.
-:func:`predict` evaluates the model at other N and W, e.g. a brain ten times larger on a
+:func:`predict` evaluates the model at other N and W, e.g. a brain several times larger on a
 cluster's workers; what the model leaves out (CG iterations that grow with N or W, the
 coarse solve's share of the time, the network) is said where it is shown
 (``docs/guide/mpi.md``).
