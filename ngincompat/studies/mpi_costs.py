@@ -5,7 +5,8 @@ The atrophy scene on its idealized brain at the mesh sizes ``maxh``, one equilib
 end (``snapshots`` 1), each size launched on each number of ``ranks`` (rank 0 owns no
 elements: ``ranks - 1`` workers) in a fresh launch (:func:`ngincompat.studies.costs.measure`),
 one after the other. Per run: the unknowns N, the ranks, the wall time of the run and of
-its equilibrium, the CPU time of all ranks, each rank's peak memory (results.json's
+its stage (``equilibrium_s``: the transport and the atrophy to ``t_end``, 200 steps of a
+scalar problem at the defaults, and the equilibrium there), the CPU time of all ranks, each rank's peak memory (results.json's
 ``provenance["peak_mib"]``: rank 0, then the heaviest worker), the Newton and CG
 iterations, and the machine's load at the start.
 
@@ -13,7 +14,7 @@ The cost model (:func:`fit`), fitted to the rows by least squares:
 
     worker memory   M_w = B + m N / W,
     rank 0 memory   M_0 = B + c N^alpha,
-    equilibrium     T = t (N / W)^beta,
+    the stage       T = t (N / W)^beta,
 
 B the footprint of a rank before it holds a mesh (Python, NGSolve, the package:
 :func:`footprint`), W = ranks - 1 the workers. Rank 0 holds BDDC's coarse problem, which it
@@ -117,7 +118,7 @@ def table(maxh: Sequence[float] = MAXH, ranks: Sequence[int] = RANKS,
 def fit(rows: Sequence[Mapping[str, Any]], base: float) -> dict[str, float]:
     """The cost model of the module's docstring fitted to the finished ``rows`` with the
     footprint ``base`` (B, MiB): ``m`` (MiB per unknown and worker), ``c`` and ``alpha``
-    (rank 0), ``t`` and ``beta`` (the equilibrium's seconds, from the rows with one worker),
+    (rank 0), ``t`` and ``beta`` (the stage's seconds, from the rows with one worker),
     each None where fewer than two rows carry it.
 
     Raises
@@ -153,7 +154,7 @@ def _power_law(points: Sequence[tuple[float, float]]) -> tuple[float, float]:
 
 def predict(model: Mapping[str, Any], ndof: float, workers: int) -> dict[str, float | None]:
     """The model at ``ndof`` unknowns on ``workers`` workers: the memory of a worker and of
-    rank 0 [MiB] and the equilibrium's wall time [s] (None where the model lacks the
+    rank 0 [MiB] and the stage's wall time [s] (None where the model lacks the
     constant)."""
     require(workers >= 1, "workers", workers, ">= 1")
     base = model["base_mib"]
