@@ -433,9 +433,10 @@ def bubbles(mesh: ngs.Mesh, order: int, formulation: str) -> dict[str, int]:
 #: wirebasket: "edges", the vertex and edge dofs (NGSolve's default in three dimensions; at
 #: order 2 every dof of the condensed system but the mixed formulation's face bubbles, so CG
 #: needs few iterations and the coarse problem, factorised on rank 0 of a distributed run,
-#: is nearly the whole system), or "vertices", the vertex dofs alone (a coarse problem of three unknowns per
-#: vertex: rank 0 lighter than the workers on the atrophy ellipsoid, at several times the
-#: CG iterations; on the fsaverage brain Newton's first step with it failed;
+#: is nearly the whole system), or "vertices", the vertex dofs alone (a coarse problem of
+#: three unknowns per vertex: rank 0 lighter than the workers on the atrophy ellipsoid, at
+#: several times the CG iterations; on the fsaverage brain CG with it stopped at its
+#: iteration limit and Newton's first step failed;
 #: ``docs/measurements/mpi.md``, "Rank 0 and the coarse space").
 COARSE_SPACES = ("edges", "vertices")
 

@@ -6,9 +6,9 @@ end (``snapshots`` 1), each size launched on each number of ``ranks`` (rank 0 ow
 elements: ``ranks - 1`` workers) in a fresh launch (:func:`ngincompat.studies.costs.measure`),
 one after the other. Per run: the unknowns N, the ranks, the wall time of the run and of
 its stage (``equilibrium_s``: the transport and the atrophy to ``t_end``, 200 steps of a
-scalar problem at the defaults, and the equilibrium there), the CPU time of all ranks, each rank's peak memory (results.json's
-``provenance["peak_mib"]``: rank 0, then the heaviest worker), the Newton and CG
-iterations, and the machine's load at the start.
+scalar problem at the defaults, and the equilibrium there), the CPU time of all ranks,
+each rank's peak memory (results.json's ``provenance["peak_mib"]``: rank 0, then the
+heaviest worker), the Newton and CG iterations, and the machine's load at the start.
 
 The cost model (:func:`fit`), fitted to the rows by least squares:
 
