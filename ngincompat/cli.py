@@ -337,13 +337,13 @@ def _add_bench(sub: argparse._SubParsersAction) -> None:
                     "the cost model fitted to it (see ngincompat.studies.mpi_costs)",
              "mpi_costs", lambda a, m: m.main(a.maxh, a.ranks, _settings(a.set),
                                               timeout=a.timeout, out=a.out))
-    p.add_argument("--maxh", type=float, nargs="+", default=[1.4, 1.0, 0.8],
+    p.add_argument("--maxh", type=float, nargs="+",
                    help="mesh sizes of the idealized brain (default: 1.4 1.0 0.8)")
-    p.add_argument("--ranks", type=int, nargs="+", default=[2, 3],
+    p.add_argument("--ranks", type=int, nargs="+",
                    help="MPI ranks of each run, >= 2 (default: 2 3)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="an atrophy parameter for every run (repeatable)")
-    p.add_argument("--timeout", type=float, default=3600.0,
+    p.add_argument("--timeout", type=float,
                    help="seconds a run may take before it is stopped (default 3600)")
     p = case("scaling", "one Newton step of the cube against ndof and linear solver (see "
                         "ngincompat.studies.scaling)", "scaling",

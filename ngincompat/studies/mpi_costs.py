@@ -52,6 +52,8 @@ COLUMNS = ("maxh", "ndof", "ranks", "status", "wall_s", "equilibrium_s", "cpu_s"
            "rank0_mib", "worker_mib", "newton", "cg_iterations", "load")
 UNITS = {"wall_s": "s", "equilibrium_s": "s", "cpu_s": "s", "rank0_mib": "MiB",
          "worker_mib": "MiB"}
+#: Units of the projection's columns.
+PROJECTED_UNITS = {"worker_mib": "MiB", "rank0_mib": "MiB", "equilibrium_s": "s"}
 #: Seconds one run may take before it is stopped.
 TIMEOUT = 3600.0
 
@@ -173,24 +175,24 @@ def predict(model: Mapping[str, Any], ndof: float, workers: int) -> dict[str, fl
 PROJECTIONS = ((334_194, (1, 2)), (3_341_940, (1, 8, 16, 32, 64)))
 
 
-def main(maxh: Sequence[float] = MAXH, ranks: Sequence[int] = RANKS,
-         settings: Mapping[str, Any] | None = None, timeout: float = TIMEOUT,
+def main(maxh: Sequence[float] | None = None, ranks: Sequence[int] | None = None,
+         settings: Mapping[str, Any] | None = None, timeout: float | None = None,
          out: str | os.PathLike | None = None) -> list[str]:
-    """``ngincompat bench mpi``: :func:`table`, :func:`fit` and :func:`predict` at
-    :data:`PROJECTIONS`; returns the lines to print, and with ``out`` writes ``mpi``,
-    ``model`` and ``projection`` (.md, .csv, .json)."""
-    rows = table(maxh, ranks, settings, timeout, progress=Progress())
+    """``ngincompat bench mpi``: :func:`table` (None: :data:`MAXH`, :data:`RANKS`,
+    :data:`TIMEOUT`), :func:`fit` and :func:`predict` at :data:`PROJECTIONS`; returns the
+    lines to print, and with ``out`` writes ``mpi``, ``model`` and ``projection`` (.md, .csv,
+    .json)."""
+    rows = table(maxh or MAXH, ranks or RANKS, settings, timeout or TIMEOUT,
+                 progress=Progress())
     model = fit(rows, footprint())
     projection = [{"ndof": n, "workers": w, **{k: None if v is None else round(v, 1)
                                                for k, v in predict(model, n, w).items()}}
                   for n, counts in PROJECTIONS for w in counts]
     constants = [{"constant": k, "value": v} for k, v in model.items()]
     lines = [tables.markdown(rows, list(COLUMNS), UNITS), tables.markdown(constants),
-             tables.markdown(projection, None, {"worker_mib": "MiB", "rank0_mib": "MiB",
-                                                "equilibrium_s": "s"})]
+             tables.markdown(projection, None, PROJECTED_UNITS)]
     if out is not None:
         tables.write(out, "mpi", rows, list(COLUMNS), UNITS)
         tables.write(out, "model", constants)
-        tables.write(out, "projection", projection, None,
-                     {"worker_mib": "MiB", "rank0_mib": "MiB", "equilibrium_s": "s"})
+        tables.write(out, "projection", projection, None, PROJECTED_UNITS)
     return lines
