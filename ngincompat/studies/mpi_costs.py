@@ -42,8 +42,9 @@ from ngincompat.progress import SILENT, Progress
 from ngincompat.studies import costs
 from ngincompat.workflow import tables
 
-#: The default grid: mesh sizes of the idealized brain and the ranks of each run.
+#: The default grid's mesh sizes of the idealized brain.
 MAXH = (1.4, 1.0, 0.8)
+#: The default grid's numbers of ranks, each run at every mesh size.
 RANKS = (2, 3)
 #: Every run's settings besides its mesh size: one equilibrium, no files but results.json.
 SETTINGS = {"snapshots": 1}
