@@ -1,7 +1,8 @@
-"""The measuring scripts under ``examples/`` that the README quotes run, on a coarse bilayer,
-as a user would call them (``python examples/folding/<script>.py key=value ...``)."""
+"""The measuring scripts under ``examples/`` that the docs quote run, on a coarse bilayer or
+brain, as a user would call them (``python examples/<folder>/<script>.py key=value ...``)."""
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -14,8 +15,8 @@ ROOT = Path(__file__).resolve().parents[2]
 COARSE = ["length=0.5", "height=0.3", "maxh=0.15", "cortex_maxh=0.025"]
 
 
-def _run(script, *args):
-    done = subprocess.run([sys.executable, str(ROOT / "examples" / "folding" / script), *args],
+def _run(script, *args, folder="folding"):
+    done = subprocess.run([sys.executable, str(ROOT / "examples" / folder / script), *args],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
     assert "Traceback" not in done.stderr
@@ -38,6 +39,21 @@ def test_march_reports_the_onset_and_the_march_records():
     assert "onset {" in out and "onset_growth" in out
     assert "buckling:" in out
     assert out.rstrip().endswith("status done None")
+
+
+def test_coarse_spaces_compares_the_shapes_and_the_cg_iterations():
+    """On a coarse ellipsoid the vertices alone make a smaller coarse space than with the
+    edges, and CG needs more iterations with it; the shape percentiles are ordered and at
+    most 1 (the regular tetrahedron's)."""
+    out = _run("coarse_spaces.py", "maxh=2", "maxiter=2000", folder="brain")
+    shape = re.search(r"min ([\d.e-]+), 1 % ([\d.e-]+), 10 % ([\d.e-]+), median ([\d.e-]+)", out)
+    q = [float(v) for v in shape.groups()]
+    assert 0 < q[0] <= q[1] <= q[2] <= q[3] <= 1
+    runs = {m[0]: (int(m[1]), int(m[2])) for m in
+            re.findall(r"^(\w+): \d+ unknowns, coarse space (\d+), CG iterations \[(\d+)\]",
+                       out, flags=re.M)}
+    assert runs["vertices"][0] < runs["edges"][0]
+    assert runs["edges"][1] < runs["vertices"][1] < 2000
 
 
 def _fake_run(folder, axons, metrics, contact):
