@@ -40,27 +40,33 @@ def shapes(mesh):
     return 6 * np.sqrt(2) * volume / rms ** 3
 
 
-settings = dict(arg.split("=", 1) for arg in sys.argv[1:])
-lam = float(settings.pop("lam", 49))
-maxiter = int(settings.pop("maxiter", 3000))
-spaces = settings.pop("coarse", "edges,vertices").split(",")
-scene = AtrophyScene.from_settings(settings)
-mesh = scene.mesh()
-q = shapes(mesh)
-print(f"tetrahedra {mesh.ne}, shape q: min {q.min():.3g}, 1 % {np.percentile(q, 1):.3g}, "
-      f"10 % {np.percentile(q, 10):.3g}, median {np.median(q):.3g}, below 0.05 "
-      f"{int((q < 0.05).sum())}")
-ngs.SetNumThreads(1)
-for coarse in spaces:
-    problem = GrowthMechanics(mesh, IsotropicGrowth(mesh.MaterialCF({"gray": 0.9}, default=1)),
-                              NeoHookean(mu=1.0, lam=lam), order=scene.order,
-                              formulation="mixed", linear_solver="cg", coarse=coarse)
-    solver = NewtonSolver(problem, NewtonOptions(max_iter=1, linear_solver="cg",
-                                                 krylov_maxiter=maxiter, line_search=False))
-    wirebasket = sum(problem.fes.CouplingType(i) == ngs.COUPLING_TYPE.WIREBASKET_DOF
-                     for i in range(problem.fes.ndof))
-    record = StepRecord(t=1.0, dt=1.0, converged=False)
-    start = time.perf_counter()
-    solver.minimise(record)
-    print(f"{coarse}: {problem.ndof} unknowns, coarse space {wirebasket}, CG iterations "
-          f"{record.linear_iterations}, {time.perf_counter() - start:.1f} s")
+def main(args):
+    """Print the shapes and, per coarse space, the CG iterations (the module's text)."""
+    settings = dict(arg.split("=", 1) for arg in args)
+    lam = float(settings.pop("lam", 49))
+    maxiter = int(settings.pop("maxiter", 3000))
+    spaces = settings.pop("coarse", "edges,vertices").split(",")
+    scene = AtrophyScene.from_settings(settings)
+    mesh = scene.mesh()
+    q = shapes(mesh)
+    print(f"tetrahedra {mesh.ne}, shape q: min {q.min():.3g}, 1 % {np.percentile(q, 1):.3g}, "
+          f"10 % {np.percentile(q, 10):.3g}, median {np.median(q):.3g}, below 0.05 "
+          f"{int((q < 0.05).sum())}")
+    ngs.SetNumThreads(1)
+    for coarse in spaces:
+        growth = IsotropicGrowth(mesh.MaterialCF({"gray": 0.9}, default=1))
+        problem = GrowthMechanics(mesh, growth, NeoHookean(mu=1.0, lam=lam), order=scene.order,
+                                  formulation="mixed", linear_solver="cg", coarse=coarse)
+        solver = NewtonSolver(problem, NewtonOptions(max_iter=1, linear_solver="cg",
+                                                     krylov_maxiter=maxiter, line_search=False))
+        wirebasket = sum(problem.fes.CouplingType(i) == ngs.COUPLING_TYPE.WIREBASKET_DOF
+                         for i in range(problem.fes.ndof))
+        record = StepRecord(t=1.0, dt=1.0, converged=False)
+        start = time.perf_counter()
+        solver.minimise(record)
+        print(f"{coarse}: {problem.ndof} unknowns, coarse space {wirebasket}, CG iterations "
+              f"{record.linear_iterations}, {time.perf_counter() - start:.1f} s")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,13 +1,17 @@
 """The measuring scripts under ``examples/`` that the docs quote run, on a coarse bilayer or
 brain, as a user would call them (``python examples/<folder>/<script>.py key=value ...``)."""
 
+import importlib.util
 import json
 import re
 import subprocess
 import sys
 from pathlib import Path
 
+import ngsolve as ngs
 import pytest
+from netgen.meshing import Element3D, MeshPoint, Pnt
+from netgen.meshing import Mesh as NetgenMesh
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -54,6 +58,23 @@ def test_coarse_spaces_compares_the_shapes_and_the_cg_iterations():
                        out, flags=re.M)}
     assert runs["vertices"][0] < runs["edges"][0]
     assert runs["edges"][1] < runs["vertices"][1] < 2000
+
+
+@pytest.mark.parametrize("corners, q", [
+    ([(0, 0, 0), (1, 0, 0), (0.5, 3 ** 0.5 / 2, 0), (0.5, 3 ** 0.5 / 6, (2 / 3) ** 0.5)], 1.0),
+    ([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], 2 ** 0.5 / 1.5 ** 1.5),   # a cube's corner
+    ([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0.3, 0.3, 1e-4)], 0.0)])             # nearly flat
+def test_the_shape_measure_is_one_for_the_regular_tetrahedron(corners, q):
+    """q = 6 sqrt(2) V / l^3: 1 for the regular tetrahedron, sqrt(2) / 1.5^1.5 for the corner
+    of a cube (three edges 1, three sqrt(2)), about 0 for a flat one."""
+    spec = importlib.util.spec_from_file_location("coarse_spaces",
+                                                  ROOT / "examples" / "brain" / "coarse_spaces.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    mesh = NetgenMesh(dim=3)
+    points = [mesh.Add(MeshPoint(Pnt(*corner))) for corner in corners]
+    mesh.Add(Element3D(1, points))
+    assert module.shapes(ngs.Mesh(mesh))[0] == pytest.approx(q, abs=2e-3)
 
 
 def _fake_run(folder, axons, metrics, contact):
