@@ -20,7 +20,8 @@ import time
 import ngsolve as ngs
 import numpy as np
 
-from ngincompat.fem.problem import GrowthMechanics
+from ngincompat.errors import ParameterError, require
+from ngincompat.fem.problem import COARSE_SPACES, GrowthMechanics
 from ngincompat.fem.solver import NewtonOptions, NewtonSolver, StepRecord
 from ngincompat.mechanics.growth import IsotropicGrowth
 from ngincompat.mechanics.materials import NeoHookean
@@ -40,12 +41,26 @@ def shapes(mesh):
     return 6 * np.sqrt(2) * volume / rms ** 3
 
 
+def number(text, name, kind, allowed):
+    """``text`` as a positive number of ``kind``, or a ParameterError naming ``name``."""
+    try:
+        value = kind(text)
+    except ValueError:
+        value = None
+    require(value is not None and value > 0, name, text, allowed)
+    return value
+
+
 def main(args):
     """Print the shapes and, per coarse space, the CG iterations (the module's text)."""
+    require(all("=" in arg for arg in args), "argument", next((a for a in args if "=" not in a),
+                                                                 None), "key=value")
     settings = dict(arg.split("=", 1) for arg in args)
-    lam = float(settings.pop("lam", 49))
-    maxiter = int(settings.pop("maxiter", 3000))
+    lam = number(settings.pop("lam", "49"), "lam", float, "a number > 0")
+    maxiter = number(settings.pop("maxiter", "3000"), "maxiter", int, "an integer >= 1")
     spaces = settings.pop("coarse", "edges,vertices").split(",")
+    for coarse in spaces:
+        require(coarse in COARSE_SPACES, "coarse", coarse, " or ".join(COARSE_SPACES))
     scene = AtrophyScene.from_settings(settings)
     mesh = scene.mesh()
     q = shapes(mesh)
@@ -69,4 +84,7 @@ def main(args):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    try:
+        main(sys.argv[1:])
+    except ParameterError as err:
+        sys.exit(f"coarse_spaces.py: {err}")

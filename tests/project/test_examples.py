@@ -60,6 +60,16 @@ def test_coarse_spaces_compares_the_shapes_and_the_cg_iterations():
     assert runs["edges"][1] < runs["vertices"][1] < 2000
 
 
+@pytest.mark.parametrize("arg, named", [("lam=abc", "lam"), ("maxiter=0", "maxiter"),
+                                        ("coarse=faces", "coarse"), ("nu=0.6", "nu"),
+                                        ("maxh", "key=value")])
+def test_coarse_spaces_names_the_bad_setting(arg, named):
+    done = subprocess.run([sys.executable, str(ROOT / "examples" / "brain" / "coarse_spaces.py"),
+                           arg], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1
+    assert named in done.stderr and "Traceback" not in done.stderr
+
+
 @pytest.mark.parametrize("corners, q", [
     ([(0, 0, 0), (1, 0, 0), (0.5, 3 ** 0.5 / 2, 0), (0.5, 3 ** 0.5 / 6, (2 / 3) ** 0.5)], 1.0),
     ([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], 2 ** 0.5 / 1.5 ** 1.5),   # a cube's corner
