@@ -73,3 +73,14 @@ def test_a_run_on_two_ranks_records_the_peak_memory_of_each(monkeypatch):
     monkeypatch.setattr(costs.parallel, "launcher", lambda: None)
     with pytest.raises(ParameterError, match="mpi"):
         costs.measure("atrophy", "default", 600, settings=settings, ranks=2)
+
+
+def test_the_command_lines_help_gives_the_studys_own_defaults(capsys):
+    """The help text, written out so that ``--help`` imports no NGSolve, states MAXH, RANKS
+    and TIMEOUT as the module has them."""
+    from ngincompat.cli import main
+    assert main(["bench", "mpi", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"(default: {' '.join(map(str, mpi_costs.MAXH))})" in text
+    assert f"(default: {' '.join(map(str, mpi_costs.RANKS))})" in text
+    assert f"(default {mpi_costs.TIMEOUT:g})" in text
