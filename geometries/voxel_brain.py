@@ -51,18 +51,45 @@ def cache_dir():
     return Path(os.environ.get("NGINCOMPAT_CACHE", default))
 
 
+#: The voxel edges of the mni152 brain [cm]: from the template's own 1 mm voxels to 2 cm.
+MNI152_MAXH = (0.1, 2.0)
+#: The volume of the mni152 brain's voxels [cm^3] (gray + white >= 1/2 in a voxel, the
+#: largest part): 1730 at 1 mm, 1737 at 2 mm, 1750 at 5 mm, 1757 at 1 cm.
+MNI152_VOLUME = 1750.0
+
+
+def mni152_edge(maxh):
+    """The voxel edge of the mni152 brain in mm for ``maxh`` in cm (:data:`MNI152_MAXH`,
+    else a ParameterError naming it): rounded to the template's 1 mm."""
+    low, high = MNI152_MAXH
+    require(low <= maxh <= high, "maxh", maxh, f"in [{low:g}, {high:g}] cm for the mni152 brain")
+    return int(round(maxh / 0.1))
+
+
+def mni152_elements(maxh=1.0, elements="hex"):
+    """About how many elements :func:`mni152` makes at ``maxh`` (without loading the
+    maps): :data:`MNI152_VOLUME` / edge^3 voxels (within 2 % from 1 mm to 1 cm), six
+    tetrahedra each with ``elements`` = tet."""
+    edge = mni152_edge(maxh) / 10.0
+    return MNI152_VOLUME / edge ** 3 * (6 if elements == "tet" else 1)
+
+
 def mni152(maxh=1.0, elements="hex"):
     """The adult brain of the MNI ICBM152 2009 template, meshed with hexahedra (or each
     voxel split into six tetrahedra).
 
-    The gray- and white-matter probability maps (2 mm) ship inside the ``nilearn`` wheel
-    (``pip install -e ".[brain]"``): nothing is downloaded. The mesh is cached in
-    :func:`cache_dir` after the first build.
+    The gray- and white-matter probability maps ship inside the ``nilearn`` wheel at the
+    template's 1 mm (``pip install -e ".[brain]"``): nothing is downloaded. nilearn also
+    gives them resampled to 2 mm: a voxel edge of an even number of mm is made of blocks of
+    those (the meshes this brain had before the 1 mm maps were read), an odd one of blocks
+    of the 1 mm maps. The mesh is cached in :func:`cache_dir` after the first build.
 
     Parameters
     ----------
     maxh : float
-        Voxel edge in cm, rounded to a multiple of the template's 0.2 cm, in [0.4, 2].
+        Voxel edge in cm, rounded to a multiple of the template's 0.1 cm, in [0.1, 2]
+        (:data:`MNI152_MAXH`); about :data:`MNI152_VOLUME` / maxh^3 hexahedra
+        (:func:`mni152_elements`).
     elements : str
         ``hex`` or ``tet`` (:data:`ELEMENTS`).
 
@@ -72,19 +99,20 @@ def mni152(maxh=1.0, elements="hex"):
         Hexahedra (tetrahedra) with materials ``gray`` and ``white``; boundaries
         ``surface`` and ``interface``.
     """
-    require(0.4 <= maxh <= 2.0, "maxh", maxh, "in [0.4, 2] cm for the mni152 brain")
+    edge = mni152_edge(maxh)                        # mm
     require(elements in ELEMENTS, "elements", elements, " or ".join(ELEMENTS))
     try:
         from nilearn import datasets
     except ImportError:
         raise ParameterError("geometry = mni152 needs nilearn: pip install -e \".[brain]\"") \
             from None
-    block = int(round(maxh / 0.2))
-    path = cache_dir() / f"mni152_{block * 2}mm_{elements}_v{_CACHE_VERSION}.vol.gz"
+    resolution = 2 if edge % 2 == 0 else 1          # mm: the maps the blocks are made of
+    block = edge // resolution
+    path = cache_dir() / f"mni152_{edge}mm_{elements}_v{_CACHE_VERSION}.vol.gz"
     if path.is_file():
         return ngs.Mesh(str(path))
-    gray = datasets.load_mni152_gm_template(resolution=2)
-    white = datasets.load_mni152_wm_template(resolution=2)
+    gray = datasets.load_mni152_gm_template(resolution=resolution)
+    white = datasets.load_mni152_wm_template(resolution=resolution)
     mesh = voxel_mesh(np.asarray(gray.get_fdata()), np.asarray(white.get_fdata()),
                       gray.affine, block, elements)
     path.parent.mkdir(parents=True, exist_ok=True)

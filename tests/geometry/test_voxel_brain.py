@@ -11,7 +11,15 @@ from conftest import voxel_labels as labels
 from conftest import write_nifti as write
 
 from geometries import cube
-from geometries.voxel_brain import from_nifti, mni152, voxel_mesh
+from geometries.voxel_brain import (
+    MNI152_VOLUME,
+    _coarsen,
+    _largest_part,
+    from_nifti,
+    mni152,
+    mni152_elements,
+    voxel_mesh,
+)
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.fem.transport import FisherKPP, diffusion_tensor
@@ -211,5 +219,41 @@ def test_mni152_is_cached_with_materials_and_brain_volumes(tmp_path, monkeypatch
     tets = mni152(2.0, elements="tet")           # its own cache file, the same brain
     assert tets.ne == 6 * mesh.ne and volumes(tets) == pytest.approx(vol, rel=1e-12)
     assert len(list(tmp_path.iterdir())) == 2
-    with pytest.raises(ParameterError, match="maxh"):
-        mni152(0.1)
+    with pytest.raises(ParameterError, match=r"maxh = 0.05 .*in \[0.1, 2\] cm"):
+        mni152(0.05)
+
+
+def test_an_odd_voxel_edge_is_made_of_the_1mm_maps(tmp_path, monkeypatch):
+    """19 mm is no multiple of the 2 mm maps: blocks of 19 of the 1 mm voxels, with the
+    brain's volume and about the estimated count of hexahedra."""
+    monkeypatch.setenv("NGINCOMPAT_CACHE", str(tmp_path))
+    mesh = mni152(1.9)
+    assert [f.name for f in tmp_path.iterdir()] == ["mni152_19mm_hex_v1.vol.gz"]
+    assert mesh.ne == pytest.approx(mni152_elements(1.9), rel=0.05)
+    assert sum(volumes(mesh).values()) == pytest.approx(mesh.ne * 1.9 ** 3, rel=1e-9)
+    assert mni152_elements(1.9) * 1.9 ** 3 == MNI152_VOLUME
+
+
+@pytest.mark.parametrize("edge", [1, 3, 10])
+def test_the_brains_voxel_volume_is_the_estimates_to_2_percent(edge):
+    """The count of brain voxels (gray + white >= 1/2, the largest part) at 1 mm, 3 mm and
+    1 cm from the 1 mm maps is MNI152_VOLUME / edge^3 to 2 %: the estimate that refuses a
+    brain too large for the machine before the maps are meshed."""
+    from nilearn import datasets
+
+    gray = np.asarray(datasets.load_mni152_gm_template(resolution=1).get_fdata())
+    white = np.asarray(datasets.load_mni152_wm_template(resolution=1).get_fdata())
+    g, w = _coarsen(gray, edge), _coarsen(white, edge)
+    count = int(_largest_part(g + w >= 0.5).sum())
+    assert count == pytest.approx(mni152_elements(edge / 10), rel=0.02)
+
+
+def test_the_1mm_brain_is_refused_on_a_workstation_by_its_size_and_allowed_when_raised():
+    """maxh 0.1, the template's own voxels: about 1.75e6 hexahedra, refused before
+    anything is loaded unless max_elements and max_dofs are raised (a cluster's run)."""
+    with pytest.raises(ParameterError, match=r"^maxh = 0.1 .*about 1.7e\+06 elements.*"
+                                             r"max_elements = 1000000"):
+        AtrophyScene(geometry="mni152", maxh=0.1)
+    AtrophyScene(geometry="mni152", maxh=0.1, max_elements=2_000_000, max_dofs=100_000_000)
+    with pytest.raises(ParameterError, match=r"^maxh = 0.05 .*in \[0.1, 2\] cm"):
+        AtrophyScene(geometry="mni152", maxh=0.05)

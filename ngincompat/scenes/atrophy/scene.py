@@ -10,7 +10,7 @@ import numpy as np
 
 from geometries import brain, brain_geometry, estimate
 from geometries import fsaverage_brain as fsaverage
-from geometries.voxel_brain import ELEMENTS, from_nifti, mni152
+from geometries.voxel_brain import ELEMENTS, from_nifti, mni152, mni152_elements
 from ngincompat import parallel
 from ngincompat.errors import ParameterError, require
 from ngincompat.fem.problem import check_formulation
@@ -317,7 +317,10 @@ class AtrophyScene(Scene):
         return moduli
 
     def mesh_estimate(self) -> tuple[float, str] | None:
-        # a voxel brain has at most the voxels of its image (mni152: maxh in [0.4, 2] cm)
+        # a user's voxel brain has at most the voxels of its image; fsaverage's size is set
+        # by ico and cortex_layers
+        if self.geometry == "mni152":
+            return mni152_elements(self.maxh, self.elements), self.elements
         if self.geometry != "idealized":
             return None
         return estimate.brain_elements(semi_axes=self.axes(), maxh=self.maxh), "tet"
