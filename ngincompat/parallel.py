@@ -14,11 +14,13 @@ mpi4py and the mpich wheel, whose ``mpiexec`` launches the ranks).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
 import shutil
 import sys
-from collections.abc import Callable
+import traceback
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, SupportsFloat, TypeVar
 
@@ -179,6 +181,29 @@ def per_rank(value: SupportsFloat) -> list[float]:
     if comm is None:
         return [float(value)]
     return [float(v) for v in comm.allgather(float(value))]
+
+
+@contextlib.contextmanager
+def alone_ends_the_job(collective: tuple[type[BaseException], ...]) -> Iterator[None]:
+    """In a distributed run, an exception raised inside this context that is not one of the
+    ``collective`` kinds (those every rank raises together: a residual or a check reduced
+    over the ranks) ends the whole job (``MPI_Abort``, exit code 1) after its traceback is
+    printed: raised on some ranks alone, it would leave the others waiting for them in their
+    next collective operation, for ever (seen: a worker's KeyError in the transport's set-up
+    while rank 0, which holds no elements, went on into an integral over the ranks). In a
+    serial run the exception passes."""
+    try:
+        yield
+    except collective:
+        raise
+    except BaseException:
+        comm = world()
+        if comm is None:
+            raise
+        traceback.print_exc()
+        sys.stderr.flush()
+        comm.Abort(1)
+        raise                       # not reached: Abort ends the process
 
 
 def on_root(function: Callable[..., T], *args: Any, **kwargs: Any) -> T:

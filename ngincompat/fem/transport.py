@@ -203,21 +203,26 @@ def _csr(matrix: ngs.BaseMatrix) -> sp.csr_matrix:
 
 def _summed_over_ranks(mesh: ngs.Mesh, K: sp.spmatrix) -> np.ndarray:
     """The entries of K's upper triangle (in the order of ``sp.triu(K, k=1).tocoo()``),
-    summed over the ranks that share their edge; K's own entries on a serial mesh."""
+    summed over the ranks that share their pair of vertices; K's own entries on a serial
+    mesh. Only a pair of two shared vertices can have parts on several ranks; such pairs
+    are matched across the ranks by their points (the same numbers on every rank), whatever
+    couples them: an edge of a tetrahedron, the diagonal of a hexahedron's face."""
     off = sp.triu(K, k=1).tocoo()
     if not parallel.distributed(mesh):
         return off.data
-    edges = ngs.H1(mesh, order=2)            # one dof per edge: where the parts are summed
-    summed = ngs.GridFunction(edges).vec
-    summed[:] = 0.0
-    numbers = {tuple(sorted(v.nr for v in e.vertices)):
-               edges.GetDofNrs(ngs.NodeId(ngs.EDGE, e.nr))[-1] for e in mesh.edges}
-    at = np.array([numbers[(min(i, j), max(i, j))] for i, j in zip(off.row, off.col,
-                                                                     strict=True)], dtype=int)
-    summed.FV().NumPy()[at] = off.data
-    summed.SetParallelStatus(ngs.la.PARALLEL_STATUS.DISTRIBUTED)
-    summed.Cumulate()
-    return summed.FV().NumPy()[at]
+    dofs = ngs.H1(mesh, order=1).ParallelDofs()         # P1: the dof of vertex k is k
+    shared = np.array([len(dofs.Dof2Proc(k)) > 0 for k in range(mesh.nv)], dtype=bool)
+    points = np.array([v.point for v in mesh.vertices]).reshape(-1, 3)
+    both = np.flatnonzero(shared[off.row] & shared[off.col])
+    keys = [tuple(sorted((tuple(points[off.row[k]]), tuple(points[off.col[k]]))))
+            for k in both]
+    total: dict[tuple, float] = {}
+    for part_keys, part_values in mesh.comm.mpi4py.allgather((keys, off.data[both])):
+        for key, value in zip(part_keys, part_values, strict=True):
+            total[key] = total.get(key, 0.0) + value
+    summed = off.data.copy()
+    summed[both] = [total[key] for key in keys]
+    return summed
 
 
 def _sparse(A: sp.spmatrix) -> ngs.la.SparseMatrixd:

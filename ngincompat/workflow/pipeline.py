@@ -42,6 +42,11 @@ from ngincompat.resources import peak_mib
 from ngincompat.workflow import output
 from ngincompat.workflow.results import DONE, INTERRUPTED, NOT_CONVERGED, Results
 
+#: The errors of a run that every rank of a distributed run raises together (a check or a
+#: residual reduced over the ranks, an interrupt sent to every rank); any other exception
+#: raised inside a run ends a distributed job (:func:`~ngincompat.parallel.alone_ends_the_job`).
+COLLECTIVE = (ParameterError, ConvergenceError, Interrupted, KeyboardInterrupt)
+
 log = logging.getLogger(__name__)
 
 
@@ -181,11 +186,13 @@ def run(scene: Any, out: str | os.PathLike | None = None, *, overwrite: bool = F
         Ctrl-C after results.json was written complete: the record stands as written.
     """
     if out is None:
-        return _run(scene, None, progress, label)
+        with parallel.alone_ends_the_job(COLLECTIVE):
+            return _run(scene, None, progress, label)
     out = parallel.on_root(output.prepare, out, overwrite=overwrite, resume=scene.resumes(out),
                            run_files=output.RUN_FILES)
     try:
-        return _run(scene, out, progress, label)
+        with parallel.alone_ends_the_job(COLLECTIVE):
+            return _run(scene, out, progress, label)
     finally:
         parallel.on_root(output.release, out)
 

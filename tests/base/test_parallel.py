@@ -226,6 +226,62 @@ def test_distributed_fsaverage_matches_serial(tmp_path, monkeypatch):
     assert s["gray_volume_loss"] > 10 * s["white_volume_loss"] > 0
 
 
+#: The MNI152 brain at 2 cm voxels (214 hexahedra): the transport's upwinding sums, across
+#: the ranks, entries of vertex pairs that are no edges (the diagonals of the voxels' faces).
+VOXEL_BRAIN = {"geometry": "mni152", "maxh": 2.0, "seed": "entorhinal", "t_end": 10.0,
+               "dt": 0.5, "snapshots": 1, "outputs": "none"}
+
+
+def test_distributed_voxel_brain_matches_serial(tmp_path, monkeypatch):
+    """Hexahedra on 3 ranks: the run ends (it hung, the workers' transport failing alone)
+    and gives the serial run's metrics, c staying in [0, 1]."""
+    from ngincompat.scenes.atrophy import AtrophyScene
+
+    pytest.importorskip("nilearn")
+    launcher, reason = _mpiexec()
+    if launcher is None:
+        pytest.skip(reason)
+    monkeypatch.setenv("NGINCOMPAT_CACHE", str(tmp_path / "cache"))
+    out = tmp_path / "mni152"
+    settings = [f"--set={k}={v}" for k, v in VOXEL_BRAIN.items()]
+    done = _run(launcher, 3, "atrophy", "--out", str(out), "-q", *settings, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    p = json.loads((out / "results.json").read_text())["metrics"]
+    s = AtrophyScene(**VOXEL_BRAIN).run().metrics
+    for key in ("c_integral", "c_min", "c_max", "volume_loss", "gray_volume_loss",
+                "strain_energy", "max_principal_stress"):
+        assert p[key] == pytest.approx(s[key], rel=1e-8, abs=1e-300), key
+    assert 0 <= s["c_min"] < s["c_max"] <= 1
+
+
+def test_an_error_of_one_rank_alone_ends_the_job_and_a_shared_one_passes():
+    """A rank that raises alone inside ``alone_ends_the_job`` ends every rank (without it
+    the others wait in the barrier for ever); an error of a collective kind, raised on
+    every rank, passes to each."""
+    launcher, reason = _mpiexec()
+    if launcher is None:
+        pytest.skip(reason)
+    script = (
+        "from ngincompat import parallel\n"
+        "comm = parallel.world()\n"
+        "try:\n"
+        "    with parallel.alone_ends_the_job((ValueError,)):\n"
+        "        raise ValueError('everywhere')\n"
+        "except ValueError:\n"
+        "    print('passed', flush=True)\n"
+        "with parallel.alone_ends_the_job((ValueError,)):\n"
+        "    if comm.rank == 1:\n"
+        "        raise KeyError('on rank 1 alone')\n"
+        "    comm.barrier()\n"
+        "print('not reached', flush=True)\n")
+    done = subprocess.run([launcher, "-n", "2", sys.executable, "-c", script], cwd=ROOT,
+                          capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert done.returncode == 1
+    assert done.stdout.count("passed") == 2 and "not reached" not in done.stdout
+    assert "KeyError: 'on rank 1 alone'" in done.stderr
+
+
 # ---------------------------------------------------------------- serial runs
 
 
