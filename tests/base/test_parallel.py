@@ -185,6 +185,21 @@ def test_distributed_atrophy_matches_serial(tmp_path):
             assert f'timestep="{t!r}" group="" part="{rank - 1}" file="{name}"' in series
 
 
+def _brain_on_3_ranks(settings, out, monkeypatch, timeout):
+    """The atrophy scene with ``settings`` on a brain of nilearn's (its mesh built into an
+    empty cache, which the serial run then reads) run on 3 ranks into ``out``; the
+    completed process, checked to have ended with 0."""
+    pytest.importorskip("nilearn")
+    launcher, reason = _mpiexec()
+    if launcher is None:
+        pytest.skip(reason)
+    monkeypatch.setenv("NGINCOMPAT_CACHE", str(out.parent / "cache"))
+    done = _run(launcher, 3, "atrophy", "--out", str(out), "-q",
+                *[f"--set={k}={v}" for k, v in settings.items()], timeout=timeout)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return done
+
+
 #: The fsaverage hemisphere at its default mesh (ico 4, 2 layers of prisms: 39825 tetrahedra)
 #: with linear displacements, one equilibrium at 10 years.
 FSAVERAGE = {"geometry": "fsaverage", "order": 1, "formulation": "displacement",
@@ -198,15 +213,8 @@ def test_distributed_fsaverage_matches_serial(tmp_path, monkeypatch):
     part and merged, against the serial run of the same mesh read from that cache."""
     from ngincompat.scenes.atrophy import AtrophyScene
 
-    pytest.importorskip("nilearn")
-    launcher, reason = _mpiexec()
-    if launcher is None:
-        pytest.skip(reason)
-    monkeypatch.setenv("NGINCOMPAT_CACHE", str(tmp_path / "cache"))
     out = tmp_path / "fsaverage"
-    settings = [f"--set={k}={v}" for k, v in FSAVERAGE.items()]
-    done = _run(launcher, 3, "atrophy", "--out", str(out), "-q", *settings, timeout=1800)
-    assert done.returncode == 0, done.stderr[-2000:]
+    done = _brain_on_3_ranks(FSAVERAGE, out, monkeypatch, timeout=1800)
     assert done.stdout.count("atrophy: done") == 1
     assert done.stderr.count("equilibrium_residual_rel") == 1        # rank 0 alone warns
     parallel = json.loads((out / "results.json").read_text())
@@ -237,15 +245,8 @@ def test_distributed_voxel_brain_matches_serial(tmp_path, monkeypatch):
     and gives the serial run's metrics, c staying in [0, 1]."""
     from ngincompat.scenes.atrophy import AtrophyScene
 
-    pytest.importorskip("nilearn")
-    launcher, reason = _mpiexec()
-    if launcher is None:
-        pytest.skip(reason)
-    monkeypatch.setenv("NGINCOMPAT_CACHE", str(tmp_path / "cache"))
     out = tmp_path / "mni152"
-    settings = [f"--set={k}={v}" for k, v in VOXEL_BRAIN.items()]
-    done = _run(launcher, 3, "atrophy", "--out", str(out), "-q", *settings, timeout=300)
-    assert done.returncode == 0, done.stderr[-2000:]
+    _brain_on_3_ranks(VOXEL_BRAIN, out, monkeypatch, timeout=300)
     p = json.loads((out / "results.json").read_text())["metrics"]
     s = AtrophyScene(**VOXEL_BRAIN).run().metrics
     for key in ("c_integral", "c_min", "c_max", "volume_loss", "gray_volume_loss",
