@@ -184,6 +184,9 @@ def run(scene: Any, out: str | os.PathLike | None = None, *, overwrite: bool = F
         the exception's ``results`` holds it.
     KeyboardInterrupt
         Ctrl-C after results.json was written complete: the record stands as written.
+
+    In a distributed run any other exception (a defect, not a checked input) prints its
+    traceback and ends every rank, exit code 1 (:data:`COLLECTIVE`).
     """
     if out is None:
         with parallel.alone_ends_the_job(COLLECTIVE):
