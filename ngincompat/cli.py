@@ -564,18 +564,17 @@ def _dispatch(args: argparse.Namespace) -> int:
     try:
         return args.func(args)
     except ParameterError as err:
-        print(f"ngincompat: error: {err}", file=sys.stderr)
+        _report(f"ngincompat: error: {err}")
         return EXIT_INPUT
     except ConvergenceError as err:
-        print(f"ngincompat: not converged: {err} (the last converged state is written)",
-              file=sys.stderr)
+        _report(f"ngincompat: not converged: {err} (the last converged state is written)")
         return EXIT_NOT_CONVERGED
     except InterruptedBeforeComputing as err:
-        print(f"ngincompat: {err}", file=sys.stderr)
+        _report(f"ngincompat: {err}")
         return EXIT_INTERRUPTED
     except (Interrupted, KeyboardInterrupt):
-        print("ngincompat: interrupted; finished results are kept, an unfinished run is "
-              "marked \"interrupted\" in its results.json", file=sys.stderr)
+        _report("ngincompat: interrupted; finished results are kept, an unfinished run is "
+                "marked \"interrupted\" in its results.json")
         return EXIT_INTERRUPTED
     except BrokenPipeError:
         # the reader of the output stopped (`ngincompat list -v | head`): what it read is all
@@ -588,6 +587,13 @@ def _dispatch(args: argparse.Namespace) -> int:
         print(f"ngincompat: cannot write: {err.strerror or err}"
               f"{f' ({err.filename})' if err.filename else ''}", file=sys.stderr)
         return EXIT_NOT_WRITTEN
+
+
+def _report(message: str) -> None:
+    """``message`` on stderr, once: in a distributed run every rank raises the errors
+    reported so (:data:`~ngincompat.workflow.pipeline.COLLECTIVE`), and rank 0 says it."""
+    if parallel.is_root():
+        print(message, file=sys.stderr)
 
 
 def run() -> NoReturn:
