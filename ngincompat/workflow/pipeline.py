@@ -185,6 +185,8 @@ def run(scene: Any, out: str | os.PathLike | None = None, *, overwrite: bool = F
     KeyboardInterrupt
         Ctrl-C after results.json was written complete: the record stands as written.
 
+    Notes
+    -----
     In a distributed run any other exception (a defect, not a checked input) prints its
     traceback and ends every rank, exit code 1 (:data:`COLLECTIVE`).
     """
