@@ -190,16 +190,15 @@ def run(scene: Any, out: str | os.PathLike | None = None, *, overwrite: bool = F
     In a distributed run any other exception (a defect, not a checked input) prints its
     traceback and ends every rank, exit code 1 (:data:`COLLECTIVE`).
     """
-    if out is None:
-        with parallel.alone_ends_the_job(COLLECTIVE):
-            return _run(scene, None, progress, label)
-    out = parallel.on_root(output.prepare, out, overwrite=overwrite, resume=scene.resumes(out),
-                           run_files=output.RUN_FILES)
+    if out is not None:
+        out = parallel.on_root(output.prepare, out, overwrite=overwrite,
+                               resume=scene.resumes(out), run_files=output.RUN_FILES)
     try:
         with parallel.alone_ends_the_job(COLLECTIVE):
             return _run(scene, out, progress, label)
     finally:
-        parallel.on_root(output.release, out)
+        if out is not None:
+            parallel.on_root(output.release, out)
 
 
 def _run(scene: Any, out: Path | None, progress: Progress, label: str | None) -> Results:
