@@ -31,9 +31,11 @@ PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
 
 
 def shapes(mesh):
-    """q of every tetrahedron of ``mesh``."""
+    """q of every tetrahedron of ``mesh`` (its other elements, e.g. a voxel brain's
+    hexahedra, are left out)."""
     points = np.array([v.point for v in mesh.vertices])
-    corners = points[np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)])]
+    corners = points[np.array([[v.nr for v in el.vertices] for el in mesh.Elements(ngs.VOL)
+                               if el.type == ngs.ET.TET], dtype=int).reshape(-1, 4)]
     edges = corners[:, 1:] - corners[:, :1]
     volume = np.abs(np.linalg.det(edges)) / 6
     rms = np.sqrt(np.mean([np.sum((corners[:, a] - corners[:, b]) ** 2, axis=1)
@@ -64,9 +66,12 @@ def main(args):
     scene = AtrophyScene.from_settings(settings)
     mesh = scene.mesh()
     q = shapes(mesh)
-    print(f"tetrahedra {mesh.ne}, shape q: min {q.min():.3g}, 1 % {np.percentile(q, 1):.3g}, "
-          f"10 % {np.percentile(q, 10):.3g}, median {np.median(q):.3g}, below 0.05 "
-          f"{int((q < 0.05).sum())}")
+    if len(q):
+        print(f"tetrahedra {len(q)} of {mesh.ne} elements, shape q: min {q.min():.3g}, 1 % "
+              f"{np.percentile(q, 1):.3g}, 10 % {np.percentile(q, 10):.3g}, median "
+              f"{np.median(q):.3g}, below 0.05 {int((q < 0.05).sum())}")
+    else:
+        print(f"no tetrahedra among the {mesh.ne} elements: no shape q")
     ngs.SetNumThreads(1)
     for coarse in spaces:
         growth = IsotropicGrowth(mesh.MaterialCF({"gray": 0.9}, default=1))

@@ -60,6 +60,16 @@ def test_coarse_spaces_compares_the_shapes_and_the_cg_iterations():
     assert runs["edges"][1] < runs["vertices"][1] < 2000
 
 
+def test_coarse_spaces_runs_on_a_voxel_brain_of_hexahedra():
+    """The MPI guide sends users' own brains to the script; a voxel brain's hexahedra have
+    no tetrahedron shape (it raised a LinAlgError), but its CG iterations are measured."""
+    pytest.importorskip("nilearn")
+    out = _run("coarse_spaces.py", "geometry=mni152", "maxh=2", folder="brain")
+    assert "no tetrahedra among the 214 elements" in out
+    assert re.search(r"^vertices: \d+ unknowns, coarse space \d+, CG iterations \[\d+\]", out,
+                     flags=re.M)
+
+
 @pytest.mark.parametrize("arg, named", [("lam=abc", "lam"), ("maxiter=0", "maxiter"),
                                         ("coarse=faces", "coarse"), ("nu=0.6", "nu"),
                                         ("maxh", "key=value")])
