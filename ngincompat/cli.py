@@ -30,11 +30,10 @@ from ngincompat.errors import (
     InterruptedBeforeComputing,
     ParameterError,
 )
-from ngincompat.parameters import OUTPUTS, PRESETS, Outputs, Parameter
+from ngincompat.parameters import OUTPUTS, PRESETS, Outputs
 from ngincompat.progress import Progress
 
-if TYPE_CHECKING:     # imported where a command needs them (they import NGSolve)
-    from ngincompat.scenes.base import Scene
+if TYPE_CHECKING:     # imported where a command needs it (it imports NGSolve)
     from ngincompat.workflow.results import Results
 
 EXIT_OK, EXIT_INPUT, EXIT_NOT_CONVERGED, EXIT_FAILED_CASES, EXIT_NOT_WRITTEN = 0, 2, 3, 4, 5
@@ -83,29 +82,11 @@ def _cmd_list(args: argparse.Namespace) -> int:
         print(f"{name:10s} {cls.summary}")
         if args.verbose:
             for key, p in cls.declarations().items():
-                print("    " + parameter_line(cls, key, p))
+                print("    " + cls.parameter_line(key))
                 print(f"        {p.help}")
             for preset in cls.preset_names():
-                print(f"    --preset {preset}: {preset_line(cls, preset)}")
+                print(f"    --preset {preset}: {cls.preset_line(preset)}")
     return 0
-
-
-def preset_line(cls: "type[Scene]", preset: str) -> str:
-    """The settings of ``preset`` of the scene ``cls`` as ``key=value`` (for ``list -v``)."""
-    settings = cls.typed_settings(cls.preset_settings(preset))
-    return " ".join(f"{k}={v}" for k, v in settings.items()) or "the defaults above"
-
-
-def parameter_line(cls: "type[Scene]", key: str, p: Parameter) -> str:
-    """``key (type, default value unit): allowed values`` of the parameter ``p`` of the
-    scene ``cls``, for ``list -v``."""
-    default = p.to_json(p.default)
-    if isinstance(default, list):
-        default = ",".join(f"{v:g}" if isinstance(v, float) else str(v) for v in default)
-    elif isinstance(default, bool):
-        default = str(default).lower()
-    unit = f" {cls.unit_of(p.unit)}" if p.unit else ""
-    return f"{key} ({p.kind.name}, default {default}{unit}): allowed {p.allowed()}"
 
 
 def _cmd_run(args: argparse.Namespace) -> int:

@@ -315,6 +315,26 @@ class Scene:
             unit = unit.replace(quantity, symbol)
         return unit
 
+    @classmethod
+    def parameter_line(cls, key: str) -> str:
+        """``key (type, default value unit): allowed values`` of the parameter ``key`` (for
+        ``ngincompat list -v``)."""
+        p = cls.declarations()[key]
+        default = p.to_json(p.default)
+        if isinstance(default, list):
+            default = ",".join(f"{v:g}" if isinstance(v, float) else str(v)
+                               for v in default) or "none"
+        elif isinstance(default, bool):
+            default = str(default).lower()
+        unit = f" {cls.unit_of(p.unit)}" if p.unit else ""
+        return f"{key} ({p.kind.name}, default {default}{unit}): allowed {p.allowed()}"
+
+    @classmethod
+    def preset_line(cls, preset: str) -> str:
+        """The settings of ``preset`` as ``key=value`` (for ``ngincompat list -v``)."""
+        settings = cls.typed_settings(cls.preset_settings(preset))
+        return " ".join(f"{k}={v}" for k, v in settings.items()) or "the defaults above"
+
     def describe(self, skip: Collection[str] = ("outputs", "mechanics")) -> str:
         """The parameters with their values, units and help texts, one line each."""
         lines = []

@@ -50,6 +50,20 @@ def test_list_names_every_scene(capsys):
     assert "cube" in out and "custom" in out and "theta" in out
 
 
+def test_a_scenes_parameter_and_preset_lines_spell_defaults_units_and_settings():
+    atrophy = SCENES["atrophy"]
+    assert atrophy.parameter_line("semi_axes") == (
+        "semi_axes (tuple of 3 floats, default 8.5,7,6 cm): allowed three numbers in "
+        "[0.001, 100]")
+    assert atrophy.parameter_line("times").startswith("times (list of floats, default none yr)")
+    assert CubeScene.parameter_line("mechanics") == (
+        "mechanics (bool, default true): allowed true or false")
+    assert CubeScene.preset_line("default") == "the defaults above"
+    assert CubeScene.preset_line("preview") == " ".join(
+        f"{k}={v}" for k, v in CubeScene.preset_settings("preview").items())
+    assert "maxh=0.5" in CubeScene.preset_line("preview")
+
+
 def test_scene_registry_and_settings():
     assert get_scene("cube") is CubeScene
     scene = CubeScene.from_settings({"order": "3", "nu": "0.3", "elements": "tet"})
