@@ -10,9 +10,10 @@ of voxel faces (|b| at the interface then depends on the voxel size, as it depen
 the idealized brain).
 
 Coordinates are in cm with X1 = posterior -> anterior (MNI y), X2 = right -> left (- MNI x),
-X3 = inferior -> superior (MNI z): the axes of the idealized brain. The body is centred at the
-middle of its bounding box. Only the largest face-connected part of the brain is kept (a
-floating island would add rigid motions).
+X3 = inferior -> superior (MNI z): the axes of the idealized brain. The points are the images'
+world coordinates (their affine, origin included), so a point given in MNI coordinates, such
+as a named seed of the atrophy scene, lies where the template has it. Only the largest
+face-connected part of the brain is kept (a floating island would add rigid motions).
 """
 
 import os
@@ -42,7 +43,7 @@ ELEMENTS = ("hex", "tet")
 
 
 #: Bumped whenever the meshing rule changes, so that stale cached meshes are not read.
-_CACHE_VERSION = 1
+_CACHE_VERSION = 2
 
 
 def cache_dir():
@@ -185,7 +186,7 @@ def voxel_mesh(gray, white, affine, block=1, elements="hex"):
         if not (label == value).any():
             raise ParameterError(f"the segmentation has no {tissue} voxels after coarsening "
                                  f"to blocks of {block}")
-    return _voxel_ngmesh(label, np.asarray(affine, float)[:3, :3] * block, elements)
+    return _voxel_ngmesh(label, np.asarray(affine, float), block, elements)
 
 
 def _coarsen(a, block):
@@ -205,18 +206,20 @@ def _largest_part(mask):
     return parts == 1 + int(np.argmax(sizes))
 
 
-def _voxel_ngmesh(label, step, elements):
-    """The Netgen mesh of the labelled voxels (1 gray, 2 white), in cm, centred (so the
-    images' origin does not matter); ``step`` maps voxel indices to mm. Hexahedra are kept
-    positively oriented, tetrahedra (:data:`_KUHN`) negatively, as Netgen has them; the
-    boundary faces point out of the tissue they bound (triangles: split along the same
-    diagonal as the tetrahedra)."""
+def _voxel_ngmesh(label, affine, block, elements):
+    """The Netgen mesh of the labelled blocks (1 gray, 2 white) of ``block`` voxels a side,
+    in the world coordinates of the images' ``affine`` (voxel centres -> mm, so a voxel
+    spans its index +- 1/2) in cm on the project's axes. Hexahedra are kept positively
+    oriented, tetrahedra (:data:`_KUHN`) negatively, as Netgen has them; the boundary faces
+    point out of the tissue they bound (triangles: split along the same diagonal as the
+    tetrahedra)."""
     cells = np.argwhere(label > 0)
     corners = (cells[:, None, :] + _CORNERS[None, :, :]).reshape(-1, 3)
     nodes, index = np.unique(corners, axis=0, return_inverse=True)
     index = index.reshape(-1, 8)
-    world = (nodes @ step.T) / 10.0 @ _AXES.T                  # mm -> cm, axes
-    world -= (world.min(axis=0) + world.max(axis=0)) / 2
+    step = affine[:3, :3] * block
+    mm = (nodes * block - 0.5) @ affine[:3, :3].T + affine[:3, 3]
+    world = mm / 10.0 @ _AXES.T                                 # mm -> cm, axes
     mirrored = np.linalg.det(step @ _AXES.T) < 0
     faces = {k: v[::-1] for k, v in _FACES.items()} if mirrored else _FACES
     if elements == "hex":

@@ -47,9 +47,21 @@ def test_label_image_becomes_hexahedra_with_the_voxel_volumes(tmp_path):
     face = (VOXEL / 10) ** 2
     assert surface == pytest.approx(2 * (30 + 24 + 20) * face, rel=1e-12)
     assert interface == pytest.approx(2 * (4 + 2 + 2) * face, rel=1e-12)
-    # centred: the bounding box is symmetric about the origin
+
+
+def test_the_mesh_keeps_the_images_world_coordinates(tmp_path):
+    """The affine's origin is kept: the block of voxels 1-6, 1-5, 1-4 (centres; each voxel
+    spans its index +- 1/2) lies at origin + VOXEL x [0.5, 6.5] x [0.5, 5.5] x [0.5, 4.5] mm,
+    on the project's axes (X1 = y, X2 = -x, X3 = z) in cm."""
+    origin = np.array([-40.0, 20.0, 10.0])
+    affine = np.diag([VOXEL, VOXEL, VOXEL, 1.0])
+    affine[:3, 3] = origin
+    mesh = from_nifti(write(tmp_path / "brain.nii.gz", labels(), affine), maxh=VOXEL / 10)
     pts = np.array([v.point for v in mesh.vertices])
-    assert pts.min(axis=0) == pytest.approx(-pts.max(axis=0))
+    low = (origin + VOXEL * 0.5) / 10
+    high = (origin + VOXEL * np.array([6.5, 5.5, 4.5])) / 10
+    np.testing.assert_allclose(pts.min(axis=0), [low[1], -high[0], low[2]], atol=1e-12)
+    np.testing.assert_allclose(pts.max(axis=0), [high[1], -low[0], high[2]], atol=1e-12)
 
 
 @pytest.mark.parametrize("mirror", [1.0, -1.0])
@@ -93,7 +105,7 @@ def test_a_4d_float_label_image_with_one_volume_is_read(tmp_path):
 def test_a_netgen_mesh_file_with_gray_and_white_is_read(tmp_path):
     path = tmp_path / "brain.vol.gz"
     from_nifti(write(tmp_path / "brain.nii", labels()), maxh=VOXEL / 10).ngmesh.Save(str(path))
-    case = AtrophyScene(geometry=str(path), seed="0,0,0", outputs="none").build()
+    case = AtrophyScene(geometry=str(path), seed="1.5,-1.75,1.25", outputs="none").build()
     cm3 = (VOXEL / 10) ** 3
     assert case.volume0["white"] == pytest.approx(4 * cm3, rel=1e-12)
     assert case.volume0["total"] == pytest.approx(120 * cm3, rel=1e-12)
@@ -182,7 +194,7 @@ def test_atrophy_runs_on_hexahedra_from_a_label_image(tmp_path):
     lab[1:7, 1:7, 1:6] = 1
     lab[3:5, 3:5, 3:4] = 2
     path = write(tmp_path / "brain.nii.gz", lab)
-    scene = AtrophyScene(geometry=path, maxh=0.5, seed="0,0,-1", seed_radius=0.5, t_end=4.0,
+    scene = AtrophyScene(geometry=path, maxh=0.5, seed="1.75,-1.75,0.5", seed_radius=0.5, t_end=4.0,
                          dt=1.0, snapshots=1, g_order=2, outputs="none")
     m = scene.run().metrics
     assert 0 <= m["c_min"] and m["c_max"] <= 1
@@ -213,7 +225,7 @@ def test_mni152_is_cached_with_materials_and_brain_volumes(tmp_path, monkeypatch
     assert 800 < vol["gray"] + vol["white"] < 2500                # cm^3
     assert vol["white"] > 0 and vol["gray"] > 0
     files = list(tmp_path.iterdir())
-    assert [f.name for f in files] == ["mni152_20mm_hex_v1.vol.gz"]
+    assert [f.name for f in files] == ["mni152_20mm_hex_v2.vol.gz"]
     again = mni152(2.0)
     assert again.ne == mesh.ne and volumes(again) == pytest.approx(vol)
     tets = mni152(2.0, elements="tet")           # its own cache file, the same brain
@@ -223,12 +235,30 @@ def test_mni152_is_cached_with_materials_and_brain_volumes(tmp_path, monkeypatch
         mni152(0.05)
 
 
+@pytest.mark.parametrize("maxh", [2.0, 1.0])
+def test_the_default_seed_on_mni152_is_the_entorhinal_cortex_in_its_gray_matter(
+        tmp_path, monkeypatch, maxh):
+    """The template keeps its MNI coordinates, so the entorhinal seed (MNI -25, -10, -30
+    mm), the default on this brain, lies in a gray element; the template's extent along
+    MNI y is its own, -10.5 to 7.5 cm at 1 cm voxels, not centred."""
+    monkeypatch.setenv("NGINCOMPAT_CACHE", str(tmp_path))
+    scene = AtrophyScene(geometry="mni152", maxh=maxh)
+    assert scene.seed == "entorhinal"
+    mesh = mni152(maxh)
+    point = mesh(*scene.seed_centre())
+    assert point.nr >= 0
+    assert mesh.GetMaterials()[mesh[ngs.ElementId(ngs.VOL, point.nr)].index] == "gray"
+    if maxh == 1.0:
+        pts = np.array([v.point for v in mesh.vertices])
+        assert (pts[:, 0].min(), pts[:, 0].max()) == pytest.approx((-10.5, 7.5))
+
+
 def test_an_odd_voxel_edge_is_made_of_the_1mm_maps(tmp_path, monkeypatch):
     """19 mm is no multiple of the 2 mm maps: blocks of 19 of the 1 mm voxels, with the
     brain's volume and about the estimated count of hexahedra."""
     monkeypatch.setenv("NGINCOMPAT_CACHE", str(tmp_path))
     mesh = mni152(1.9)
-    assert [f.name for f in tmp_path.iterdir()] == ["mni152_19mm_hex_v1.vol.gz"]
+    assert [f.name for f in tmp_path.iterdir()] == ["mni152_19mm_hex_v2.vol.gz"]
     assert mesh.ne == pytest.approx(mni152_elements(1.9), rel=0.05)
     assert sum(volumes(mesh).values()) == pytest.approx(mesh.ne * 1.9 ** 3, rel=1e-9)
     assert mni152_elements(1.9) * 1.9 ** 3 == MNI152_VOLUME

@@ -62,8 +62,9 @@ RUN = {
 #: A folding run with a refined top: the thin default cortex refined twice (its own cortex
 #: of 0.1 cm refined 4 times on the coarse bilayer: 76,441 dofs and 4 min 40 s at load 5).
 FOLDING_REFINED_TOP = ["--set", "cortex_thickness=0.05", "--set", "top_refinement=2"]
-#: The real brain coarser still: 2 cm voxels (a few hundred hexahedra), seed inside it.
-RUN_MNI152 = [*RUN["atrophy"], "--maxh", "2"]
+#: The real brain coarser still: 2 cm voxels (a few hundred hexahedra), its own default seed
+#: (the small ellipsoid's lies outside the template's MNI coordinates).
+RUN_MNI152 = [*RUN["atrophy"], "--maxh", "2", "--set", "seed=entorhinal"]
 #: The fsaverage hemisphere has no coarser mesh (40k tetrahedra): its transport, geometry and
 #: measures run here, its mechanics in test_fsaverage_brain.py.
 RUN_FSAVERAGE = ["--set", "t_end=4", "--set", "dt=1", "--set", "snapshots=1", "--set",

@@ -44,6 +44,8 @@ from ngincompat.scenes.trust import Indicator
 from ngincompat.workflow.results import Results
 
 GEOMETRIES = ("idealized", "mni152", "fsaverage")
+#: The brains in MNI coordinates, where a named seed lies where its name says.
+ANATOMICAL = ("mni152", "fsaverage")
 #: Named seeds: MNI coordinates [mm] of the left hemisphere (x mirrored for the right).
 #: entorhinal: the anterior parahippocampal gyrus of the medial temporal lobe, where tau
 #: tangles appear first (Braak & Braak, Acta Neuropathol 82 (1991) 239, stage I-II) and
@@ -178,8 +180,9 @@ class AtrophyScene(Scene):
     seed: Literal["uniform", "entorhinal"] | tuple[float, float, float] = param(
         IDEALIZED_SEED, "seed: uniform, entorhinal (cortex of the medial temporal lobe, on "
         "fsaverage its nearest pial vertex), or its centre X,Y,Z (in or on the body); the "
-        "default is entorhinal on the fsaverage brain", "length", range="[-100, 100]")
-    hemisphere: str = param("left", "hemisphere of the fsaverage brain",
+        "default is entorhinal on the anatomical brains (mni152, fsaverage)", "length",
+        range="[-100, 100]")
+    hemisphere: str = param("left", "hemisphere of the fsaverage brain and of a named seed",
                             choices=fsaverage.HEMISPHERES)
     ico: int = param(4, "icosahedral subdivision of the fsaverage surfaces (4: 2562, 5: 10242 "
                      "vertices)", range="[4, 5]")
@@ -242,8 +245,8 @@ class AtrophyScene(Scene):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.geometry == "fsaverage" and self.seed == IDEALIZED_SEED:
-            object.__setattr__(self, "seed", "entorhinal")     # the default, outside it
+        if self.geometry in ANATOMICAL and self.seed == IDEALIZED_SEED:
+            object.__setattr__(self, "seed", "entorhinal")     # the default, outside them
         require(self.geometry in GEOMETRIES or self.geometry.endswith(USER_FILES), "geometry",
                 self.geometry, f"{', '.join(GEOMETRIES)} or a file ending in "
                 f"{', '.join(USER_FILES)}")
