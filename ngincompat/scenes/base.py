@@ -21,7 +21,7 @@ import ngsolve as ngs
 
 from ngincompat import parallel
 from ngincompat.errors import ParameterError, require
-from ngincompat.fem.problem import COARSE_SPACES
+from ngincompat.fem.problem import COARSE_SPACES, mixed_unknowns_per_element
 from ngincompat.fem.solver import ITERATIVE_NDOF, LINEAR_SOLVERS
 from ngincompat.parameters import (
     PRESETS,
@@ -90,8 +90,9 @@ def check_time_steps(duration_name: str, duration: float, step_name: str, step: 
 
 MAX_ELEMENTS = Param("refuse before meshing a mesh estimated to have more elements than this "
                      "(geometries.estimate); raise it for finer meshes", range="[1, 1e9]")
-MAX_DOFS = Param("refuse before meshing a mesh estimated to have more displacement unknowns "
-                 "than this; raise it for finer meshes", range="[1, 1e10]")
+MAX_DOFS = Param("refuse before meshing a mesh estimated to have more unknowns than this (the "
+                 "displacement's, and the mixed formulation's pressure and bubbles); raise it "
+                 "for finer meshes", range="[1, 1e10]")
 G_ORDER = Param("order of the H1 space that Fg given as data is projected into for Curl Fg "
                 "(analytic growth is differentiated exactly)", range="[1, 12]")
 
@@ -146,14 +147,24 @@ class Scene:
         file)."""
         return None
 
+    def unknowns_per_element(self, shape: str) -> float:
+        """About how many unknowns the scene's problem has per element of ``shape``: the
+        displacement's (:data:`UNKNOWNS_PER_ELEMENT`) and, in a scene's mixed formulation,
+        its pressure and bubbles
+        (:func:`~ngincompat.fem.problem.mixed_unknowns_per_element`)."""
+        unknowns = UNKNOWNS_PER_ELEMENT[shape](self.order)
+        if getattr(self, "formulation", "displacement") == "mixed":
+            unknowns += mixed_unknowns_per_element(shape, self.order)
+        return unknowns
+
     def check_mesh_size(self) -> None:
         """Refuse, before meshing, a mesh estimated past ``max_elements`` elements or
-        ``max_dofs`` unknowns (:data:`UNKNOWNS_PER_ELEMENT`), naming ``maxh``."""
+        ``max_dofs`` unknowns (:meth:`unknowns_per_element`), naming ``maxh``."""
         estimate = self.mesh_estimate()
         if estimate is None:
             return
         elements, shape = estimate
-        dofs = elements * UNKNOWNS_PER_ELEMENT[shape](self.order)
+        dofs = elements * self.unknowns_per_element(shape)
         for what, value, limit in (("elements", elements, self.max_elements),
                                    ("unknowns", dofs, self.max_dofs)):
             key = "max_" + ("elements" if what == "elements" else "dofs")

@@ -11,7 +11,13 @@ from conftest import cube_problem
 from geometries import bilayer, cube
 from ngincompat.errors import ParameterError
 from ngincompat.fem import postprocess
-from ngincompat.fem.problem import GrowthMechanics, bubbles, displacement_space, rigid_pins
+from ngincompat.fem.problem import (
+    GrowthMechanics,
+    bubbles,
+    displacement_space,
+    mixed_unknowns_per_element,
+    rigid_pins,
+)
 from ngincompat.fem.stepping import solve_growth
 from ngincompat.incompatibility import operators as inc
 from ngincompat.mechanics.growth import IsotropicGrowth, TensorGrowth
@@ -271,3 +277,18 @@ def test_a_material_with_moduli_per_region_passes_the_formulation_check():
         check_formulation(material, "mixed", 2)
     with pytest.raises(ParameterError, match="nu"):
         check_formulation(NeoHookean.from_nu(1.0, 0.499999), "displacement", 2)
+
+
+@pytest.mark.parametrize("elements, order", [("tet", 2), ("tet", 3), ("tet", 4), ("hex", 2)])
+def test_the_mixed_pairs_unknowns_per_element_are_what_its_spaces_have(elements, order):
+    """What the mixed formulation adds to the displacement (its pressure, and on tetrahedra of
+    order 2 and 3 the bubbles' net dofs), counted on the spaces the problem builds, per
+    element of a cube: within 6 % of the estimate on tetrahedra (about two faces each; the
+    boundary's add a few per cent), exact on hexahedra (the pressure alone)."""
+    mesh = cube(maxh=0.15 if elements == "tet" else 0.25, elements=elements)
+    plain = ngs.VectorH1(mesh, order=order).ndof
+    mixed = (ngs.VectorH1(mesh, order=order, **bubbles(mesh, order, "mixed")).ndof
+             + ngs.L2(mesh, order=order - 1).ndof)
+    rel = 0.06 if elements == "tet" else 1e-12
+    assert (mixed - plain) / mesh.ne == pytest.approx(
+        mixed_unknowns_per_element(elements, order), rel=rel)

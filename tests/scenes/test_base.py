@@ -11,7 +11,14 @@ from geometries import cube
 from ngincompat.cli import main
 from ngincompat.errors import ParameterError
 from ngincompat.parameters import PRESETS
-from ngincompat.scenes import SCENES, CubeScene, HemisphereScene, SkinExpansionScene, get_scene
+from ngincompat.scenes import (
+    SCENES,
+    AtrophyScene,
+    CubeScene,
+    HemisphereScene,
+    SkinExpansionScene,
+    get_scene,
+)
 from ngincompat.scenes.base import MAX_TIME_STEPS, UNKNOWNS_PER_ELEMENT, Scene, check_time_steps
 from ngincompat.workflow.results import Results
 
@@ -226,6 +233,19 @@ def test_a_mesh_past_max_elements_or_max_dofs_is_refused_before_meshing_naming_m
     # the quarter model's mesh is a quarter of the full one's
     full, _ = CubeScene().mesh_estimate()
     assert CubeScene(model="quarter").mesh_estimate()[0] == pytest.approx(full / 4)
+
+
+def test_the_mixed_formulation_counts_its_pressure_and_bubbles_against_max_dofs():
+    """The atrophy scene's mixed pair on tetrahedra of order 2 has 4 + 13 unknowns per
+    element (its ellipsoid at maxh 0.8: 321,263 for 18,263), the displacement 4: at maxh 0.6
+    (about 35,000 tetrahedra) the mixed brain passes max_dofs = 500,000 and is refused, the
+    displacement formulation's is not."""
+    assert AtrophyScene(maxh=0.8).unknowns_per_element("tet") == 17
+    assert AtrophyScene(maxh=0.8, formulation="displacement").unknowns_per_element("tet") == 4
+    with pytest.raises(ParameterError, match=r"^maxh = 0\.6 .* about 5\.\de\+05 unknowns at "
+                                             r"order 2, more than max_dofs = 500000"):
+        AtrophyScene(maxh=0.6)
+    assert AtrophyScene(maxh=0.6, formulation="displacement").maxh == 0.6
 
 
 def test_the_mesher_failure_names_the_scenes_lengths_in_its_units():
