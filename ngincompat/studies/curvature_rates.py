@@ -111,10 +111,11 @@ def rate_table(names: Iterable[str] = ("hemisphere", "disc"), orders: Sequence[i
 
 def rates(rows: Sequence[Mapping[str, Any]],
           measure: str) -> dict[tuple[str, int], list[float]]:
-    """(body, k) -> the rates of ``measure`` between successive meshes."""
+    """(body, k) -> the rates of ``measure`` between successive meshes, for the degrees k
+    each body was run at."""
     out = {}
     for body in dict.fromkeys(r["body"] for r in rows):
-        for k in sorted({r["k"] for r in rows}):
+        for k in sorted({r["k"] for r in rows if r["body"] == body}):
             sel = sorted((r for r in rows if r["body"] == body and r["k"] == k),
                          key=lambda r: r["level"])
             out[body, k] = [float(np.log2(a[measure] / b[measure]))

@@ -31,6 +31,10 @@ def test_the_rates_are_log2_of_the_ratio_of_successive_errors():
     assert cr.rates(rows, "elementwise")["hemisphere", 1] == [0.0, 0.0]
     # one level: no rate
     assert cr.rates(_rows(levels=1), "lift") == {("hemisphere", 1): [], ("hemisphere", 2): []}
+    # a body run at fewer degrees than another has rows for its own degrees only
+    mixed = _rows(orders=(1, 2, 3)) + _rows("disc", orders=(1,))
+    assert set(cr.rates(mixed, "lift")) == {("hemisphere", 1), ("hemisphere", 2),
+                                             ("hemisphere", 3), ("disc", 1)}
 
 
 def test_the_summary_sets_the_measured_rates_beside_the_published():
