@@ -71,7 +71,9 @@ class MaterialKind:
     A subclass that sets the class attribute ``name`` is registered under it; it must
     provide ``energy(Fe, fibers)`` (see :class:`Material`) and the classmethod
     ``from_parameters(mu, nu, k1=0.0, k2=1.0, kappa=0.0)`` that builds it from the shear
-    modulus, Poisson's ratio and the fiber parameters (ignoring those it has no use for).
+    modulus, Poisson's ratio and the fiber parameters (ignoring those it has no use for);
+    its instances keep the shear modulus ``mu`` and Lame's ``lam`` (the scale of its
+    stresses, and the moduli of the closed forms a scene checks against).
 
     Attributes
     ----------
@@ -85,6 +87,9 @@ class MaterialKind:
     needs_fibers: ClassVar[bool] = False
 
     if TYPE_CHECKING:   # what :meth:`__init_subclass__` requires of a registered material
+        mu: float
+        lam: float
+
         @classmethod
         def from_parameters(cls, mu: float, nu: float, k1: float = 0.0, k2: float = 1.0,
                             kappa: float = 0.0) -> Self: ...

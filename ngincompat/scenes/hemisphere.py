@@ -108,8 +108,7 @@ class HemisphereScene(prescribed.PrescribedScene):
             if metrics and problem is not None and self.flat_face == "symmetry":
                 # the scene's material is neo-Hookean (PrescribedScene.make_material)
                 reference = solve_radial(lambda r: 1 + f_np(r / self.R0) / 4,
-                                         material.mu,  # type: ignore[attr-defined]
-                                         material.lam, R0=self.R0)  # type: ignore[attr-defined]
+                                         material.mu, material.lam, R0=self.R0)
                 metrics.update(radial_errors(reference, fields, mesh, ray, self.R0))
             return metrics
         return prescribed.PrescribedCase(

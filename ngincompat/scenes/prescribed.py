@@ -28,7 +28,7 @@ from ngincompat.incompatibility import operators as inc
 from ngincompat.incompatibility.measure import Incompatibility
 from ngincompat.mechanics.growth import GrowthModel, check_positive
 from ngincompat.mechanics.kinematics import deformation_gradient
-from ngincompat.mechanics.materials import Material, MaterialKind, NeoHookean
+from ngincompat.mechanics.materials import MaterialKind, NeoHookean
 from ngincompat.progress import Progress
 from ngincompat.scenes import curvature as curvature_report
 from ngincompat.scenes.base import COARSE, LINEAR_SOLVER, Scene, param
@@ -91,7 +91,7 @@ class PrescribedCase(SceneCase):
     scene: "PrescribedScene"
     mesh: ngs.Mesh
     growth: GrowthModel
-    material: Material
+    material: MaterialKind
     time: ngs.Parameter
     planes: dict
     line: tuple
@@ -294,7 +294,7 @@ def _figures(scene: PrescribedScene, coord: str, case: PrescribedCase,
     xlabel = f"{coord} [{L}]"
     curl = {"Curl Fg : Curl Fg": "curlFg_sq"}
     curl_label = f"Curl $F^g$ : Curl $F^g$ [1/{L}$^2$]"
-    mu = case.material.mu  # type: ignore[attr-defined]  # neo-Hookean, GOH: both have mu
+    mu = case.material.mu
     if mechanics:
         # floors from the stress scale mu: 1e-3 mu for stresses, 1e-6 mu for energy densities
         figures: list[Figure] = [ProfileFigure("profile.png", coord, xlabel, {r"$\Psi$": "Psi"},

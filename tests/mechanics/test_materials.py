@@ -223,3 +223,12 @@ def test_a_new_material_works_in_growth_mechanics(restore_materials):
     with pytest.raises(ParameterError, match="displacement for the svk material"):
         GrowthMechanics(cube(maxh=1.0), IsotropicGrowth(1 + 0.02 * ngs.x),
                         make_material("svk", mu=0.55, nu=0.4), order=2, formulation="mixed")
+
+
+@pytest.mark.parametrize("name", list(materials_module.MATERIALS))
+def test_every_registered_material_keeps_its_shear_modulus_and_lames_lambda(name):
+    """The scenes read ``mu`` (the stress scale of their figures) and ``lam`` (the radial
+    closed form's moduli) from any registered material built from mu and nu."""
+    material = materials_module.material_kind(name).from_parameters(mu=2.0, nu=0.3)
+    assert material.mu == 2.0
+    assert material.lam == pytest.approx(materials_module.lame_lambda(2.0, 0.3), rel=1e-14)
