@@ -217,10 +217,9 @@ def _voxel_ngmesh(label, affine, block, elements):
     corners = (cells[:, None, :] + _CORNERS[None, :, :]).reshape(-1, 3)
     nodes, index = np.unique(corners, axis=0, return_inverse=True)
     index = index.reshape(-1, 8)
-    step = affine[:3, :3] * block
     mm = (nodes * block - 0.5) @ affine[:3, :3].T + affine[:3, 3]
     world = mm / 10.0 @ _AXES.T                                 # mm -> cm, axes
-    mirrored = np.linalg.det(step @ _AXES.T) < 0
+    mirrored = np.linalg.det(affine[:3, :3] @ _AXES.T) < 0
     faces = {k: v[::-1] for k, v in _FACES.items()} if mirrored else _FACES
     if elements == "hex":
         volumes = [[0, 3, 2, 1, 4, 7, 6, 5] if mirrored else list(range(8))]

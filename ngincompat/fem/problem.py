@@ -436,8 +436,7 @@ def mixed_unknowns_per_element(shape: str, order: int) -> float:
     on a triangle), and on tetrahedra at :data:`BUBBLE_ORDERS` the bubbles of :func:`bubbles`:
     3 components of the face bubbles of order k + 1 on about two faces per tetrahedron (an
     inner face is shared by two) and of the interior ones of order k + 2, less those of order
-    k the displacement has. At k = 2 that is 13 per tetrahedron, at k = 3 34 (Netgen's cube
-    at maxh 0.15: 13.4 and 34.9)."""
+    k the displacement has: 13 per tetrahedron at k = 2, 34 at k = 3."""
     k = order
     if shape == "tet":
         extra = k * (k + 1) * (k + 2) / 6

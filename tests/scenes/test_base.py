@@ -237,9 +237,8 @@ def test_a_mesh_past_max_elements_or_max_dofs_is_refused_before_meshing_naming_m
 
 def test_the_mixed_formulation_counts_its_pressure_and_bubbles_against_max_dofs():
     """The atrophy scene's mixed pair on tetrahedra of order 2 has 4 + 13 unknowns per
-    element (its ellipsoid at maxh 0.8: 321,263 for 18,263), the displacement 4: at maxh 0.6
-    (about 35,000 tetrahedra) the mixed brain passes max_dofs = 500,000 and is refused, the
-    displacement formulation's is not."""
+    element, the displacement 4: at maxh 0.6 (about 35,000 tetrahedra) the mixed brain
+    passes max_dofs = 500,000 and is refused, the displacement formulation's is not."""
     assert AtrophyScene(maxh=0.8).unknowns_per_element("tet") == 17
     assert AtrophyScene(maxh=0.8, formulation="displacement").unknowns_per_element("tet") == 4
     with pytest.raises(ParameterError, match=r"^maxh = 0\.6 .* about 5\.\de\+05 unknowns at "
