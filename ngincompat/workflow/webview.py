@@ -67,12 +67,16 @@ SETTINGS = {"Objects": {"Wireframe": False}}
 #: Silences the viewer's reports of its start-up steps (console.warn and .error stay).
 QUIET = "console.log = console.group = console.groupCollapsed = console.groupEnd = () => {};"
 
+#: The page's style. The viewer draws its colour bar at a length that follows the window's
+#: height and its five labels in the page's font: at the report's frame height (560 px) five
+#: labels of four digits ran into each other, so their size follows the height too.
 STYLE = """
 html,body{margin:0;height:100%;overflow:hidden;font-family:system-ui,sans-serif}
 header{position:absolute;top:0;left:0;right:0;height:2.4em;padding:.3em .6em;font-size:.9em;
 box-sizing:border-box;background:#f4f4f4;border-bottom:1px solid #ccc;white-space:nowrap;
 overflow:hidden;text-overflow:ellipsis}
-#frame{position:absolute;top:2.4em;bottom:0;left:0;right:0} #view{width:100%;height:100%}
+#frame{position:absolute;top:2.4em;bottom:0;left:0;right:0}
+#view{width:100%;height:100%;font-size:clamp(9px,2.2vh,14px)}
 """
 
 

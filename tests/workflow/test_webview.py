@@ -33,9 +33,12 @@ console.error = (...a) => { window.__errors.push(a.join(' ')); __error(...a); };
 window.addEventListener('load', () => setTimeout(() => {
   const canvases = [...document.querySelectorAll('canvas')];
   const pre = document.createElement('pre'); pre.id = 'check';
+  const labels = [...document.querySelectorAll('#view div')].filter(d =>
+    d.children.length == 0 && /^-?[0-9][0-9.e+-]*$/.test(d.textContent.trim())).map(d => {
+      const r = d.getBoundingClientRect(); return [r.left, r.right, d.textContent]; });
   pre.textContent = JSON.stringify({errors: window.__errors, canvases: canvases.length,
     webgl: canvases.some(c => !!(c.getContext('webgl2') || c.getContext('webgl'))),
-    resources: performance.getEntriesByType('resource').map(r => r.name)});
+    resources: performance.getEntriesByType('resource').map(r => r.name), labels});
   document.body.appendChild(pre);
 }, 1500));
 </script>"""
@@ -190,3 +193,19 @@ def test_the_view_draws_offline_and_the_cdn_export_does_not(bricks, tmp_path):
     cdn, _ = look(GenerateHTML(data), tmp_path, blank)
     assert any("webgui is not defined" in e for e in cdn["errors"])
     assert cdn["canvases"] == 0 and colour_map(blank)[0] < 0.01
+
+
+@needs_chromium
+def test_the_colour_bars_labels_do_not_run_into_each_other_in_the_reports_frame(bricks,
+                                                                               tmp_path):
+    """Five labels of four significant digits (0.06189 ... 0.08333, the cube's |b|) at the
+    size of the report's frame: each ends before the next begins, and all are in the
+    window."""
+    data = webview.scene(bricks, 0.06189 + 0.02144 * ngs.x)
+    record, _ = look(webview.page(data, "|b| [1/mm]"), tmp_path, size=(1370, 560))
+    labels = sorted(record["labels"])
+    assert [text for _, _, text in labels] == ["0.06189", "0.06725", "0.07261", "0.07797",
+                                               "0.08333"]
+    assert labels[0][0] >= 0
+    for (_, right, _), (left, _, _) in zip(labels[:-1], labels[1:], strict=True):
+        assert right < left
