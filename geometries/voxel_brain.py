@@ -55,7 +55,7 @@ def cache_dir():
 #: The voxel edges of the mni152 brain [cm]: from the template's own 1 mm voxels to 2 cm.
 MNI152_MAXH = (0.1, 2.0)
 #: The volume of the mni152 brain's voxels [cm^3] (gray + white >= 1/2 in a voxel, the
-#: largest part): 1730 at 1 mm, 1737 at 2 mm, 1750 at 5 mm, 1757 at 1 cm.
+#: largest part), nearly the same at every edge (docs/measurements/atrophy.md).
 MNI152_VOLUME = 1750.0
 
 

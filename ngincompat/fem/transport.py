@@ -114,7 +114,7 @@ class FisherKPP:
         stiffness += ngs.InnerProduct(D * ngs.grad(u), ngs.grad(v)) * ngs.dx
         K = _csr(stiffness.Assemble().mat)
         if monotone:
-            K = _upwind(K, _summed_over_ranks(mesh, K))
+            K = _upwind(K, _summed_over_ranks(self.fes, K))
         self.K = K
         self.t = 0.0
 
@@ -201,16 +201,18 @@ def _csr(matrix: ngs.BaseMatrix) -> sp.csr_matrix:
                          shape=(matrix.height, matrix.width))
 
 
-def _summed_over_ranks(mesh: ngs.Mesh, K: sp.spmatrix) -> np.ndarray:
-    """The entries of K's upper triangle (in the order of ``sp.triu(K, k=1).tocoo()``),
-    summed over the ranks that share their pair of vertices; K's own entries on a serial
-    mesh. Only a pair of two shared vertices can have parts on several ranks; such pairs
-    are matched across the ranks by their points (the same numbers on every rank), whatever
-    couples them: an edge of a tetrahedron, the diagonal of a hexahedron's face."""
+def _summed_over_ranks(fes: ngs.FESpace, K: sp.spmatrix) -> np.ndarray:
+    """The entries of K's upper triangle (in the order of ``sp.triu(K, k=1).tocoo()``) on
+    the P1 space ``fes``, summed over the ranks that share their pair of vertices; K's own
+    entries on a serial mesh. Only a pair of two shared vertices can have parts on several
+    ranks; such pairs are matched across the ranks by their points (the same numbers on
+    every rank), whatever couples them: an edge of a tetrahedron, the diagonal of a
+    hexahedron's face."""
+    mesh = fes.mesh
     off = sp.triu(K, k=1).tocoo()
     if not parallel.distributed(mesh):
         return off.data
-    dofs = ngs.H1(mesh, order=1).ParallelDofs()         # P1: the dof of vertex k is k
+    dofs = fes.ParallelDofs()                           # P1: the dof of vertex k is k
     shared = np.array([len(dofs.Dof2Proc(k)) > 0 for k in range(mesh.nv)], dtype=bool)
     points = np.array([v.point for v in mesh.vertices]).reshape(-1, 3)
     both = np.flatnonzero(shared[off.row] & shared[off.col])
